@@ -1,0 +1,86 @@
+#include "matrix/matrices.h"
+
+#include <cctype>
+#include <strings.h>
+
+#include "matrix/bsdf_xml.h"
+#include "matrix/header.h"
+#include "matrix/writer.h"
+
+namespace dayflux {
+
+namespace {
+template <class T>
+BasicMatrix<T> ReadRows(MatrixReader &reader) {
+    BasicMatrix<T> m;
+    m.cols = reader.Cols();
+    m.ncomp = reader.Comps();
+    m.dtype = reader.Format();
+    m.info = reader.Header().info;
+    const size_t row_size = static_cast<size_t>(m.cols) * m.ncomp;
+    if (reader.Rows() > 0) m.data.reserve(static_cast<size_t>(reader.Rows()) * row_size);
+    std::vector<T> row(row_size);
+    while (reader.ReadRow(row.data())) {
+        m.data.insert(m.data.end(), row.begin(), row.end());
+        ++m.rows;
+    }
+    reader.Finish();
+    if (m.rows == 0) {
+        FileLoc loc{reader.Name(), 0};
+        ErrorExit(&loc, "no data rows in matrix");
+    }
+    return m;
+}
+}  // namespace
+
+Matrix ReadAll(MatrixReader &reader, Matrix *) { return ReadRows<double>(reader); }
+ColorMatrix ReadAll(MatrixReader &reader, ColorMatrix *) { return ReadRows<float>(reader); }
+
+bool IsXmlSpec(const std::string &spec) {
+    if (spec.empty() || spec[0] == '!') return false;
+    size_t dot = spec.rfind('.');
+    return dot != std::string::npos && strcasecmp(spec.c_str() + dot + 1, "xml") == 0;
+}
+
+Matrix LoadMatrix(const std::string &spec, BsdfPart part) {
+    if (IsXmlSpec(spec)) {
+        ColorMatrix cm = LoadBsdfMatrix(spec, part);
+        Matrix m(cm.rows, cm.cols, 3);
+        for (size_t i = 0; i < cm.data.size(); ++i) m.data[i] = cm.data[i];
+        m.dtype = DataFormat::Ascii;  // as RADIANCE's rmx_load() marks BSDF data
+        return m;
+    }
+    MatrixReader reader(spec);
+    return ReadAll<Matrix>(reader);
+}
+
+void WriteMatrix(const Matrix &m, DataFormat format, const std::string &header_start, OutputFile &out) {
+    if (format == DataFormat::Unknown) format = m.dtype;
+    std::string text = header_start + m.info;
+    const Matrix *src = &m;
+    Matrix grey;
+    if (IsPicture(format)) {
+        if (m.ncomp != 3) {
+            if (m.ncomp != 1) ErrorExit("cannot write a " + std::to_string(m.ncomp) + "-component matrix as a picture");
+            grey = Matrix(m.rows, m.cols, 3);
+            for (size_t i = 0; i < m.data.size(); ++i) grey.data[3 * i] = grey.data[3 * i + 1] = grey.data[3 * i + 2] = m.data[i];
+            src = &grey;
+        }
+        text += FormatLine(format) + "\n" + ResolutionLine(m.cols, m.rows);
+    } else {
+        text += HeaderFields(m.rows, m.cols, m.ncomp, format);
+    }
+    out.Write(text);
+    RowFormatter fmt(format, src->cols, src->ncomp, AsciiStyle::kRmatrix, RmatrixPrecision(m.dtype));
+    std::string buf;
+    for (int r = 0; r < src->rows; ++r) {
+        fmt.Append(src->row(r), &buf);
+        if (buf.size() > (1 << 20)) {
+            out.Write(buf);
+            buf.clear();
+        }
+    }
+    out.Write(buf);
+}
+
+}  // namespace dayflux

@@ -1,0 +1,266 @@
+#include "matrix/products.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_pipeline.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cstring>
+
+namespace dayflux {
+
+namespace {
+
+constexpr int kRowBlock = 4;      // rows accumulated together (reuse of each loaded column panel)
+constexpr int kColumnPanel = 512; // columns per accumulator panel (3 x 4 x 512 doubles = 48 KiB)
+
+// Dense kernel: for kRowBlock rows and one panel, runs k in ascending order so every
+// accumulator sums its terms exactly in RADIANCE's order. Compiled for AVX2 where available.
+__attribute__((target_clones("avx2", "default"))) void DenseKernel(const float *a, int nrows, int inner,
+                                                                   const float *const planes[3], int cols,
+                                                                   int j0, int width, double *acc) {
+    std::memset(acc, 0, sizeof(double) * 3 * kRowBlock * kColumnPanel);
+    for (int k = 0; k < inner; ++k) {
+        for (int c = 0; c < 3; ++c) {
+            const float *brow = planes[c] + static_cast<size_t>(k) * cols + j0;
+            for (int r = 0; r < nrows; ++r) {
+                const double av = a[(static_cast<size_t>(r) * inner + k) * 3 + c];
+                if (av == 0) continue;
+                double *dst = acc + (static_cast<size_t>(r) * 3 + c) * kColumnPanel;
+                for (int j = 0; j < width; ++j) dst[j] += av * static_cast<double>(brow[j]);
+            }
+        }
+    }
+}
+
+}  // namespace
+
+size_t ColumnOperand::NonZeros() const {
+    if (sparse_) return entry_row_.size();
+    size_t n = 0;
+    for (size_t i = 0; i < planes_[0].size(); ++i) n += planes_[0][i] != 0 || planes_[1][i] != 0 || planes_[2][i] != 0;
+    return n;
+}
+
+ColumnOperand ColumnOperand::FromMatrix(const ColorMatrix &m) {
+    CHECK(m.ncomp == 3);
+    ColumnOperand op;
+    op.rows_ = m.rows;
+    op.cols_ = m.cols;
+    op.sparse_ = true;
+    // Gather entries row by row (rows ascending within every column), then decide.
+    std::vector<uint32_t> count(m.cols + 1, 0);
+    for (int r = 0; r < m.rows; ++r)
+        for (int j = 0; j < m.cols; ++j) {
+            const float *v = &m.at(r, j, 0);
+            count[j + 1] += v[0] != 0 || v[1] != 0 || v[2] != 0;
+        }
+    size_t nnz = 0;
+    for (int j = 0; j < m.cols; ++j) nnz += count[j + 1], count[j + 1] += count[j];
+    if (nnz * 4 >= static_cast<size_t>(m.rows) * m.cols) {
+        op.sparse_ = false;
+        for (int c = 0; c < 3; ++c) op.planes_[c].resize(static_cast<size_t>(m.rows) * m.cols);
+        for (int r = 0; r < m.rows; ++r)
+            for (int j = 0; j < m.cols; ++j)
+                for (int c = 0; c < 3; ++c) op.planes_[c][static_cast<size_t>(r) * m.cols + j] = m.at(r, j, c);
+        return op;
+    }
+    op.start_ = count;
+    op.entry_row_.resize(nnz);
+    op.entry_value_.resize(3 * nnz);
+    std::vector<uint32_t> fill(count.begin(), count.end() - 1);
+    for (int r = 0; r < m.rows; ++r)
+        for (int j = 0; j < m.cols; ++j) {
+            const float *v = &m.at(r, j, 0);
+            if (v[0] == 0 && v[1] == 0 && v[2] == 0) continue;
+            uint32_t e = fill[j]++;
+            op.entry_row_[e] = r;
+            std::copy(v, v + 3, &op.entry_value_[3 * e]);
+        }
+    return op;
+}
+
+ColumnOperand ColumnOperand::Read(MatrixReader &reader) {
+    if (reader.Comps() != 3) {
+        FileLoc loc{reader.Name(), 0};
+        ErrorExit(&loc, "unexpected # components (must be 3)");
+    }
+    // Keep non-zero entries as triplets while reading; densify at the end if they are many.
+    const int cols = reader.Cols();
+    std::vector<float> row(static_cast<size_t>(cols) * 3);
+    std::vector<uint32_t> rows_of, cols_of;
+    std::vector<float> values;
+    int nrows = 0;
+    while (reader.ReadRow(row.data())) {
+        for (int j = 0; j < cols; ++j) {
+            const float *v = &row[3 * j];
+            if (v[0] == 0 && v[1] == 0 && v[2] == 0) continue;
+            rows_of.push_back(nrows);
+            cols_of.push_back(j);
+            values.insert(values.end(), v, v + 3);
+        }
+        ++nrows;
+    }
+    reader.Finish();
+    if (nrows == 0) {
+        FileLoc loc{reader.Name(), 0};
+        ErrorExit(&loc, "no data rows in matrix");
+    }
+    ColumnOperand op;
+    op.rows_ = nrows;
+    op.cols_ = cols;
+    const size_t nnz = rows_of.size();
+    if (nnz * 4 >= static_cast<size_t>(nrows) * cols) {
+        for (int c = 0; c < 3; ++c) op.planes_[c].assign(static_cast<size_t>(nrows) * cols, 0.f);
+        for (size_t e = 0; e < nnz; ++e)
+            for (int c = 0; c < 3; ++c) op.planes_[c][static_cast<size_t>(rows_of[e]) * cols + cols_of[e]] = values[3 * e + c];
+        return op;
+    }
+    op.sparse_ = true;
+    op.start_.assign(cols + 1, 0);
+    for (uint32_t j : cols_of) ++op.start_[j + 1];
+    for (int j = 0; j < cols; ++j) op.start_[j + 1] += op.start_[j];
+    std::vector<uint32_t> fill(op.start_.begin(), op.start_.end() - 1);
+    op.entry_row_.resize(nnz);
+    op.entry_value_.resize(3 * nnz);
+    for (size_t e = 0; e < nnz; ++e) {  // read in row order, so rows ascend within each column
+        uint32_t at = fill[cols_of[e]]++;
+        op.entry_row_[at] = rows_of[e];
+        std::copy(&values[3 * e], &values[3 * e + 3], &op.entry_value_[3 * at]);
+    }
+    return op;
+}
+
+ColorMatrix ColumnOperand::ToMatrix() const {
+    ColorMatrix m(rows_, cols_, 3);
+    for (int j = 0; j < cols_; ++j) {
+        std::vector<float> col = Column(j);
+        for (int r = 0; r < rows_; ++r) std::copy(&col[3 * r], &col[3 * r + 3], &m.at(r, j, 0));
+    }
+    return m;
+}
+
+std::vector<float> ColumnOperand::Column(int j) const {
+    std::vector<float> col(static_cast<size_t>(rows_) * 3, 0.f);
+    if (sparse_) {
+        for (uint32_t e = start_[j]; e < start_[j + 1]; ++e)
+            std::copy(&entry_value_[3 * e], &entry_value_[3 * e + 3], &col[3 * entry_row_[e]]);
+    } else {
+        for (int r = 0; r < rows_; ++r)
+            for (int c = 0; c < 3; ++c) col[3 * r + c] = planes_[c][static_cast<size_t>(r) * cols_ + j];
+    }
+    return col;
+}
+
+void MultiplyRows(const float *a, int nrows, int inner, const ColumnOperand &b, int col0, int col1, float *out) {
+    CHECK(inner == b.rows_);
+    const int width = col1 - col0;
+    if (b.sparse_) {
+        for (int r = 0; r < nrows; ++r) {
+            const float *arow = a + static_cast<size_t>(r) * inner * 3;
+            float *orow = out + static_cast<size_t>(r) * width * 3;
+            for (int j = col0; j < col1; ++j) {
+                double s[3] = {0, 0, 0};
+                for (uint32_t e = b.start_[j]; e < b.start_[j + 1]; ++e) {
+                    const float *av = arow + 3 * static_cast<size_t>(b.entry_row_[e]);
+                    const float *bv = &b.entry_value_[3 * e];
+                    for (int c = 0; c < 3; ++c) s[c] += static_cast<double>(av[c]) * bv[c];
+                }
+                for (int c = 0; c < 3; ++c) orow[3 * (j - col0) + c] = static_cast<float>(s[c]);
+            }
+        }
+        return;
+    }
+    const float *planes[3] = {b.planes_[0].data(), b.planes_[1].data(), b.planes_[2].data()};
+    std::vector<double> acc(3 * kRowBlock * kColumnPanel);
+    for (int r0 = 0; r0 < nrows; r0 += kRowBlock) {
+        const int nr = std::min(kRowBlock, nrows - r0);
+        for (int j0 = col0; j0 < col1; j0 += kColumnPanel) {
+            const int w = std::min(kColumnPanel, col1 - j0);
+            DenseKernel(a + static_cast<size_t>(r0) * inner * 3, nr, inner, planes, b.cols_, j0, w, acc.data());
+            for (int r = 0; r < nr; ++r) {
+                float *orow = out + (static_cast<size_t>(r0 + r) * width + (j0 - col0)) * 3;
+                for (int c = 0; c < 3; ++c) {
+                    const double *src = acc.data() + (static_cast<size_t>(r) * 3 + c) * kColumnPanel;
+                    for (int j = 0; j < w; ++j) orow[3 * j + c] = static_cast<float>(src[j]);
+                }
+            }
+        }
+    }
+}
+
+ColorMatrix Multiply(const ColorMatrix &a, const ColumnOperand &b) {
+    CHECK(a.ncomp == 3 && a.cols == b.Rows());
+    ColorMatrix r(a.rows, b.Cols(), 3);
+    r.dtype = DataFormat::Float;
+    const int block = 16;
+    tbb::parallel_for(0, (a.rows + block - 1) / block, [&](int blk) {
+        const int r0 = blk * block, nr = std::min(block, a.rows - r0);
+        MultiplyRows(a.row(r0), nr, a.cols, b, 0, b.Cols(), r.row(r0));
+    });
+    return r;
+}
+
+int StreamProduct(MatrixReader &left, const ColumnOperand &right, const RowFormatter &fmt, OutputFile &out) {
+    if (left.Comps() != 3) {
+        FileLoc loc{left.Name(), 0};
+        ErrorExit(&loc, "unexpected # components (must be 3)");
+    }
+    if (left.Cols() != right.Rows()) {
+        FileLoc loc{left.Name(), 0};
+        ErrorExit(&loc, "has " + std::to_string(left.Cols()) + " columns but the matrix it multiplies has " +
+                            std::to_string(right.Rows()) + " rows");
+    }
+    const int inner = left.Cols();
+    const int ncols = right.Cols();
+    // Rows per block: enough work per task, bounded memory (about 8 MiB of results per block).
+    const size_t row_bytes = static_cast<size_t>(ncols) * 3 * sizeof(float);
+    const int block_rows = static_cast<int>(std::clamp<size_t>((8u << 20) / std::max<size_t>(row_bytes, 1), 4, 256));
+    struct Block {
+        std::vector<float> a;
+        int nrows = 0;
+        std::string text;
+    };
+    bool done = false;
+    int total = 0;
+    const size_t tokens = 2 * static_cast<size_t>(tbb::this_task_arena::max_concurrency());
+    tbb::parallel_pipeline(
+        tokens,
+        tbb::make_filter<void, Block *>(tbb::filter_mode::serial_in_order,
+                                         [&](tbb::flow_control &fc) -> Block * {
+                                             if (done) {
+                                                 fc.stop();
+                                                 return nullptr;
+                                             }
+                                             auto *b = new Block;
+                                             b->a.resize(static_cast<size_t>(block_rows) * inner * 3);
+                                             while (b->nrows < block_rows &&
+                                                    left.ReadRow(b->a.data() + static_cast<size_t>(b->nrows) * inner * 3))
+                                                 ++b->nrows;
+                                             if (b->nrows < block_rows) done = true;
+                                             if (b->nrows == 0) {
+                                                 delete b;
+                                                 fc.stop();
+                                                 return nullptr;
+                                             }
+                                             return b;
+                                         }) &
+            tbb::make_filter<Block *, Block *>(tbb::filter_mode::parallel,
+                                                [&](Block *b) {
+                                                    std::vector<float> res(static_cast<size_t>(b->nrows) * ncols * 3);
+                                                    MultiplyRows(b->a.data(), b->nrows, inner, right, 0, ncols, res.data());
+                                                    std::vector<float>().swap(b->a);
+                                                    for (int r = 0; r < b->nrows; ++r)
+                                                        fmt.Append(res.data() + static_cast<size_t>(r) * ncols * 3, &b->text);
+                                                    return b;
+                                                }) &
+            tbb::make_filter<Block *, void>(tbb::filter_mode::serial_in_order, [&](Block *b) {
+                out.Write(b->text);
+                total += b->nrows;
+                delete b;
+            }));
+    left.Finish();
+    return total;
+}
+
+}  // namespace dayflux

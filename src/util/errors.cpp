@@ -1,0 +1,59 @@
+#include "util/errors.h"
+
+#include <iostream>
+#include <new>
+
+namespace dayflux {
+
+namespace {
+std::string &ProgramNameStorage() {
+    static std::string name = "dayflux";
+    return name;
+}
+}  // namespace
+
+std::string FileLoc::ToString() const {
+    if (line > 0) return file + ":" + std::to_string(line);
+    return file;
+}
+
+void ErrorExit(const FileLoc *loc, std::string_view message) {
+    if (loc && !loc->file.empty())
+        throw UserError(loc->ToString() + ": " + std::string(message));
+    throw UserError(std::string(message));
+}
+
+void ErrorExit(std::string_view message) { ErrorExit(nullptr, message); }
+
+void Warning(const FileLoc *loc, std::string_view message) {
+    std::string text = ProgramName() + ": warning - ";
+    if (loc && !loc->file.empty()) text += loc->ToString() + ": ";
+    text += message;
+    text += '\n';
+    std::fflush(stdout);
+    std::fputs(text.c_str(), stderr);
+}
+
+void Warning(std::string_view message) { Warning(nullptr, message); }
+
+void SetProgramName(std::string_view argv0) {
+    size_t slash = argv0.rfind('/');
+    ProgramNameStorage() = std::string(slash == std::string_view::npos ? argv0 : argv0.substr(slash + 1));
+}
+
+const std::string &ProgramName() { return ProgramNameStorage(); }
+
+int RunTool(int argc, char **argv, int (*body)(int, char **)) {
+    SetProgramName(argc > 0 ? argv[0] : "dayflux");
+    try {
+        return body(argc, argv);
+    } catch (const UserError &e) {
+        std::fflush(stdout);
+        std::cerr << ProgramName() << ": " << e.what() << std::endl;
+    } catch (const std::bad_alloc &) {
+        std::cerr << ProgramName() << ": out of memory" << std::endl;
+    }
+    return 1;
+}
+
+}  // namespace dayflux

@@ -1,0 +1,217 @@
+#include "util/files.h"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+namespace dayflux {
+
+namespace {
+constexpr size_t kBufferSize = 1 << 20;
+
+bool IsSpace(int c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; }
+}  // namespace
+
+std::unique_ptr<InputSource> InputSource::Open(const std::string &spec) {
+    std::unique_ptr<InputSource> in(new InputSource());
+    if (spec.empty() || spec == "-") {
+        in->name_ = kStdinName;
+        in->fp_ = stdin;
+        in->is_stdin_ = true;
+    } else if (spec[0] == '!') {
+        in->name_ = spec;
+        std::fflush(nullptr);
+        in->fp_ = popen(spec.c_str() + 1, "r");
+        if (!in->fp_) ErrorExit("cannot start command '" + spec + "'");
+        in->is_pipe_ = true;
+    } else {
+        in->name_ = spec;
+        struct stat st;
+        if (stat(spec.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
+            ErrorExit("cannot open file '" + spec + "': is a directory");
+        in->fp_ = std::fopen(spec.c_str(), "rb");
+        if (!in->fp_) ErrorExit("cannot open file '" + spec + "': " + std::strerror(errno));
+    }
+    in->buf_.resize(kBufferSize);
+    return in;
+}
+
+std::unique_ptr<InputSource> InputSource::FromString(std::string data, std::string name) {
+    std::unique_ptr<InputSource> in(new InputSource());
+    in->name_ = std::move(name);
+    in->buf_.assign(data.begin(), data.end());
+    in->end_ = in->buf_.size();
+    in->eof_ = true;
+    return in;
+}
+
+InputSource::~InputSource() {
+    if (fp_ && !is_stdin_) {
+        if (is_pipe_)
+            pclose(fp_);
+        else
+            std::fclose(fp_);
+    }
+}
+
+void InputSource::Close() {
+    if (!fp_ || is_stdin_) return;
+    if (is_pipe_) {
+        int status = pclose(fp_);
+        fp_ = nullptr;
+        if (status != 0) Warning("error running command '" + name_ + "'");
+    } else {
+        std::fclose(fp_);
+        fp_ = nullptr;
+    }
+}
+
+bool InputSource::Fill() {
+    if (eof_ || !fp_) return false;
+    // Keep nothing: callers consume whole bytes before refilling.
+    size_t n = std::fread(buf_.data(), 1, buf_.size(), fp_);
+    pos_ = 0;
+    end_ = n;
+    if (n == 0) {
+        if (std::ferror(fp_)) {
+            FileLoc loc = LocNoLine();
+            ErrorExit(&loc, std::string("read error: ") + std::strerror(errno));
+        }
+        eof_ = true;
+        return false;
+    }
+    return true;
+}
+
+size_t InputSource::Read(void *dst, size_t n) {
+    char *out = static_cast<char *>(dst);
+    size_t done = 0;
+    while (done < n) {
+        if (pos_ == end_ && !Fill()) break;
+        size_t take = std::min(n - done, end_ - pos_);
+        std::memcpy(out + done, buf_.data() + pos_, take);
+        pos_ += take;
+        done += take;
+    }
+    return done;
+}
+
+bool InputSource::ReadLine(std::string *line) {
+    line->clear();
+    bool any = false;
+    for (;;) {
+        if (pos_ == end_ && !Fill()) return any;
+        any = true;
+        const char *start = buf_.data() + pos_;
+        const void *nl = std::memchr(start, '\n', end_ - pos_);
+        if (nl) {
+            size_t len = static_cast<const char *>(nl) - start;
+            line->append(start, len);
+            pos_ += len + 1;
+            ++line_;
+            return true;
+        }
+        line->append(start, end_ - pos_);
+        pos_ = end_;
+    }
+}
+
+bool InputSource::NextWord(std::string_view *word) {
+    int c;
+    while ((c = Peek()) >= 0 && IsSpace(c)) Get();
+    if (c < 0) return false;
+    // Fast path: the word ends inside the buffer.
+    size_t start = pos_;
+    size_t i = pos_;
+    while (i < end_ && !IsSpace(static_cast<unsigned char>(buf_[i]))) ++i;
+    if (i < end_) {
+        pos_ = i;
+        *word = std::string_view(buf_.data() + start, i - start);
+        return true;
+    }
+    word_.assign(buf_.data() + start, end_ - start);
+    pos_ = end_;
+    while ((c = Peek()) >= 0 && !IsSpace(c)) word_.push_back(static_cast<char>(Get()));
+    *word = word_;
+    return true;
+}
+
+bool InputSource::OnlySpaceLeft() {
+    int c;
+    while ((c = Peek()) >= 0) {
+        if (!IsSpace(c)) return false;
+        Get();
+    }
+    return true;
+}
+
+std::optional<uint64_t> InputSource::RemainingBytes() {
+    if (!fp_ || is_pipe_) return std::nullopt;
+    struct stat st;
+    if (fstat(fileno(fp_), &st) != 0 || !S_ISREG(st.st_mode)) return std::nullopt;
+    long here = std::ftell(fp_);
+    if (here < 0) return std::nullopt;
+    return static_cast<uint64_t>(st.st_size) - static_cast<uint64_t>(here) + (end_ - pos_);
+}
+
+OutputFile::OutputFile(const std::string &spec) {
+    if (spec.empty() || spec == "-") {
+        name_ = "<stdout>";
+        fp_ = stdout;
+        is_stdout_ = true;
+        return;
+    }
+    name_ = spec;
+    if (spec[0] == '!') {
+        std::fflush(nullptr);
+        fp_ = popen(spec.c_str() + 1, "w");
+        if (!fp_) ErrorExit("cannot start command '" + spec + "'");
+        is_pipe_ = true;
+        return;
+    }
+    temp_ = spec + ".tmp" + std::to_string(getpid());
+    fp_ = std::fopen(temp_.c_str(), "wb");
+    if (!fp_) ErrorExit("cannot open '" + spec + "' for output: " + std::strerror(errno));
+    std::setvbuf(fp_, nullptr, _IOFBF, kBufferSize);
+}
+
+OutputFile::~OutputFile() {
+    if (committed_ || !fp_) return;
+    if (is_pipe_) {
+        pclose(fp_);
+    } else if (!is_stdout_) {
+        std::fclose(fp_);
+        std::remove(temp_.c_str());
+    }
+}
+
+void OutputFile::Write(const void *data, size_t n) {
+    if (n && std::fwrite(data, 1, n, fp_) != n)
+        ErrorExit("write error on " + name_ + ": " + std::strerror(errno));
+}
+
+void OutputFile::Commit() {
+    if (committed_) return;
+    committed_ = true;
+    if (is_stdout_) {
+        if (std::fflush(fp_) != 0) ErrorExit("write error on output");
+        return;
+    }
+    if (is_pipe_) {
+        int status = pclose(fp_);
+        fp_ = nullptr;
+        if (status != 0) ErrorExit("error running command '" + name_ + "'");
+        return;
+    }
+    bool ok = std::fflush(fp_) == 0 && !std::ferror(fp_);
+    ok = (std::fclose(fp_) == 0) && ok;
+    fp_ = nullptr;
+    if (!ok || std::rename(temp_.c_str(), name_.c_str()) != 0) {
+        std::remove(temp_.c_str());
+        ErrorExit("error writing to '" + name_ + "'");
+    }
+}
+
+}  // namespace dayflux

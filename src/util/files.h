@@ -1,0 +1,102 @@
+// Inputs and outputs as RADIANCE programs name them: a file, "-" for the standard streams, or
+// "!command" for a shell pipe. Outputs to files are written to a temporary beside the target and
+// renamed on success, so a failed run never leaves a complete-looking file behind.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "util/errors.h"
+
+namespace dayflux {
+
+// The name RADIANCE uses for the standard input in messages.
+inline constexpr const char *kStdinName = "<stdin>";
+
+// A buffered byte source with line counting for text and raw reads for binary data.
+class InputSource {
+  public:
+    // spec: a path, "-" or "" for stdin, or "!command" (run with /bin/sh, its stdout read).
+    static std::unique_ptr<InputSource> Open(const std::string &spec);
+    // For tests and in-memory data.
+    static std::unique_ptr<InputSource> FromString(std::string data, std::string name);
+    ~InputSource();
+    InputSource(const InputSource &) = delete;
+    InputSource &operator=(const InputSource &) = delete;
+
+    const std::string &Name() const { return name_; }
+    // Line number of the next unread byte, counting from 1.
+    int Line() const { return line_; }
+    FileLoc Loc() const { return FileLoc{name_, line_}; }
+    FileLoc LocNoLine() const { return FileLoc{name_, 0}; }
+
+    int Get() {
+        if (pos_ == end_ && !Fill()) return -1;
+        char c = buf_[pos_++];
+        if (c == '\n') ++line_;
+        return static_cast<unsigned char>(c);
+    }
+    int Peek() {
+        if (pos_ == end_ && !Fill()) return -1;
+        return static_cast<unsigned char>(buf_[pos_]);
+    }
+    // Reads up to n bytes of binary data; returns the count read (less only at end of input).
+    size_t Read(void *dst, size_t n);
+    // Reads one line without its '\n'; false at end of input with nothing read.
+    bool ReadLine(std::string *line);
+    // Skips white space and returns the next white-space separated word, or false at the end.
+    // The view stays valid until the next call on this source.
+    bool NextWord(std::string_view *word);
+    // True when nothing but white space is left.
+    bool OnlySpaceLeft();
+    bool AtEnd() { return Peek() < 0; }
+    // Bytes left to read when the source is a regular file, for sizing headerless binary data.
+    std::optional<uint64_t> RemainingBytes();
+    // Closes the source; a command that exited non-zero gives a warning as RADIANCE does.
+    void Close();
+
+  private:
+    InputSource() = default;
+    bool Fill();
+
+    std::string name_;
+    FILE *fp_ = nullptr;
+    bool is_pipe_ = false;
+    bool is_stdin_ = false;
+    bool eof_ = false;
+    std::vector<char> buf_;
+    size_t pos_ = 0, end_ = 0;
+    int line_ = 1;
+    std::string word_;
+};
+
+// A destination for program output: stdout ("-" or ""), "!command", or a file replaced atomically.
+class OutputFile {
+  public:
+    explicit OutputFile(const std::string &spec);
+    ~OutputFile();
+    OutputFile(const OutputFile &) = delete;
+    OutputFile &operator=(const OutputFile &) = delete;
+
+    FILE *Stream() { return fp_; }
+    const std::string &Name() const { return name_; }
+    void Write(const void *data, size_t n);
+    void Write(std::string_view s) { Write(s.data(), s.size()); }
+    // Flushes and, for files, renames the temporary onto the target. Throws on a write error.
+    void Commit();
+
+  private:
+    std::string name_;
+    std::string temp_;
+    FILE *fp_ = nullptr;
+    bool is_pipe_ = false;
+    bool is_stdout_ = false;
+    bool committed_ = false;
+};
+
+}  // namespace dayflux

@@ -1,0 +1,26 @@
+// Number parsing and formatting shared by the matrix formats and option parsers.
+#pragma once
+
+#include <charconv>
+#include <string>
+#include <string_view>
+
+namespace dayflux {
+
+// Parses a whole word as a number the way scanf("%lf") would accept it (a leading '+' allowed).
+bool ParseNumber(std::string_view word, double *value);
+// Parses straight to float, rounding once as scanf("%f") does.
+bool ParseNumber(std::string_view word, float *value);
+bool ParseInt(std::string_view word, int *value);
+
+// RADIANCE's isflt(): true if the word is a decimal number (used to gather option factors).
+bool IsFloatWord(std::string_view word);
+
+// Appends value as printf("%.*e", precision, value) would print it.
+inline void AppendScientific(std::string *out, double value, int precision) {
+    char buf[64];
+    auto res = std::to_chars(buf, buf + sizeof buf, value, std::chars_format::scientific, precision);
+    out->append(buf, res.ptr);
+}
+
+}  // namespace dayflux

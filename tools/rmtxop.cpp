@@ -1,0 +1,198 @@
+// rmtxop: RADIANCE's matrix calculator, with the same arguments, evaluation order and output.
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "matrix/header.h"
+#include "matrix/matrices.h"
+#include "matrix/operations.h"
+#include "util/errors.h"
+#include "util/strings.h"
+
+namespace dayflux {
+namespace {
+
+constexpr int kMaxComponents = 16;
+
+struct UnaryOps {
+    std::vector<double> scale;       // -s factors
+    std::vector<double> transform;   // -c coefficients
+    bool transpose = false;          // -t
+};
+
+struct Operand {
+    std::string spec;                // file, "-" or "!command"
+    BsdfPart part = BsdfPart::kTransmission;
+    UnaryOps ops;
+    std::unique_ptr<Matrix> loaded;  // loaded early when deciding the evaluation order
+    char binop = 0;                  // operation with the next operand
+};
+
+bool verbose = false;
+
+[[noreturn]] void Usage(const char *prog) {
+    ErrorExit(std::string("Usage: ") + prog +
+              " [-v][-f[adfc][-t][-s sf .. | -c ce ..][-rf|-rb] m1 [.+*/] .. > mres");
+}
+
+Matrix &Load(Operand &op) {
+    if (!op.loaded) op.loaded = std::make_unique<Matrix>(LoadMatrix(op.spec == "-" ? "" : op.spec, op.part));
+    return *op.loaded;
+}
+
+const std::string &DisplayName(const Operand &op) {
+    static const std::string stdin_name = kStdinName;
+    return op.spec == "-" ? stdin_name : op.spec;
+}
+
+// Loads the operand and applies its unary operations in RADIANCE's order: -s, -c, then -t.
+Matrix LoadWithOps(Operand &op) {
+    Matrix m = std::move(Load(op));
+    op.loaded.reset();
+    const std::string &name = DisplayName(op);
+    if (!op.ops.scale.empty()) {
+        if (!op.ops.transform.empty()) ErrorExit("Options -s and -c are exclusive");
+        std::vector<double> sf = op.ops.scale;
+        if (sf.size() == 1)
+            sf.assign(m.ncomp, sf[0]);
+        else if (static_cast<int>(sf.size()) != m.ncomp)
+            ErrorExit(name + ": -s must have one or " + std::to_string(m.ncomp) + " factors");
+        Scale(&m, sf);
+        if (verbose) std::fprintf(stderr, "%s: applied scalar\n", name.c_str());
+    }
+    if (!op.ops.transform.empty()) {
+        if (op.ops.transform.size() % m.ncomp)
+            ErrorExit(name + ": -c must have N x " + std::to_string(m.ncomp) + " coefficients");
+        m = TransformComponents(m, op.ops.transform);
+        if (verbose) std::fprintf(stderr, "%s: applied component transform\n", name.c_str());
+    }
+    if (op.ops.transpose) {
+        m = Transpose(m);
+        if (verbose) std::fprintf(stderr, "%s: transposed rows and columns\n", name.c_str());
+    }
+    return m;
+}
+
+Matrix BinaryOp(const std::string &name, Matrix left, char op, Matrix right) {
+    switch (op) {
+        case '.':
+            if (left.ncomp != right.ncomp) ErrorExit(name + ": # components do not match");
+            if (left.cols != right.rows)
+                ErrorExit(name + ": mismatched dimensions (" + std::to_string(left.rows) + "x" +
+                          std::to_string(left.cols) + " times " + std::to_string(right.rows) + "x" +
+                          std::to_string(right.cols) + ")");
+            return Multiply(left, right);
+        case '+':
+            if (!AddInto(&left, right)) ErrorExit(name + ": matrix sum failed (sizes differ)");
+            return left;
+        case '*':
+        case '/': {
+            const char *what = op == '/' ? "division" : "multiplication";
+            int zero_divides = 0;
+            if (!ElementMultiply(&left, right, op == '/', &zero_divides))
+                ErrorExit(name + ": element-wise " + what + " failed (sizes differ)");
+            if (zero_divides)
+                std::fprintf(stderr, "%s: warning - error during element-wise %s\n", name.c_str(), what);
+            return left;
+        }
+    }
+    ErrorExit(name + ": unknown operation '" + std::string(1, op) + "'");
+}
+
+int Rows(Operand &op) { return op.ops.transpose ? Load(op).cols : Load(op).rows; }
+int Cols(Operand &op) { return op.ops.transpose ? Load(op).rows : Load(op).cols; }
+
+// RADIANCE's rule: multiply from the right when the chain ends in a thin matrix.
+bool PreferRightToLeft(std::vector<Operand> &ops) {
+    size_t last = 0;
+    while (ops[last].binop) {
+        if (ops[last].binop != '.') return false;
+        ++last;
+    }
+    if (last <= 1) return false;  // one product: the order does not matter
+    if (Cols(ops[last]) == 1) return true;
+    if (Cols(ops[last]) >= Rows(ops[last])) return false;
+    return Cols(ops[last]) < Rows(ops[0]);
+}
+
+int Main(int argc, char **argv) {
+    std::vector<Operand> ops(1);
+    DataFormat outfmt = DataFormat::Unknown;
+    bool stdin_used = false;
+    auto factors = [&](int *i, size_t max) {
+        std::vector<double> v;
+        while (*i + 1 < argc && v.size() < max && IsFloatWord(argv[*i + 1])) v.push_back(std::atof(argv[++*i]));
+        return v;
+    };
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        const size_t n = ops.size() - 1;  // index of the operand being described
+        if (arg.size() == 1 && std::string(".+*/").find(arg[0]) != std::string::npos) {
+            if (n == 0 || ops[n - 1].binop)
+                ErrorExit(std::string(argv[0]) + ": missing matrix argument before '" + arg + "' operation");
+            ops[n - 1].binop = arg[0];
+        } else if (arg[0] != '-' || arg.size() == 1) {
+            if (arg == "-") {
+                if (stdin_used) ErrorExit(std::string(argv[0]) + ": standard input used for more than one matrix");
+                stdin_used = true;
+            }
+            ops[n].spec = arg;
+            if (n > 0 && !ops[n - 1].binop) ops[n - 1].binop = '.';
+            ops.emplace_back();
+        } else {
+            switch (arg[1]) {
+                case 'v': verbose = true; break;
+                case 'f':
+                    if (arg == "-fd") outfmt = DataFormat::Double;
+                    else if (arg == "-ff") outfmt = DataFormat::Float;
+                    else if (arg == "-fa") outfmt = DataFormat::Ascii;
+                    else if (arg == "-fc") outfmt = DataFormat::RGBE;
+                    else Usage(argv[0]);
+                    break;
+                case 't': ops[n].ops.transpose = true; break;
+                case 's': ops[n].ops.scale = factors(&i, kMaxComponents); break;
+                case 'c': ops[n].ops.transform = factors(&i, kMaxComponents * kMaxComponents); break;
+                case 'r':
+                    if (arg == "-rf") ops[n].part = BsdfPart::kReflectionFront;
+                    else if (arg == "-rb") ops[n].part = BsdfPart::kReflectionBack;
+                    else Usage(argv[0]);
+                    break;
+                default:
+                    std::fprintf(stderr, "%s: unknown operation '%s'\n", argv[0], arg.c_str());
+                    Usage(argv[0]);
+            }
+        }
+    }
+    const size_t nmats = ops.size() - 1;
+    if (nmats == 0) Usage(argv[0]);
+    if (ops[nmats - 1].binop)
+        ErrorExit(std::string(argv[0]) + ": missing matrix argument after '" + std::string(1, ops[nmats - 1].binop) +
+                  "' operation");
+    Operand &trailing = ops[nmats];
+
+    Matrix result;
+    if (PreferRightToLeft(ops)) {
+        size_t pos = nmats - 1;
+        result = LoadWithOps(ops[pos]);
+        while (pos-- > 0) result = BinaryOp(DisplayName(ops[pos]), LoadWithOps(ops[pos]), '.', std::move(result));
+    } else {
+        result = LoadWithOps(ops[0]);
+        for (size_t i = 0; i + 1 < nmats; ++i)
+            result = BinaryOp(DisplayName(ops[i + 1]), std::move(result), ops[i].binop, LoadWithOps(ops[i + 1]));
+    }
+    trailing.spec = "trailing_ops";
+    trailing.loaded = std::make_unique<Matrix>(std::move(result));
+    result = LoadWithOps(trailing);
+
+    if (outfmt == DataFormat::Unknown) outfmt = result.dtype;
+    OutputFile out("-");
+    WriteMatrix(result, outfmt, HeaderStart(argc, argv), out);
+    out.Commit();
+    return 0;
+}
+
+}  // namespace
+}  // namespace dayflux
+
+int main(int argc, char **argv) { return dayflux::RunTool(argc, argv, dayflux::Main); }
