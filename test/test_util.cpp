@@ -1,0 +1,65 @@
+#include "test_util.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+namespace dayflux::test {
+
+TempDir::TempDir() {
+    std::random_device rd;
+    path_ = std::filesystem::temp_directory_path() / ("dayflux-test-" + std::to_string(getpid()) + "-" + std::to_string(rd()));
+    std::filesystem::create_directories(path_);
+}
+
+TempDir::~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+}
+
+std::string ReadFile(const std::filesystem::path &p) {
+    std::ifstream f(p, std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+void WriteFile(const std::filesystem::path &p, const std::string &data) {
+    std::ofstream f(p, std::ios::binary);
+    f << data;
+}
+
+CommandResult RunCommand(const std::string &command, const std::filesystem::path &dir) {
+    static int counter = 0;
+    const std::filesystem::path out = dir / (".out" + std::to_string(++counter));
+    const std::filesystem::path err = dir / (".err" + std::to_string(counter));
+    const std::string full = "cd '" + dir.string() + "' && PATH='" + BinDir().string() + "':\"$PATH\" && ( " + command +
+                             " ) > '" + out.string() + "' 2> '" + err.string() + "'";
+    int raw = std::system(full.c_str());
+    CommandResult r;
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    r.out = ReadFile(out);
+    r.err = ReadFile(err);
+    std::filesystem::remove(out);
+    std::filesystem::remove(err);
+    return r;
+}
+
+std::string Comparable(const std::string &text) {
+    if (text.rfind("#?", 0) != 0) return text;
+    size_t end = text.find("\n\n");
+    if (end == std::string::npos) return text;
+    std::istringstream head(text.substr(0, end + 1));
+    std::string line, kept;
+    while (std::getline(head, line)) {
+        if (line.rfind("CAPDATE=", 0) == 0 || line.rfind("GMT=", 0) == 0 || line.rfind("BigEndian=", 0) == 0) continue;
+        kept += line + "\n";
+    }
+    return kept + text.substr(end + 1);
+}
+
+}  // namespace dayflux::test
