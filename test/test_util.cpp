@@ -12,7 +12,8 @@ namespace dayflux::test {
 
 TempDir::TempDir() {
     std::random_device rd;
-    path_ = std::filesystem::temp_directory_path() / ("dayflux-test-" + std::to_string(getpid()) + "-" + std::to_string(rd()));
+    path_ = std::filesystem::temp_directory_path() /
+            ("dayflux-test-" + std::to_string(getpid()) + "-" + std::to_string(rd()));
     std::filesystem::create_directories(path_);
 }
 
@@ -37,8 +38,9 @@ CommandResult RunCommand(const std::string &command, const std::filesystem::path
     static int counter = 0;
     const std::filesystem::path out = dir / (".out" + std::to_string(++counter));
     const std::filesystem::path err = dir / (".err" + std::to_string(counter));
-    const std::string full = "cd '" + dir.string() + "' && PATH='" + BinDir().string() + "':\"$PATH\" && ( " + command +
-                             " ) > '" + out.string() + "' 2> '" + err.string() + "'";
+    const std::string full = "cd '" + dir.string() + "' && PATH='" + BinDir().string() +
+                             "':\"$PATH\" && ( " + command + " ) > '" + out.string() + "' 2> '" +
+                             err.string() + "'";
     int raw = std::system(full.c_str());
     CommandResult r;
     r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
@@ -56,7 +58,9 @@ std::string Comparable(const std::string &text) {
     std::istringstream head(text.substr(0, end + 1));
     std::string line, kept;
     while (std::getline(head, line)) {
-        if (line.rfind("CAPDATE=", 0) == 0 || line.rfind("GMT=", 0) == 0 || line.rfind("BigEndian=", 0) == 0) continue;
+        if (line.rfind("CAPDATE=", 0) == 0 || line.rfind("GMT=", 0) == 0 ||
+            line.rfind("BigEndian=", 0) == 0)
+            continue;
         kept += line + "\n";
     }
     return kept + text.substr(end + 1);

@@ -1,12 +1,12 @@
 // dctimestep: time-step results of the daylight-coefficient (DC x sky) and three-phase
 // (V x T x D x sky) methods, or sky-weighted sums of component pictures, as RADIANCE computes them.
+#include <tbb/parallel_for.h>
+
 #include <cstdio>
 #include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <tbb/parallel_for.h>
 
 #include "matrix/bsdf_xml.h"
 #include "matrix/header.h"
@@ -20,8 +20,9 @@ namespace dayflux {
 namespace {
 
 [[noreturn]] void Usage(const char *prog) {
-    ErrorExit(std::string("Usage: ") + prog + " [-n nsteps][-o ospec][-i{f|d|a}][-o{f|d|a|c}] DCspec [skyf]\n   or: " +
-              prog + " [-n nsteps][-o ospec][-i{f|d|a}][-o{f|d|a|c}] Vspec Tbsdf Dmat.dat [skyf]");
+    ErrorExit(std::string("Usage: ") + prog +
+              " [-n nsteps][-o ospec][-i{f|d|a}][-o{f|d|a|c}] DCspec [skyf]\n   or: " + prog +
+              " [-n nsteps][-o ospec][-i{f|d|a}][-o{f|d|a|c}] Vspec Tbsdf Dmat.dat [skyf]");
 }
 
 // True if s has a %d-like conversion (%d %i %o %x %X with an optional width), as RADIANCE checks.
@@ -106,7 +107,8 @@ std::string ResultHeader(const std::string &start, int nrows, int ncols, DataFor
 // Sky-weighted sum of component pictures (DCspec with %d), one picture per sky row.
 class PictureSum {
   public:
-    explicit PictureSum(std::string spec, int npictures) : spec_(std::move(spec)), cache_(npictures) {}
+    explicit PictureSum(std::string spec, int npictures)
+        : spec_(std::move(spec)), cache_(npictures) {}
 
     void Write(const std::vector<float> &weights, OutputFile &out) {
         std::vector<float> sum;
@@ -160,7 +162,8 @@ class PictureSum {
         auto in = InputSource::Open(name);
         MatrixHeader h = ReadHeader(*in);
         FileLoc loc{name, 0};
-        if (!IsPicture(h.format) || !NextIsResolution(*in)) ErrorExit(&loc, "file is not a picture");
+        if (!IsPicture(h.format) || !NextIsResolution(*in))
+            ErrorExit(&loc, "file is not a picture");
         p->format = h.format;
         ReadResolution(*in, &p->xres, &p->yres);
         p->pixels.resize(static_cast<size_t>(p->xres) * p->yres);
@@ -200,22 +203,35 @@ int Main(int argc, char **argv) {
                 if (!ParseInt(need_value(), &o.nsteps) || o.nsteps < 0) Usage(argv[0]);
                 o.sky_format = o.nsteps ? DataFormat::Ascii : DataFormat::Unknown;
                 break;
-            case 'h': o.header = !o.header; break;
+            case 'h':
+                o.header = !o.header;
+                break;
             case 'i':
-                if (arg == "-if") o.sky_format = DataFormat::Float;
-                else if (arg == "-id") o.sky_format = DataFormat::Double;
-                else if (arg == "-ia") o.sky_format = DataFormat::Ascii;
-                else Usage(argv[0]);
+                if (arg == "-if")
+                    o.sky_format = DataFormat::Float;
+                else if (arg == "-id")
+                    o.sky_format = DataFormat::Double;
+                else if (arg == "-ia")
+                    o.sky_format = DataFormat::Ascii;
+                else
+                    Usage(argv[0]);
                 break;
             case 'o':
-                if (arg == "-o") o.ospec = need_value();
-                else if (arg == "-of") o.out_format = DataFormat::Float;
-                else if (arg == "-od") o.out_format = DataFormat::Double;
-                else if (arg == "-oa") o.out_format = DataFormat::Ascii;
-                else if (arg == "-oc") o.out_format = DataFormat::RGBE;
-                else Usage(argv[0]);
+                if (arg == "-o")
+                    o.ospec = need_value();
+                else if (arg == "-of")
+                    o.out_format = DataFormat::Float;
+                else if (arg == "-od")
+                    o.out_format = DataFormat::Double;
+                else if (arg == "-oa")
+                    o.out_format = DataFormat::Ascii;
+                else if (arg == "-oc")
+                    o.out_format = DataFormat::RGBE;
+                else
+                    Usage(argv[0]);
                 break;
-            default: Usage(argv[0]);
+            default:
+                Usage(argv[0]);
         }
     }
     const int nargs = argc - a;
@@ -226,8 +242,9 @@ int Main(int argc, char **argv) {
     ColumnOperand right = [&] {
         if (nargs > 2) {
             ColumnOperand sky = LoadSky(nargs > 3 ? argv[a + 3] : "-", o);
-            ColorMatrix tmat = IsXmlSpec(argv[a + 1]) ? LoadBsdfMatrix(argv[a + 1], BsdfPart::kTransmission)
-                                                      : LoadColorMatrix(argv[a + 1], 0, 0);
+            ColorMatrix tmat = IsXmlSpec(argv[a + 1])
+                                   ? LoadBsdfMatrix(argv[a + 1], BsdfPart::kTransmission)
+                                   : LoadColorMatrix(argv[a + 1], 0, 0);
             ColorMatrix dmat = LoadColorMatrix(argv[a + 2], tmat.cols, sky.Rows());
             ColorMatrix dsky = Multiply(dmat, sky);
             return ColumnOperand::FromMatrix(Multiply(tmat, ColumnOperand::FromMatrix(dsky)));
@@ -236,7 +253,8 @@ int Main(int argc, char **argv) {
     }();
     const int nsteps = right.Cols();
     std::string ospec = o.ospec;
-    if (!ospec.empty() && nsteps == 1 && HasNumberFormat(ospec)) ospec = FormatIndex(ospec, 1);  // RADIANCE's quirk
+    if (!ospec.empty() && nsteps == 1 && HasNumberFormat(ospec))
+        ospec = FormatIndex(ospec, 1);  // RADIANCE's quirk
     const bool per_step = !ospec.empty() && HasNumberFormat(ospec);
 
     if (HasNumberFormat(argv[a])) {  // component pictures
@@ -289,7 +307,8 @@ int Main(int argc, char **argv) {
     }
     // One file per time step: hold the left matrix and work through the steps in chunks.
     ColorMatrix vmat = ReadAll<ColorMatrix>(left);
-    const int chunk = std::max(1, static_cast<int>((size_t(256) << 20) / (sizeof(float) * 3 * std::max(vmat.rows, 1))));
+    const int chunk = std::max(
+        1, static_cast<int>((size_t(256) << 20) / (sizeof(float) * 3 * std::max(vmat.rows, 1))));
     std::vector<float> res;
     for (int j0 = 0; j0 < nsteps; j0 += chunk) {
         const int w = std::min(chunk, nsteps - j0);
@@ -297,7 +316,8 @@ int Main(int argc, char **argv) {
         const int block = 16;
         tbb::parallel_for(0, (vmat.rows + block - 1) / block, [&](int blk) {
             const int r0 = blk * block, nr = std::min(block, vmat.rows - r0);
-            MultiplyRows(vmat.row(r0), nr, vmat.cols, right, j0, j0 + w, res.data() + static_cast<size_t>(r0) * w * 3);
+            MultiplyRows(vmat.row(r0), nr, vmat.cols, right, j0, j0 + w,
+                         res.data() + static_cast<size_t>(r0) * w * 3);
         });
         for (int j = 0; j < w; ++j) {
             OutputFile out(FormatIndex(ospec, j0 + j));
@@ -306,7 +326,8 @@ int Main(int argc, char **argv) {
             std::string text;
             std::vector<float> column(static_cast<size_t>(vmat.rows) * 3);
             for (int r = 0; r < vmat.rows; ++r) {
-                std::memcpy(&column[3 * r], &res[(static_cast<size_t>(r) * w + j) * 3], 3 * sizeof(float));
+                std::memcpy(&column[3 * r], &res[(static_cast<size_t>(r) * w + j) * 3],
+                            3 * sizeof(float));
                 fmt.Append(&column[3 * r], &text);
             }
             out.Write(text);

@@ -16,13 +16,13 @@ namespace {
 constexpr int kMaxComponents = 16;
 
 struct UnaryOps {
-    std::vector<double> scale;       // -s factors
-    std::vector<double> transform;   // -c coefficients
-    bool transpose = false;          // -t
+    std::vector<double> scale;      // -s factors
+    std::vector<double> transform;  // -c coefficients
+    bool transpose = false;         // -t
 };
 
 struct Operand {
-    std::string spec;                // file, "-" or "!command"
+    std::string spec;  // file, "-" or "!command"
     BsdfPart part = BsdfPart::kTransmission;
     UnaryOps ops;
     std::unique_ptr<Matrix> loaded;  // loaded early when deciding the evaluation order
@@ -37,7 +37,8 @@ bool verbose = false;
 }
 
 Matrix &Load(Operand &op) {
-    if (!op.loaded) op.loaded = std::make_unique<Matrix>(LoadMatrix(op.spec == "-" ? "" : op.spec, op.part));
+    if (!op.loaded)
+        op.loaded = std::make_unique<Matrix>(LoadMatrix(op.spec == "-" ? "" : op.spec, op.part));
     return *op.loaded;
 }
 
@@ -93,7 +94,8 @@ Matrix BinaryOp(const std::string &name, Matrix left, char op, Matrix right) {
             if (!ElementMultiply(&left, right, op == '/', &zero_divides))
                 ErrorExit(name + ": element-wise " + what + " failed (sizes differ)");
             if (zero_divides)
-                std::fprintf(stderr, "%s: warning - error during element-wise %s\n", name.c_str(), what);
+                std::fprintf(stderr, "%s: warning - error during element-wise %s\n", name.c_str(),
+                             what);
             return left;
         }
     }
@@ -122,7 +124,8 @@ int Main(int argc, char **argv) {
     bool stdin_used = false;
     auto factors = [&](int *i, size_t max) {
         std::vector<double> v;
-        while (*i + 1 < argc && v.size() < max && IsFloatWord(argv[*i + 1])) v.push_back(std::atof(argv[++*i]));
+        while (*i + 1 < argc && v.size() < max && IsFloatWord(argv[*i + 1]))
+            v.push_back(std::atof(argv[++*i]));
         return v;
     };
     for (int i = 1; i < argc; ++i) {
@@ -130,11 +133,14 @@ int Main(int argc, char **argv) {
         const size_t n = ops.size() - 1;  // index of the operand being described
         if (arg.size() == 1 && std::string(".+*/").find(arg[0]) != std::string::npos) {
             if (n == 0 || ops[n - 1].binop)
-                ErrorExit(std::string(argv[0]) + ": missing matrix argument before '" + arg + "' operation");
+                ErrorExit(std::string(argv[0]) + ": missing matrix argument before '" + arg +
+                          "' operation");
             ops[n - 1].binop = arg[0];
         } else if (arg[0] != '-' || arg.size() == 1) {
             if (arg == "-") {
-                if (stdin_used) ErrorExit(std::string(argv[0]) + ": standard input used for more than one matrix");
+                if (stdin_used)
+                    ErrorExit(std::string(argv[0]) +
+                              ": standard input used for more than one matrix");
                 stdin_used = true;
             }
             ops[n].spec = arg;
@@ -142,21 +148,37 @@ int Main(int argc, char **argv) {
             ops.emplace_back();
         } else {
             switch (arg[1]) {
-                case 'v': verbose = true; break;
-                case 'f':
-                    if (arg == "-fd") outfmt = DataFormat::Double;
-                    else if (arg == "-ff") outfmt = DataFormat::Float;
-                    else if (arg == "-fa") outfmt = DataFormat::Ascii;
-                    else if (arg == "-fc") outfmt = DataFormat::RGBE;
-                    else Usage(argv[0]);
+                case 'v':
+                    verbose = true;
                     break;
-                case 't': ops[n].ops.transpose = true; break;
-                case 's': ops[n].ops.scale = factors(&i, kMaxComponents); break;
-                case 'c': ops[n].ops.transform = factors(&i, kMaxComponents * kMaxComponents); break;
+                case 'f':
+                    if (arg == "-fd")
+                        outfmt = DataFormat::Double;
+                    else if (arg == "-ff")
+                        outfmt = DataFormat::Float;
+                    else if (arg == "-fa")
+                        outfmt = DataFormat::Ascii;
+                    else if (arg == "-fc")
+                        outfmt = DataFormat::RGBE;
+                    else
+                        Usage(argv[0]);
+                    break;
+                case 't':
+                    ops[n].ops.transpose = true;
+                    break;
+                case 's':
+                    ops[n].ops.scale = factors(&i, kMaxComponents);
+                    break;
+                case 'c':
+                    ops[n].ops.transform = factors(&i, kMaxComponents * kMaxComponents);
+                    break;
                 case 'r':
-                    if (arg == "-rf") ops[n].part = BsdfPart::kReflectionFront;
-                    else if (arg == "-rb") ops[n].part = BsdfPart::kReflectionBack;
-                    else Usage(argv[0]);
+                    if (arg == "-rf")
+                        ops[n].part = BsdfPart::kReflectionFront;
+                    else if (arg == "-rb")
+                        ops[n].part = BsdfPart::kReflectionBack;
+                    else
+                        Usage(argv[0]);
                     break;
                 default:
                     std::fprintf(stderr, "%s: unknown operation '%s'\n", argv[0], arg.c_str());
@@ -167,19 +189,21 @@ int Main(int argc, char **argv) {
     const size_t nmats = ops.size() - 1;
     if (nmats == 0) Usage(argv[0]);
     if (ops[nmats - 1].binop)
-        ErrorExit(std::string(argv[0]) + ": missing matrix argument after '" + std::string(1, ops[nmats - 1].binop) +
-                  "' operation");
+        ErrorExit(std::string(argv[0]) + ": missing matrix argument after '" +
+                  std::string(1, ops[nmats - 1].binop) + "' operation");
     Operand &trailing = ops[nmats];
 
     Matrix result;
     if (PreferRightToLeft(ops)) {
         size_t pos = nmats - 1;
         result = LoadWithOps(ops[pos]);
-        while (pos-- > 0) result = BinaryOp(DisplayName(ops[pos]), LoadWithOps(ops[pos]), '.', std::move(result));
+        while (pos-- > 0)
+            result = BinaryOp(DisplayName(ops[pos]), LoadWithOps(ops[pos]), '.', std::move(result));
     } else {
         result = LoadWithOps(ops[0]);
         for (size_t i = 0; i + 1 < nmats; ++i)
-            result = BinaryOp(DisplayName(ops[i + 1]), std::move(result), ops[i].binop, LoadWithOps(ops[i + 1]));
+            result = BinaryOp(DisplayName(ops[i + 1]), std::move(result), ops[i].binop,
+                              LoadWithOps(ops[i + 1]));
     }
     trailing.spec = "trailing_ops";
     trailing.loaded = std::make_unique<Matrix>(std::move(result));

@@ -1,6 +1,5 @@
 #include "matrix/bsdf_xml.h"
 
-#include <pugixml.hpp>
 #include <strings.h>
 
 #include <cmath>
@@ -8,6 +7,7 @@
 #include <fstream>
 #include <limits>
 #include <optional>
+#include <pugixml.hpp>
 #include <sstream>
 
 namespace dayflux {
@@ -30,10 +30,12 @@ struct XyzToRgb {
         const double CrD = (1. / yw) * (xw * (yg - yb) - yw * (xg - xb) + xg * yb - xb * yg);
         const double CgD = (1. / yw) * (xw * (yb - yr) - yw * (xb - xr) - xr * yb + xb * yr);
         const double CbD = (1. / yw) * (xw * (yr - yg) - yw * (xr - xg) + xr * yg - xg * yr);
-        const double v[3][3] = {
-            {(yg - yb - xb * yg + yb * xg) / CrD, (xb - xg - xb * yg + xg * yb) / CrD, (xg * yb - xb * yg) / CrD},
-            {(yb - yr - yb * xr + yr * xb) / CgD, (xr - xb - xr * yb + xb * yr) / CgD, (xb * yr - xr * yb) / CgD},
-            {(yr - yg - yr * xg + yg * xr) / CbD, (xg - xr - xg * yr + xr * yg) / CbD, (xr * yg - xg * yr) / CbD}};
+        const double v[3][3] = {{(yg - yb - xb * yg + yb * xg) / CrD,
+                                 (xb - xg - xb * yg + xg * yb) / CrD, (xg * yb - xb * yg) / CrD},
+                                {(yb - yr - yb * xr + yr * xb) / CgD,
+                                 (xr - xb - xr * yb + xb * yr) / CgD, (xb * yr - xr * yb) / CgD},
+                                {(yr - yg - yr * xg + yg * xr) / CbD,
+                                 (xg - xr - xg * yr + xr * yg) / CbD, (xr * yg - xg * yr) / CbD}};
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) m[i][j] = static_cast<float>(v[i][j]);
     }
@@ -59,8 +61,8 @@ constexpr float kThird = 1.f / 3.f;  // RADIANCE's default (equal-energy) chroma
 struct ScatteringMatrix {
     const AngleBasis *in = nullptr;
     const AngleBasis *out = nullptr;
-    std::vector<float> y;                 // Visible / CIE-Y
-    std::vector<float> x, z;              // CIE-X and CIE-Z when given
+    std::vector<float> y;     // Visible / CIE-Y
+    std::vector<float> x, z;  // CIE-X and CIE-Z when given
     float &Y(int o, int i) { return y[static_cast<size_t>(o) * in->Size() + i]; }
     float Y(int o, int i) const { return y[static_cast<size_t>(o) * in->Size() + i]; }
     bool present() const { return in != nullptr; }
@@ -68,7 +70,7 @@ struct ScatteringMatrix {
 
 struct Component {
     ScatteringMatrix m;
-    double lambertian = 0;   // cieY of the extracted diffuse part
+    double lambertian = 0;  // cieY of the extracted diffuse part
     double max_hemi = 0;
     bool loaded = false;  // the file had this component, even if it was dropped as insignificant
 };
@@ -126,7 +128,8 @@ BsdfFile::BsdfFile(const std::string &path) : path_(path) {
     pugi::xml_node def = layer.child("DataDefinition");
     std::string structure = def.child("IncidentDataStructure").text().get();
     if (structure.rfind("TensorTree", 0) == 0)
-        Fail("tensor-tree BSDF (" + structure + ") is not supported here: only Klems matrix BSDFs "
+        Fail("tensor-tree BSDF (" + structure +
+             ") is not supported here: only Klems matrix BSDFs "
              "can be used as a matrix");
     bool rows_incident;
     if (NameIs(structure.c_str(), "Rows"))
@@ -146,7 +149,8 @@ BsdfFile::BsdfFile(const std::string &path) : path_(path) {
         AngleBasis b;
         b.name = name;
         b.theta.push_back(0);
-        for (pugi::xml_node bb = ab.child("AngleBasisBlock"); bb; bb = bb.next_sibling("AngleBasisBlock")) {
+        for (pugi::xml_node bb = ab.child("AngleBasisBlock"); bb;
+             bb = bb.next_sibling("AngleBasisBlock")) {
             double lower = bb.child("ThetaBounds").child("LowerTheta").text().as_double(0);
             double upper = bb.child("ThetaBounds").child("UpperTheta").text().as_double(-1);
             int nphi = bb.child("nPhis").text().as_int(0);
@@ -157,11 +161,13 @@ BsdfFile::BsdfFile(const std::string &path) : path_(path) {
             b.theta.push_back(upper);
             b.nphis.push_back(nphi);
         }
-        if (b.nphis.empty()) Fail("AngleBasis '" + name + "' has no AngleBasisBlock", ab.offset_debug());
+        if (b.nphis.empty())
+            Fail("AngleBasis '" + name + "' has no AngleBasisBlock", ab.offset_debug());
         bases_.push_back(std::move(b));
     }
     int blocks = 0;
-    for (pugi::xml_node wd = layer.child("WavelengthData"); wd; wd = wd.next_sibling("WavelengthData")) {
+    for (pugi::xml_node wd = layer.child("WavelengthData"); wd;
+         wd = wd.next_sibling("WavelengthData")) {
         std::string wl = wd.child("Wavelength").text().get();
         char channel;
         if (NameIs(wl.c_str(), "Visible") || NameIs(wl.c_str(), "CIE-Y"))
@@ -172,7 +178,8 @@ BsdfFile::BsdfFile(const std::string &path) : path_(path) {
             channel = 'Z';
         else
             continue;  // Solar and other bands play no part in daylight matrices
-        for (pugi::xml_node b = wd.child("WavelengthDataBlock"); b; b = b.next_sibling("WavelengthDataBlock")) {
+        for (pugi::xml_node b = wd.child("WavelengthDataBlock"); b;
+             b = b.next_sibling("WavelengthDataBlock")) {
             LoadBlock(b, channel, rows_incident);
             ++blocks;
         }
@@ -212,7 +219,8 @@ void BsdfFile::LoadBlock(pugi::xml_node block, char channel, bool rows_incident)
         char *end;
         double v = std::strtod(s, &end);
         if (end == s)
-            Fail("ScatteringData has " + std::to_string(i) + " values, expected " + std::to_string(values.size()),
+            Fail("ScatteringData has " + std::to_string(i) + " values, expected " +
+                     std::to_string(values.size()),
                  data.offset_debug());
         s = end;
         if (v < 0) v = 0;  // RADIANCE allows no negative values
@@ -224,7 +232,8 @@ void BsdfFile::LoadBlock(pugi::xml_node block, char channel, bool rows_incident)
         }
     }
     ScatteringMatrix &m = c->m;
-    if (m.present() && (m.in != in || m.out != out)) Fail("BSDF blocks use different angle bases", block.offset_debug());
+    if (m.present() && (m.in != in || m.out != out))
+        Fail("BSDF blocks use different angle bases", block.offset_debug());
     m.in = in;
     m.out = out;
     c->loaded = true;
@@ -301,18 +310,20 @@ ColorMatrix BsdfFile::Convert(const Component &c, bool reciprocal, double lamber
             } else if (colour) {
                 const double sum = static_cast<double>(m.x[at]) + m.y[at] + m.z[at];
                 float cx = kThird, cy = kThird;
-                if (sum > 0) cx = static_cast<float>(m.x[at] / sum), cy = static_cast<float>(m.y[at] / sum);
+                if (sum > 0)
+                    cx = static_cast<float>(m.x[at] / sum), cy = static_cast<float>(m.y[at] / sum);
                 ChromaToRgb(cx, cy, f, rgb);
             } else {
                 rgb[0] = rgb[1] = rgb[2] = f;
             }
             float *dst = &cm.at(row, col, 0);
-            for (int k = 0; k < 3; ++k) dst[k] = static_cast<float>(static_cast<double>(rgb[k] + diffuse[k]) * ohm);
+            for (int k = 0; k < 3; ++k)
+                dst[k] = static_cast<float>(static_cast<double>(rgb[k] + diffuse[k]) * ohm);
         }
     }
     if (negative || bad_ohm)
-        Warning("BTDF has " + std::to_string(negative) + " negatives and " + std::to_string(bad_ohm) +
-                " bad incoming solid angles");
+        Warning("BTDF has " + std::to_string(negative) + " negatives and " +
+                std::to_string(bad_ohm) + " bad incoming solid angles");
     return cm;
 }
 
@@ -392,7 +403,8 @@ int AngleBasis::IndexOf(double x, double y, double z) const {
 void AngleBasis::Centre(int i, double v[3]) const {
     size_t ring = 0;
     while (i >= nphis[ring]) i -= nphis[ring++];
-    const double c0 = std::cos(M_PI / 180. * theta[ring]), c1 = std::cos(M_PI / 180. * theta[ring + 1]);
+    const double c0 = std::cos(M_PI / 180. * theta[ring]),
+                 c1 = std::cos(M_PI / 180. * theta[ring + 1]);
     const double cz = std::sqrt(0.5 * (c0 * c0 + c1 * c1));
     const double azi = 2. * M_PI * i / nphis[ring];
     const double sz = std::sqrt(1. - cz * cz);
@@ -403,8 +415,10 @@ void AngleBasis::Centre(int i, double v[3]) const {
 
 const std::vector<AngleBasis> &KlemsBases() {
     static const std::vector<AngleBasis> bases = {
-        MakeBasis("LBNL/Klems Full", {0, 5, 15, 25, 35, 45, 55, 65, 75, 90}, {1, 8, 16, 20, 24, 24, 24, 16, 12}),
-        MakeBasis("LBNL/Klems Half", {0, 6.5, 19.5, 32.5, 46.5, 61.5, 76.5, 90}, {1, 8, 12, 16, 20, 12, 4}),
+        MakeBasis("LBNL/Klems Full", {0, 5, 15, 25, 35, 45, 55, 65, 75, 90},
+                  {1, 8, 16, 20, 24, 24, 24, 16, 12}),
+        MakeBasis("LBNL/Klems Half", {0, 6.5, 19.5, 32.5, 46.5, 61.5, 76.5, 90},
+                  {1, 8, 12, 16, 20, 12, 4}),
         MakeBasis("LBNL/Klems Quarter", {0, 9, 27, 46, 66, 90}, {1, 8, 12, 12, 8}),
     };
     return bases;

@@ -6,12 +6,18 @@ namespace dayflux {
 
 std::string_view FormatName(DataFormat format) {
     switch (format) {
-        case DataFormat::RGBE: return "32-bit_rle_rgbe";
-        case DataFormat::XYZE: return "32-bit_rle_xyze";
-        case DataFormat::Float: return "float";
-        case DataFormat::Ascii: return "ascii";
-        case DataFormat::Double: return "double";
-        case DataFormat::Unknown: break;
+        case DataFormat::RGBE:
+            return "32-bit_rle_rgbe";
+        case DataFormat::XYZE:
+            return "32-bit_rle_xyze";
+        case DataFormat::Float:
+            return "float";
+        case DataFormat::Ascii:
+            return "ascii";
+        case DataFormat::Double:
+            return "double";
+        case DataFormat::Unknown:
+            break;
     }
     return "unknown";
 }
@@ -23,7 +29,9 @@ std::optional<DataFormat> FormatFromName(std::string_view name) {
     return std::nullopt;
 }
 
-bool IsPicture(DataFormat format) { return format == DataFormat::RGBE || format == DataFormat::XYZE; }
+bool IsPicture(DataFormat format) {
+    return format == DataFormat::RGBE || format == DataFormat::XYZE;
+}
 
 DataFormat CombinedFormat(DataFormat a, DataFormat b) {
     if ((IsPicture(a) || IsPicture(b)) && a != b) return DataFormat::Unknown;

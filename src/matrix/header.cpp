@@ -12,7 +12,8 @@ namespace {
 
 // Value after "NAME=" if the line starts with it (RADIANCE matches the name exactly).
 std::optional<std::string_view> Variable(std::string_view line, std::string_view name) {
-    if (line.size() <= name.size() || line.substr(0, name.size()) != name || line[name.size()] != '=')
+    if (line.size() <= name.size() || line.substr(0, name.size()) != name ||
+        line[name.size()] != '=')
         return std::nullopt;
     std::string_view v = line.substr(name.size() + 1);
     while (!v.empty() && std::isspace(static_cast<unsigned char>(v.front()))) v.remove_prefix(1);
@@ -23,7 +24,8 @@ std::optional<std::string_view> Variable(std::string_view line, std::string_view
 int DimensionValue(const FileLoc &loc, std::string_view name, std::string_view value) {
     int n = 0;
     if (!ParseInt(value, &n) || n < 0)
-        ErrorExit(&loc, "bad " + std::string(name) + " value '" + std::string(value) + "' in header");
+        ErrorExit(&loc,
+                  "bad " + std::string(name) + " value '" + std::string(value) + "' in header");
     return n;
 }
 
@@ -44,7 +46,8 @@ MatrixHeader ReadHeader(InputSource &in) {
     bool first_line = true;
     for (;;) {
         FileLoc loc = in.Loc();
-        if (!in.ReadLine(&line)) ErrorExit(&loc, "unexpected end of input in header (no blank line)");
+        if (!in.ReadLine(&line))
+            ErrorExit(&loc, "unexpected end of input in header (no blank line)");
         if (!line.empty() && line.back() == '\r') line.pop_back();
         if (first_line) {
             first_line = false;
@@ -100,8 +103,8 @@ void ReadResolution(InputSource &in, int *xres, int *yres) {
     if (!in.ReadLine(&line)) ErrorExit(&loc, "missing picture resolution line");
     char ys = 0, yc = 0, xs = 0, xc = 0;
     int y = 0, x = 0;
-    if (std::sscanf(line.c_str(), " %c%c %d %c%c %d", &ys, &yc, &y, &xs, &xc, &x) != 6 || yc != 'Y' ||
-        xc != 'X' || y <= 0 || x <= 0)
+    if (std::sscanf(line.c_str(), " %c%c %d %c%c %d", &ys, &yc, &y, &xs, &xc, &x) != 6 ||
+        yc != 'Y' || xc != 'X' || y <= 0 || x <= 0)
         ErrorExit(&loc, "bad picture resolution line '" + line + "'");
     if (ys != '-' || xs != '+')
         ErrorExit(&loc, "picture orientation '" + line + "' is not the standard '-Y N +X M'");

@@ -1,7 +1,8 @@
 #include "matrix/matrices.h"
 
-#include <cctype>
 #include <strings.h>
+
+#include <cctype>
 
 #include "matrix/bsdf_xml.h"
 #include "matrix/header.h"
@@ -54,16 +55,20 @@ Matrix LoadMatrix(const std::string &spec, BsdfPart part) {
     return ReadAll<Matrix>(reader);
 }
 
-void WriteMatrix(const Matrix &m, DataFormat format, const std::string &header_start, OutputFile &out) {
+void WriteMatrix(const Matrix &m, DataFormat format, const std::string &header_start,
+                 OutputFile &out) {
     if (format == DataFormat::Unknown) format = m.dtype;
     std::string text = header_start + m.info;
     const Matrix *src = &m;
     Matrix grey;
     if (IsPicture(format)) {
         if (m.ncomp != 3) {
-            if (m.ncomp != 1) ErrorExit("cannot write a " + std::to_string(m.ncomp) + "-component matrix as a picture");
+            if (m.ncomp != 1)
+                ErrorExit("cannot write a " + std::to_string(m.ncomp) +
+                          "-component matrix as a picture");
             grey = Matrix(m.rows, m.cols, 3);
-            for (size_t i = 0; i < m.data.size(); ++i) grey.data[3 * i] = grey.data[3 * i + 1] = grey.data[3 * i + 2] = m.data[i];
+            for (size_t i = 0; i < m.data.size(); ++i)
+                grey.data[3 * i] = grey.data[3 * i + 1] = grey.data[3 * i + 2] = m.data[i];
             src = &grey;
         }
         text += FormatLine(format) + "\n" + ResolutionLine(m.cols, m.rows);
@@ -71,7 +76,8 @@ void WriteMatrix(const Matrix &m, DataFormat format, const std::string &header_s
         text += HeaderFields(m.rows, m.cols, m.ncomp, format);
     }
     out.Write(text);
-    RowFormatter fmt(format, src->cols, src->ncomp, AsciiStyle::kRmatrix, RmatrixPrecision(m.dtype));
+    RowFormatter fmt(format, src->cols, src->ncomp, AsciiStyle::kRmatrix,
+                     RmatrixPrecision(m.dtype));
     std::string buf;
     for (int r = 0; r < src->rows; ++r) {
         fmt.Append(src->row(r), &buf);

@@ -19,10 +19,13 @@ struct BasicMatrix {
     std::vector<T> data;                    // row-major, components interleaved
 
     BasicMatrix() = default;
-    BasicMatrix(int r, int c, int n) : rows(r), cols(c), ncomp(n), data(static_cast<size_t>(r) * c * n) {}
+    BasicMatrix(int r, int c, int n)
+        : rows(r), cols(c), ncomp(n), data(static_cast<size_t>(r) * c * n) {}
 
     T &at(int r, int c, int k) { return data[(static_cast<size_t>(r) * cols + c) * ncomp + k]; }
-    const T &at(int r, int c, int k) const { return data[(static_cast<size_t>(r) * cols + c) * ncomp + k]; }
+    const T &at(int r, int c, int k) const {
+        return data[(static_cast<size_t>(r) * cols + c) * ncomp + k];
+    }
     T *row(int r) { return data.data() + static_cast<size_t>(r) * cols * ncomp; }
     const T *row(int r) const { return data.data() + static_cast<size_t>(r) * cols * ncomp; }
 };
@@ -50,6 +53,7 @@ Matrix LoadMatrix(const std::string &spec, BsdfPart part = BsdfPart::kTransmissi
 // Writes m as RADIANCE's rmx_write() does after the header start: info lines, sizes, format
 // and data. format Unknown means the matrix's own type. A 1-component matrix written as a
 // picture becomes grey.
-void WriteMatrix(const Matrix &m, DataFormat format, const std::string &header_start, OutputFile &out);
+void WriteMatrix(const Matrix &m, DataFormat format, const std::string &header_start,
+                 OutputFile &out);
 
 }  // namespace dayflux

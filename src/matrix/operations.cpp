@@ -1,7 +1,8 @@
 #include "matrix/operations.h"
 
-#include <Eigen/Core>
 #include <tbb/parallel_for.h>
+
+#include <Eigen/Core>
 
 namespace dayflux {
 
@@ -30,7 +31,8 @@ Matrix TransformComponents(const Matrix &m, const std::vector<double> &cmat) {
     CHECK(n > 0 && static_cast<int>(cmat.size()) == n * m.ncomp);
     Matrix out(m.rows, m.cols, n);
     if (!m.info.empty())
-        out.info = m.info + "Applied " + std::to_string(n) + "x" + std::to_string(m.ncomp) + " component transform\n";
+        out.info = m.info + "Applied " + std::to_string(n) + "x" + std::to_string(m.ncomp) +
+                   " component transform\n";
     out.dtype = m.dtype;
     const size_t elements = static_cast<size_t>(m.rows) * m.cols;
     for (size_t e = 0; e < elements; ++e) {
@@ -74,13 +76,16 @@ Matrix Multiply(const Matrix &a, const Matrix &b) {
                 }
         return r;
     }
-    using Strided = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>, 0,
-                               Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>>;
-    using StridedOut = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>, 0,
-                                  Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>>;
+    using Strided =
+        Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>, 0,
+                   Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>>;
+    using StridedOut =
+        Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>, 0,
+                   Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>>;
     const int n = a.ncomp;
     for (int k = 0; k < n; ++k) {
-        Strided B(b.data.data() + k, b.rows, b.cols, Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>(b.cols * n, n));
+        Strided B(b.data.data() + k, b.rows, b.cols,
+                  Eigen::Stride<Eigen::Dynamic, Eigen::Dynamic>(b.cols * n, n));
         const int block = 64;
         tbb::parallel_for(0, (a.rows + block - 1) / block, [&](int blk) {
             const int r0 = blk * block, nr = std::min(block, a.rows - r0);

@@ -11,26 +11,36 @@ namespace dayflux {
 
 namespace {
 
-constexpr int kRowBlock = 4;      // rows accumulated together (reuse of each loaded column panel)
-constexpr int kColumnPanel = 512; // columns per accumulator panel (3 x 4 x 512 doubles = 48 KiB)
-
-// Dense kernel: for kRowBlock rows and one panel, runs k in ascending order so every
-// accumulator sums its terms exactly in RADIANCE's order. Compiled for AVX2 where available.
-__attribute__((target_clones("avx2", "default"))) void DenseKernel(const float *a, int nrows, int inner,
-                                                                   const float *const planes[3], int cols,
-                                                                   int j0, int width, double *acc) {
-    std::memset(acc, 0, sizeof(double) * 3 * kRowBlock * kColumnPanel);
+// Register-blocked micro-kernel: 4 rows x 8 columns of one component, k ascending, so every
+// accumulator sums its terms exactly in RADIANCE's order. Float products are exact in double,
+// so fused multiply-adds give the same bits. Compiled for x86-64-v3 (AVX2, FMA) where available.
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void MicroKernel(
+    const float *a, int inner, const float *b, int ldb, int c, double acc[4][8]) {
+    double s[4][8] = {};
     for (int k = 0; k < inner; ++k) {
-        for (int c = 0; c < 3; ++c) {
-            const float *brow = planes[c] + static_cast<size_t>(k) * cols + j0;
-            for (int r = 0; r < nrows; ++r) {
-                const double av = a[(static_cast<size_t>(r) * inner + k) * 3 + c];
-                if (av == 0) continue;
-                double *dst = acc + (static_cast<size_t>(r) * 3 + c) * kColumnPanel;
-                for (int j = 0; j < width; ++j) dst[j] += av * static_cast<double>(brow[j]);
-            }
+        const float *bk = b + static_cast<size_t>(k) * ldb;
+        double bv[8];
+        for (int j = 0; j < 8; ++j) bv[j] = bk[j];
+        for (int r = 0; r < 4; ++r) {
+            const double av = a[(static_cast<size_t>(r) * inner + k) * 3 + c];
+            for (int j = 0; j < 8; ++j) s[r][j] += av * bv[j];
         }
     }
+    for (int r = 0; r < 4; ++r)
+        for (int j = 0; j < 8; ++j) acc[r][j] = s[r][j];
+}
+
+// Any block shape (the edges of the product), same order of sums.
+void EdgeKernel(const float *a, int nrows, int inner, const float *b, int ldb, int c, int width,
+                float *out, int out_cols, int out_col0) {
+    for (int r = 0; r < nrows; ++r)
+        for (int j = 0; j < width; ++j) {
+            double s = 0;
+            for (int k = 0; k < inner; ++k)
+                s += static_cast<double>(a[(static_cast<size_t>(r) * inner + k) * 3 + c]) *
+                     b[static_cast<size_t>(k) * ldb + j];
+            out[(static_cast<size_t>(r) * out_cols + out_col0 + j) * 3 + c] = static_cast<float>(s);
+        }
 }
 
 }  // namespace
@@ -38,7 +48,8 @@ __attribute__((target_clones("avx2", "default"))) void DenseKernel(const float *
 size_t ColumnOperand::NonZeros() const {
     if (sparse_) return entry_row_.size();
     size_t n = 0;
-    for (size_t i = 0; i < planes_[0].size(); ++i) n += planes_[0][i] != 0 || planes_[1][i] != 0 || planes_[2][i] != 0;
+    for (size_t i = 0; i < planes_[0].size(); ++i)
+        n += planes_[0][i] != 0 || planes_[1][i] != 0 || planes_[2][i] != 0;
     return n;
 }
 
@@ -62,7 +73,8 @@ ColumnOperand ColumnOperand::FromMatrix(const ColorMatrix &m) {
         for (int c = 0; c < 3; ++c) op.planes_[c].resize(static_cast<size_t>(m.rows) * m.cols);
         for (int r = 0; r < m.rows; ++r)
             for (int j = 0; j < m.cols; ++j)
-                for (int c = 0; c < 3; ++c) op.planes_[c][static_cast<size_t>(r) * m.cols + j] = m.at(r, j, c);
+                for (int c = 0; c < 3; ++c)
+                    op.planes_[c][static_cast<size_t>(r) * m.cols + j] = m.at(r, j, c);
         return op;
     }
     op.start_ = count;
@@ -113,7 +125,9 @@ ColumnOperand ColumnOperand::Read(MatrixReader &reader) {
     if (nnz * 4 >= static_cast<size_t>(nrows) * cols) {
         for (int c = 0; c < 3; ++c) op.planes_[c].assign(static_cast<size_t>(nrows) * cols, 0.f);
         for (size_t e = 0; e < nnz; ++e)
-            for (int c = 0; c < 3; ++c) op.planes_[c][static_cast<size_t>(rows_of[e]) * cols + cols_of[e]] = values[3 * e + c];
+            for (int c = 0; c < 3; ++c)
+                op.planes_[c][static_cast<size_t>(rows_of[e]) * cols + cols_of[e]] =
+                    values[3 * e + c];
         return op;
     }
     op.sparse_ = true;
@@ -147,12 +161,14 @@ std::vector<float> ColumnOperand::Column(int j) const {
             std::copy(&entry_value_[3 * e], &entry_value_[3 * e + 3], &col[3 * entry_row_[e]]);
     } else {
         for (int r = 0; r < rows_; ++r)
-            for (int c = 0; c < 3; ++c) col[3 * r + c] = planes_[c][static_cast<size_t>(r) * cols_ + j];
+            for (int c = 0; c < 3; ++c)
+                col[3 * r + c] = planes_[c][static_cast<size_t>(r) * cols_ + j];
     }
     return col;
 }
 
-void MultiplyRows(const float *a, int nrows, int inner, const ColumnOperand &b, int col0, int col1, float *out) {
+void MultiplyRows(const float *a, int nrows, int inner, const ColumnOperand &b, int col0, int col1,
+                  float *out) {
     CHECK(inner == b.rows_);
     const int width = col1 - col0;
     if (b.sparse_) {
@@ -171,20 +187,32 @@ void MultiplyRows(const float *a, int nrows, int inner, const ColumnOperand &b, 
         }
         return;
     }
-    const float *planes[3] = {b.planes_[0].data(), b.planes_[1].data(), b.planes_[2].data()};
-    std::vector<double> acc(3 * kRowBlock * kColumnPanel);
-    for (int r0 = 0; r0 < nrows; r0 += kRowBlock) {
-        const int nr = std::min(kRowBlock, nrows - r0);
-        for (int j0 = col0; j0 < col1; j0 += kColumnPanel) {
-            const int w = std::min(kColumnPanel, col1 - j0);
-            DenseKernel(a + static_cast<size_t>(r0) * inner * 3, nr, inner, planes, b.cols_, j0, w, acc.data());
-            for (int r = 0; r < nr; ++r) {
-                float *orow = out + (static_cast<size_t>(r0 + r) * width + (j0 - col0)) * 3;
-                for (int c = 0; c < 3; ++c) {
-                    const double *src = acc.data() + (static_cast<size_t>(r) * 3 + c) * kColumnPanel;
-                    for (int j = 0; j < w; ++j) orow[3 * j + c] = static_cast<float>(src[j]);
+    // Column panels small enough to stay in cache while every block of rows passes over them.
+    constexpr int kPanel = 128;
+    for (int c = 0; c < 3; ++c) {
+        const float *plane = b.planes_[c].data();
+        for (int p0 = col0; p0 < col1; p0 += kPanel) {
+            const int p1 = std::min(col1, p0 + kPanel);
+            int r0 = 0;
+            for (; r0 + 4 <= nrows; r0 += 4) {
+                const float *ablock = a + static_cast<size_t>(r0) * inner * 3;
+                int j = p0;
+                for (; j + 8 <= p1; j += 8) {
+                    double acc[4][8];
+                    MicroKernel(ablock, inner, plane + j, b.cols_, c, acc);
+                    for (int r = 0; r < 4; ++r)
+                        for (int jj = 0; jj < 8; ++jj)
+                            out[(static_cast<size_t>(r0 + r) * width + (j - col0) + jj) * 3 + c] =
+                                static_cast<float>(acc[r][jj]);
                 }
+                if (j < p1)
+                    EdgeKernel(ablock, 4, inner, plane + j, b.cols_, c, p1 - j,
+                               out + static_cast<size_t>(r0) * width * 3, width, j - col0);
             }
+            if (r0 < nrows)
+                EdgeKernel(a + static_cast<size_t>(r0) * inner * 3, nrows - r0, inner, plane + p0,
+                           b.cols_, c, p1 - p0, out + static_cast<size_t>(r0) * width * 3, width,
+                           p0 - col0);
         }
     }
 }
@@ -201,21 +229,24 @@ ColorMatrix Multiply(const ColorMatrix &a, const ColumnOperand &b) {
     return r;
 }
 
-int StreamProduct(MatrixReader &left, const ColumnOperand &right, const RowFormatter &fmt, OutputFile &out) {
+int StreamProduct(MatrixReader &left, const ColumnOperand &right, const RowFormatter &fmt,
+                  OutputFile &out) {
     if (left.Comps() != 3) {
         FileLoc loc{left.Name(), 0};
         ErrorExit(&loc, "unexpected # components (must be 3)");
     }
     if (left.Cols() != right.Rows()) {
         FileLoc loc{left.Name(), 0};
-        ErrorExit(&loc, "has " + std::to_string(left.Cols()) + " columns but the matrix it multiplies has " +
+        ErrorExit(&loc, "has " + std::to_string(left.Cols()) +
+                            " columns but the matrix it multiplies has " +
                             std::to_string(right.Rows()) + " rows");
     }
     const int inner = left.Cols();
     const int ncols = right.Cols();
     // Rows per block: enough work per task, bounded memory (about 8 MiB of results per block).
     const size_t row_bytes = static_cast<size_t>(ncols) * 3 * sizeof(float);
-    const int block_rows = static_cast<int>(std::clamp<size_t>((8u << 20) / std::max<size_t>(row_bytes, 1), 4, 256));
+    const int block_rows =
+        static_cast<int>(std::clamp<size_t>((8u << 20) / std::max<size_t>(row_bytes, 1), 4, 256));
     struct Block {
         std::vector<float> a;
         int nrows = 0;
@@ -226,34 +257,36 @@ int StreamProduct(MatrixReader &left, const ColumnOperand &right, const RowForma
     const size_t tokens = 2 * static_cast<size_t>(tbb::this_task_arena::max_concurrency());
     tbb::parallel_pipeline(
         tokens,
-        tbb::make_filter<void, Block *>(tbb::filter_mode::serial_in_order,
-                                         [&](tbb::flow_control &fc) -> Block * {
-                                             if (done) {
-                                                 fc.stop();
-                                                 return nullptr;
-                                             }
-                                             auto *b = new Block;
-                                             b->a.resize(static_cast<size_t>(block_rows) * inner * 3);
-                                             while (b->nrows < block_rows &&
-                                                    left.ReadRow(b->a.data() + static_cast<size_t>(b->nrows) * inner * 3))
-                                                 ++b->nrows;
-                                             if (b->nrows < block_rows) done = true;
-                                             if (b->nrows == 0) {
-                                                 delete b;
-                                                 fc.stop();
-                                                 return nullptr;
-                                             }
-                                             return b;
-                                         }) &
-            tbb::make_filter<Block *, Block *>(tbb::filter_mode::parallel,
-                                                [&](Block *b) {
-                                                    std::vector<float> res(static_cast<size_t>(b->nrows) * ncols * 3);
-                                                    MultiplyRows(b->a.data(), b->nrows, inner, right, 0, ncols, res.data());
-                                                    std::vector<float>().swap(b->a);
-                                                    for (int r = 0; r < b->nrows; ++r)
-                                                        fmt.Append(res.data() + static_cast<size_t>(r) * ncols * 3, &b->text);
-                                                    return b;
-                                                }) &
+        tbb::make_filter<void, Block *>(
+            tbb::filter_mode::serial_in_order,
+            [&](tbb::flow_control &fc) -> Block * {
+                if (done) {
+                    fc.stop();
+                    return nullptr;
+                }
+                auto *b = new Block;
+                b->a.resize(static_cast<size_t>(block_rows) * inner * 3);
+                while (b->nrows < block_rows &&
+                       left.ReadRow(b->a.data() + static_cast<size_t>(b->nrows) * inner * 3))
+                    ++b->nrows;
+                if (b->nrows < block_rows) done = true;
+                if (b->nrows == 0) {
+                    delete b;
+                    fc.stop();
+                    return nullptr;
+                }
+                return b;
+            }) &
+            tbb::make_filter<Block *, Block *>(
+                tbb::filter_mode::parallel,
+                [&](Block *b) {
+                    std::vector<float> res(static_cast<size_t>(b->nrows) * ncols * 3);
+                    MultiplyRows(b->a.data(), b->nrows, inner, right, 0, ncols, res.data());
+                    std::vector<float>().swap(b->a);
+                    for (int r = 0; r < b->nrows; ++r)
+                        fmt.Append(res.data() + static_cast<size_t>(r) * ncols * 3, &b->text);
+                    return b;
+                }) &
             tbb::make_filter<Block *, void>(tbb::filter_mode::serial_in_order, [&](Block *b) {
                 out.Write(b->text);
                 total += b->nrows;

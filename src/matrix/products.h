@@ -36,21 +36,23 @@ class ColumnOperand {
 
     int rows_ = 0, cols_ = 0;
     bool sparse_ = false;
-    std::vector<float> planes_[3];                       // dense: [k][row * cols + col]
-    std::vector<uint32_t> start_;                        // sparse: entries of column j in [start_[j], start_[j+1])
+    std::vector<float> planes_[3];  // dense: [k][row * cols + col]
+    std::vector<uint32_t> start_;   // sparse: entries of column j in [start_[j], start_[j+1])
     std::vector<uint32_t> entry_row_;
-    std::vector<float> entry_value_;                     // 3 per entry
+    std::vector<float> entry_value_;  // 3 per entry
 };
 
 // out[r][j - col0][c] = sum_k a[r][k][c] * b[k][j][c] for columns j in [col0, col1), rows r <
 // nrows; a has inner dimension b.Rows(). out has (col1 - col0) columns.
-void MultiplyRows(const float *a, int nrows, int inner, const ColumnOperand &b, int col0, int col1, float *out);
+void MultiplyRows(const float *a, int nrows, int inner, const ColumnOperand &b, int col0, int col1,
+                  float *out);
 
 // a x b, with rows computed in parallel.
 ColorMatrix Multiply(const ColorMatrix &a, const ColumnOperand &b);
 
 // Streams the rows of left through left x right and writes each result row with fmt, in order,
 // computing and formatting blocks of rows in parallel. Returns the number of rows written.
-int StreamProduct(MatrixReader &left, const ColumnOperand &right, const RowFormatter &fmt, OutputFile &out);
+int StreamProduct(MatrixReader &left, const ColumnOperand &right, const RowFormatter &fmt,
+                  OutputFile &out);
 
 }  // namespace dayflux

@@ -7,11 +7,13 @@
 
 namespace dayflux {
 
-MatrixReader::MatrixReader(const std::string &spec, const ReadSpec &rs) : in_(InputSource::Open(spec)) {
+MatrixReader::MatrixReader(const std::string &spec, const ReadSpec &rs)
+    : in_(InputSource::Open(spec)) {
     Init(rs);
 }
 
-MatrixReader::MatrixReader(std::unique_ptr<InputSource> in, const ReadSpec &rs) : in_(std::move(in)) {
+MatrixReader::MatrixReader(std::unique_ptr<InputSource> in, const ReadSpec &rs)
+    : in_(std::move(in)) {
     Init(rs);
 }
 
@@ -22,7 +24,8 @@ void MatrixReader::Init(const ReadSpec &rs) {
     if (rs.format != DataFormat::Unknown) {
         if (format_ != DataFormat::Unknown && format_ != rs.format)
             ErrorExit(&loc, "unexpected data format '" + std::string(FormatName(format_)) +
-                                "' in header (expected " + std::string(FormatName(rs.format)) + ")");
+                                "' in header (expected " + std::string(FormatName(rs.format)) +
+                                ")");
         format_ = rs.format;
     }
     if (format_ == DataFormat::Unknown) {
@@ -98,7 +101,8 @@ bool MatrixReader::ReadBinaryRow(T *values) {
         ShortInput();
     }
     if (swap_) {
-        for (size_t i = 0; i < n; ++i) std::reverse(raw_.data() + i * size, raw_.data() + (i + 1) * size);
+        for (size_t i = 0; i < n; ++i)
+            std::reverse(raw_.data() + i * size, raw_.data() + (i + 1) * size);
     }
     if (size == 4) {
         for (size_t i = 0; i < n; ++i) {
@@ -129,7 +133,8 @@ bool MatrixReader::ReadPictureRow(T *values) {
         float rgb[3];
         FromColr(scan_[j], rgb);
         for (int k = 0; k < 3; ++k)
-            values[3 * j + k] = scale ? static_cast<T>(rgb[k] * (1.0 / e[k])) : static_cast<T>(rgb[k]);
+            values[3 * j + k] =
+                scale ? static_cast<T>(rgb[k] * (1.0 / e[k])) : static_cast<T>(rgb[k]);
     }
     return true;
 }
@@ -139,12 +144,19 @@ bool MatrixReader::ReadRowT(T *values) {
     if (nrows_ > 0 && rows_read_ >= nrows_) return false;
     bool ok = false;
     switch (format_) {
-        case DataFormat::Ascii: ok = ReadAsciiRow(values); break;
+        case DataFormat::Ascii:
+            ok = ReadAsciiRow(values);
+            break;
         case DataFormat::Float:
-        case DataFormat::Double: ok = ReadBinaryRow(values); break;
+        case DataFormat::Double:
+            ok = ReadBinaryRow(values);
+            break;
         case DataFormat::RGBE:
-        case DataFormat::XYZE: ok = ReadPictureRow(values); break;
-        case DataFormat::Unknown: CHECK(false);
+        case DataFormat::XYZE:
+            ok = ReadPictureRow(values);
+            break;
+        case DataFormat::Unknown:
+            CHECK(false);
     }
     if (ok) ++rows_read_;
     return ok;

@@ -76,7 +76,8 @@ void EncodeScanline(const Colr *scan, int len, std::string *out) {
         for (int j = 0; j < len; j += cnt) {
             int beg;
             for (beg = j; beg < len; beg += cnt) {
-                for (cnt = 1; cnt < 127 && beg + cnt < len && scan[beg + cnt][i] == scan[beg][i]; ++cnt) {
+                for (cnt = 1; cnt < 127 && beg + cnt < len && scan[beg + cnt][i] == scan[beg][i];
+                     ++cnt) {
                 }
                 if (cnt >= kMinRun) break;
             }

@@ -68,7 +68,8 @@ void RowFormatter::AppendT(const T *v, std::string *out) const {
             EncodeScanline(scan.data(), ncols_, out);
             break;
         }
-        case DataFormat::Unknown: CHECK(false);
+        case DataFormat::Unknown:
+            CHECK(false);
     }
 }
 

@@ -18,8 +18,7 @@ std::string FileLoc::ToString() const {
 }
 
 void ErrorExit(const FileLoc *loc, std::string_view message) {
-    if (loc && !loc->file.empty())
-        throw UserError(loc->ToString() + ": " + std::string(message));
+    if (loc && !loc->file.empty()) throw UserError(loc->ToString() + ": " + std::string(message));
     throw UserError(std::string(message));
 }
 
@@ -38,7 +37,8 @@ void Warning(std::string_view message) { Warning(nullptr, message); }
 
 void SetProgramName(std::string_view argv0) {
     size_t slash = argv0.rfind('/');
-    ProgramNameStorage() = std::string(slash == std::string_view::npos ? argv0 : argv0.substr(slash + 1));
+    ProgramNameStorage() =
+        std::string(slash == std::string_view::npos ? argv0 : argv0.substr(slash + 1));
 }
 
 const std::string &ProgramName() { return ProgramNameStorage(); }

@@ -42,11 +42,11 @@ int RunTool(int argc, char **argv, int (*body)(int, char **));
 
 }  // namespace dayflux
 
-#define CHECK(cond)                                                                     \
-    do {                                                                                \
-        if (!(cond)) {                                                                  \
-            std::fprintf(stderr, "%s:%d: internal error: CHECK(%s) failed\n", __FILE__, \
-                         __LINE__, #cond);                                              \
-            std::abort();                                                               \
-        }                                                                               \
+#define CHECK(cond)                                                                               \
+    do {                                                                                          \
+        if (!(cond)) {                                                                            \
+            std::fprintf(stderr, "%s:%d: internal error: CHECK(%s) failed\n", __FILE__, __LINE__, \
+                         #cond);                                                                  \
+            std::abort();                                                                         \
+        }                                                                                         \
     } while (false)

@@ -11,7 +11,9 @@ namespace dayflux {
 namespace {
 constexpr size_t kBufferSize = 1 << 20;
 
-bool IsSpace(int c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; }
+bool IsSpace(int c) {
+    return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v';
+}
 }  // namespace
 
 std::unique_ptr<InputSource> InputSource::Open(const std::string &spec) {

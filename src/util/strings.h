@@ -19,7 +19,8 @@ bool IsFloatWord(std::string_view word);
 // Appends value as printf("%.*e", precision, value) would print it.
 inline void AppendScientific(std::string *out, double value, int precision) {
     char buf[64];
-    auto res = std::to_chars(buf, buf + sizeof buf, value, std::chars_format::scientific, precision);
+    auto res =
+        std::to_chars(buf, buf + sizeof buf, value, std::chars_format::scientific, precision);
     out->append(buf, res.ptr);
 }
 

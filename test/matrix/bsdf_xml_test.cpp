@@ -35,18 +35,21 @@ TEST(KlemsBases, CentresMapBackToTheirPatches) {
     EXPECT_EQ(full.IndexOf(0, 0, -1), -1);
 }
 
-std::string SyntheticBsdf(const char *basis, int n, const std::string &structure, double t_front, double t_back,
-                          double r_value) {
+std::string SyntheticBsdf(const char *basis, int n, const std::string &structure, double t_front,
+                          double t_back, double r_value) {
     std::ostringstream x;
     x.precision(17);
     x << "<?xml version=\"1.0\"?>\n<WindowElement>\n<FileType>BSDF</FileType>\n<Optical><Layer>\n"
-      << "<DataDefinition><IncidentDataStructure>" << structure << "</IncidentDataStructure></DataDefinition>\n";
+      << "<DataDefinition><IncidentDataStructure>" << structure
+      << "</IncidentDataStructure></DataDefinition>\n";
     auto block = [&](const char *dir, double value) {
         x << "<WavelengthData><Wavelength>Visible</Wavelength><WavelengthDataBlock>"
           << "<WavelengthDataDirection>" << dir << "</WavelengthDataDirection>"
-          << "<ColumnAngleBasis>" << basis << "</ColumnAngleBasis><RowAngleBasis>" << basis << "</RowAngleBasis>"
+          << "<ColumnAngleBasis>" << basis << "</ColumnAngleBasis><RowAngleBasis>" << basis
+          << "</RowAngleBasis>"
           << "<ScatteringData>";
-        for (int i = 0; i < n * n; ++i) x << value * (1 + (i % n == i / n)) << (i + 1 < n * n ? ", " : "");
+        for (int i = 0; i < n * n; ++i)
+            x << value * (1 + (i % n == i / n)) << (i + 1 < n * n ? ", " : "");
         x << "</ScatteringData></WavelengthDataBlock></WavelengthData>\n";
     };
     if (t_front >= 0) block("Transmission Front", t_front);
@@ -61,7 +64,8 @@ std::string SyntheticBsdf(const char *basis, int n, const std::string &structure
 TEST(BsdfMatrix, TransmissionIsBsdfTimesIncidentProjectedSolidAngle) {
     test::TempDir tmp;
     const double v = 0.2 / M_PI;
-    test::WriteFile(tmp.path() / "t.xml", SyntheticBsdf("LBNL/Klems Half", 73, "Columns", v, -1, 0.1 / M_PI));
+    test::WriteFile(tmp.path() / "t.xml",
+                    SyntheticBsdf("LBNL/Klems Half", 73, "Columns", v, -1, 0.1 / M_PI));
     ColorMatrix t = LoadBsdfMatrix((tmp.path() / "t.xml").string(), BsdfPart::kTransmission);
     const AngleBasis &half = KlemsBases()[1];
     ASSERT_EQ(t.rows, 73);
@@ -71,7 +75,8 @@ TEST(BsdfMatrix, TransmissionIsBsdfTimesIncidentProjectedSolidAngle) {
         for (int c = 0; c < 73; ++c) {
             sum += t.at(r, c, 1);
             const double expect = v * (1 + (r == c)) * half.ProjectedSolidAngle(c);
-            // Float storage, the diffuse part taken out and added back through RGB: a few roundings.
+            // Float storage, the diffuse part taken out and added back through RGB: a few
+            // roundings.
             ASSERT_NEAR(t.at(r, c, 0), expect, 5e-7 * expect);
             // Grey stays grey to float rounding (RADIANCE's XYZ-to-RGB matrix is not exactly 1).
             ASSERT_NEAR(t.at(r, c, 0), t.at(r, c, 2), 1e-6 * expect);
@@ -86,15 +91,19 @@ TEST(BsdfMatrix, RowsAndColumnsStructuresAreTransposes) {
     auto make = [&](const std::string &structure, bool transpose) {
         std::ostringstream x;
         x << "<WindowElement><Optical><Layer><DataDefinition><IncidentDataStructure>" << structure
-          << "</IncidentDataStructure></DataDefinition><WavelengthData><Wavelength>Visible</Wavelength>"
-          << "<WavelengthDataBlock><WavelengthDataDirection>Transmission Front</WavelengthDataDirection>"
-          << "<ColumnAngleBasis>LBNL/Klems Quarter</ColumnAngleBasis><RowAngleBasis>LBNL/Klems Quarter</RowAngleBasis>"
+          << "</IncidentDataStructure></DataDefinition><WavelengthData><Wavelength>Visible</"
+             "Wavelength>"
+          << "<WavelengthDataBlock><WavelengthDataDirection>Transmission "
+             "Front</WavelengthDataDirection>"
+          << "<ColumnAngleBasis>LBNL/Klems Quarter</ColumnAngleBasis><RowAngleBasis>LBNL/Klems "
+             "Quarter</RowAngleBasis>"
           << "<ScatteringData>";
         for (int i = 0; i < 41 * 41; ++i) {
             int a = i / 41, b = i % 41;
             x << 0.001 * (transpose ? b * 41 + a : i) << ' ';
         }
-        x << "</ScatteringData></WavelengthDataBlock></WavelengthData></Layer></Optical></WindowElement>";
+        x << "</ScatteringData></WavelengthDataBlock></WavelengthData></Layer></Optical></"
+             "WindowElement>";
         return x.str();
     };
     test::WriteFile(tmp.path() / "c.xml", make("Columns", false));
@@ -109,8 +118,10 @@ TEST(BsdfMatrix, RowsAndColumnsStructuresAreTransposes) {
 TEST(BsdfMatrix, ReciprocityWhenOnlyTransmissionBackIsGiven) {
     test::TempDir tmp;
     const double v = 0.3 / M_PI;
-    test::WriteFile(tmp.path() / "f.xml", SyntheticBsdf("LBNL/Klems Full", 145, "Columns", v, -1, 0.1));
-    test::WriteFile(tmp.path() / "b.xml", SyntheticBsdf("LBNL/Klems Full", 145, "Columns", -1, v, 0.1));
+    test::WriteFile(tmp.path() / "f.xml",
+                    SyntheticBsdf("LBNL/Klems Full", 145, "Columns", v, -1, 0.1));
+    test::WriteFile(tmp.path() / "b.xml",
+                    SyntheticBsdf("LBNL/Klems Full", 145, "Columns", -1, v, 0.1));
     ColorMatrix f = LoadBsdfMatrix((tmp.path() / "f.xml").string(), BsdfPart::kTransmission);
     ColorMatrix b = LoadBsdfMatrix((tmp.path() / "b.xml").string(), BsdfPart::kTransmission);
     ASSERT_EQ(f.data.size(), b.data.size());
@@ -123,12 +134,15 @@ TEST(BsdfMatrix, LambertianBsdfConservesTransmittance) {
     test::TempDir tmp;
     std::string xml = SyntheticBsdf("LBNL/Klems Half", 73, "Columns", -1, -1, 0.1);
     const std::string block =
-        "<WavelengthData><Wavelength>Visible</Wavelength><WavelengthDataBlock><WavelengthDataDirection>"
-        "Transmission Front</WavelengthDataDirection><ColumnAngleBasis>LBNL/Klems Half</ColumnAngleBasis>"
+        "<WavelengthData><Wavelength>Visible</"
+        "Wavelength><WavelengthDataBlock><WavelengthDataDirection>"
+        "Transmission Front</WavelengthDataDirection><ColumnAngleBasis>LBNL/Klems "
+        "Half</ColumnAngleBasis>"
         "<RowAngleBasis>LBNL/Klems Half</RowAngleBasis><ScatteringData>";
     std::string values;
     for (int i = 0; i < 73 * 73; ++i) values += std::to_string(0.5 / M_PI) + " ";
-    xml.insert(xml.find("</Layer>"), block + values + "</ScatteringData></WavelengthDataBlock></WavelengthData>");
+    xml.insert(xml.find("</Layer>"),
+               block + values + "</ScatteringData></WavelengthDataBlock></WavelengthData>");
     test::WriteFile(tmp.path() / "l.xml", xml);
     ColorMatrix t = LoadBsdfMatrix((tmp.path() / "l.xml").string(), BsdfPart::kTransmission);
     ASSERT_EQ(t.rows, 145);
@@ -152,18 +166,25 @@ std::string LoadError(const std::string &xml, BsdfPart part = BsdfPart::kTransmi
 }
 
 TEST(BsdfMatrix, BadFilesGetMessages) {
-    EXPECT_EQ(LoadError("<WindowElement>\n<Optical>\n</Layer>"), "e.xml:3: not a valid XML file: Start-end tags mismatch");
-    EXPECT_EQ(LoadError("<Other/>"), "e.xml: not a BSDF file: the top element is not 'WindowElement'");
-    EXPECT_EQ(LoadError("<WindowElement><Optical><Layer><DataDefinition><IncidentDataStructure>TensorTree3"
-                        "</IncidentDataStructure></DataDefinition></Layer></Optical></WindowElement>"),
-              "e.xml: tensor-tree BSDF (TensorTree3) is not supported here: only Klems matrix BSDFs can be used "
-              "as a matrix");
+    EXPECT_EQ(LoadError("<WindowElement>\n<Optical>\n</Layer>"),
+              "e.xml:3: not a valid XML file: Start-end tags mismatch");
+    EXPECT_EQ(LoadError("<Other/>"),
+              "e.xml: not a BSDF file: the top element is not 'WindowElement'");
+    EXPECT_EQ(
+        LoadError(
+            "<WindowElement><Optical><Layer><DataDefinition><IncidentDataStructure>TensorTree3"
+            "</IncidentDataStructure></DataDefinition></Layer></Optical></WindowElement>"),
+        "e.xml: tensor-tree BSDF (TensorTree3) is not supported here: only Klems matrix BSDFs can "
+        "be used "
+        "as a matrix");
     std::string xml = SyntheticBsdf("LBNL/Klems Quarter", 41, "Columns", 0.1, -1, 0.1);
     const size_t end = xml.find("</ScatteringData>");
     const size_t last = xml.rfind(", ", end);
     xml.erase(last, end - last);  // one value short
-    EXPECT_NE(LoadError(xml).find("ScatteringData has 1680 values, expected 1681"), std::string::npos);
-    EXPECT_NE(LoadError(SyntheticBsdf("My/Basis", 41, "Columns", 0.1, -1, 0.1)).find("undefined ColumnAngleBasis 'My/Basis'"),
+    EXPECT_NE(LoadError(xml).find("ScatteringData has 1680 values, expected 1681"),
+              std::string::npos);
+    EXPECT_NE(LoadError(SyntheticBsdf("My/Basis", 41, "Columns", 0.1, -1, 0.1))
+                  .find("undefined ColumnAngleBasis 'My/Basis'"),
               std::string::npos);
 }
 

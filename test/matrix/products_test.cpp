@@ -37,7 +37,8 @@ TEST(Products, DenseProductIsBitIdenticalToRadianceOrder) {
     ColorMatrix p = Multiply(a, op);
     for (int i = 0; i < p.rows; ++i)
         for (int j = 0; j < p.cols; ++j)
-            for (int c = 0; c < 3; ++c) ASSERT_EQ(p.at(i, j, c), Reference(a, b, i, j, c)) << i << "," << j;
+            for (int c = 0; c < 3; ++c)
+                ASSERT_EQ(p.at(i, j, c), Reference(a, b, i, j, c)) << i << "," << j;
 }
 
 TEST(Products, SparseOperandGivesTheSameBits) {

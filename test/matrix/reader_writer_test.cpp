@@ -19,11 +19,12 @@ std::vector<double> RandomValues(int n, unsigned seed) {
     return v;
 }
 
-std::string Encode(const std::vector<double> &v, int rows, int cols, int ncomp, DataFormat f, bool nrows = true,
-                   AsciiStyle style = AsciiStyle::kRmatrix) {
+std::string Encode(const std::vector<double> &v, int rows, int cols, int ncomp, DataFormat f,
+                   bool nrows = true, AsciiStyle style = AsciiStyle::kRmatrix) {
     std::string s = "#?RADIANCE\ntest\n";
-    s += nrows ? HeaderFields(rows, cols, ncomp, f) : "NCOLS=" + std::to_string(cols) + "\nNCOMP=" +
-                                                       std::to_string(ncomp) + "\n" + FormatLine(f) + "\n";
+    s += nrows ? HeaderFields(rows, cols, ncomp, f)
+               : "NCOLS=" + std::to_string(cols) + "\nNCOMP=" + std::to_string(ncomp) + "\n" +
+                     FormatLine(f) + "\n";
     if (IsPicture(f)) s = "#?RADIANCE\n" + FormatLine(f) + "\n" + ResolutionLine(cols, rows);
     RowFormatter fmt(f, cols, ncomp, style);
     for (int r = 0; r < rows; ++r) fmt.Append(v.data() + static_cast<size_t>(r) * cols * ncomp, &s);
@@ -60,7 +61,8 @@ TEST_P(RoundTrip, EveryFormatReadsBackWhatWasWritten) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Formats, RoundTrip,
-                         testing::Values(DataFormat::Ascii, DataFormat::Float, DataFormat::Double, DataFormat::RGBE));
+                         testing::Values(DataFormat::Ascii, DataFormat::Float, DataFormat::Double,
+                                         DataFormat::RGBE));
 
 TEST(RoundTrip, CmatrixAsciiStyleAndOneComponent) {
     std::vector<double> v = RandomValues(4 * 5, 3);
@@ -89,7 +91,8 @@ TEST(Reader, SwapsBytesForTheOtherByteOrder) {
         size_t at = s.find("BigEndian=") + 10;
         s[at] = s[at] == '0' ? '1' : '0';
         size_t body = s.find("\n\n") + 2;
-        for (size_t i = body; i + size <= s.size(); i += size) std::reverse(s.begin() + i, s.begin() + i + size);
+        for (size_t i = body; i + size <= s.size(); i += size)
+            std::reverse(s.begin() + i, s.begin() + i + size);
         EXPECT_EQ(Decode(s), v);
     }
 }
@@ -109,16 +112,19 @@ std::string ReadError(const std::string &s, ReadSpec rs = {}) {
 TEST(Reader, ShortAndMalformedDataAreErrors) {
     std::vector<double> v = RandomValues(5 * 4 * 3, 9);
     std::string full = Encode(v, 5, 4, 3, DataFormat::Float);
-    EXPECT_EQ(ReadError(full.substr(0, full.size() - 10)), "m.mtx: unexpected end of input in row 5 of 5");
+    EXPECT_EQ(ReadError(full.substr(0, full.size() - 10)),
+              "m.mtx: unexpected end of input in row 5 of 5");
     std::string noend = Encode(v, 5, 4, 3, DataFormat::Float, false);
-    EXPECT_EQ(ReadError(noend.substr(0, noend.size() - 4)), "m.mtx: unexpected end of input in row 5");
+    EXPECT_EQ(ReadError(noend.substr(0, noend.size() - 4)),
+              "m.mtx: unexpected end of input in row 5");
     EXPECT_EQ(ReadError("#?RADIANCE\nNROWS=2\nNCOLS=2\nNCOMP=1\n\n1 2\n3 x4\n"),
               "m.mtx:7: non-numeric value 'x4' in row 2");
     EXPECT_EQ(ReadError("#?RADIANCE\nNROWS=2\nNCOMP=1\n\n1 2\n"),
               "m.mtx: unspecified number of columns (no NCOLS= in header)");
     ReadSpec rs;
     rs.ncols = 3;
-    EXPECT_EQ(ReadError("#?RADIANCE\nNROWS=1\nNCOLS=2\nNCOMP=1\n\n1 2\n", rs), "m.mtx: has 2 columns, expected 3");
+    EXPECT_EQ(ReadError("#?RADIANCE\nNROWS=1\nNCOLS=2\nNCOMP=1\n\n1 2\n", rs),
+              "m.mtx: has 2 columns, expected 3");
 }
 
 TEST(Reader, HeaderlessInputWithGivenFormat) {

@@ -26,7 +26,8 @@ class ReferenceTree {
         fs::create_symlink(DataDir() / "bsdf/clear.xml", tmtx / "clear.xml");
         fs::create_symlink(DataDir() / "bsdf/blinds.xml", tmtx / "blinds.xml");
         fs::create_directories(tmp_.path() / "bsdf");
-        fs::create_symlink(DataDir() / "bsdf/frads_klems_aniso_high.xml", tmp_.path() / "bsdf/frads_klems_aniso_high.xml");
+        fs::create_symlink(DataDir() / "bsdf/frads_klems_aniso_high.xml",
+                           tmp_.path() / "bsdf/frads_klems_aniso_high.xml");
         for (const char *sub : {"rcontrib/cds_test.fmx.xz", "gendaymtx/oak_5ph_d_m6.fmx.xz"}) {
             fs::path p = tmp_.path() / "references" / sub;
             fs::create_directories(p.parent_path());
@@ -45,7 +46,9 @@ std::vector<std::string> ReferenceCommands() {
     std::vector<std::string> cmds;
     std::string line;
     while (std::getline(f, line)) {
-        if (line.empty() || line[0] == '#' || line.rfind("set ", 0) == 0 || line.rfind("xz ", 0) == 0) continue;
+        if (line.empty() || line[0] == '#' || line.rfind("set ", 0) == 0 ||
+            line.rfind("xz ", 0) == 0)
+            continue;
         // The script writes outputs that are compressed afterwards; keep them plain here.
         cmds.push_back(line);
     }
@@ -98,7 +101,8 @@ TEST_F(MatrixReferences, OutputsEqualRadianceByteForByte) {
 TEST(RadianceRegression, RmtxopMatchesExactly) {
     TempDir tmp;
     fs::create_symlink(DataDir() / "radiance_util/test.mtx", tmp.path() / "test.mtx");
-    CommandResult r = RunCommand("rmtxop -ff -c .3 .9 .2 test.mtx -c .7 .2 .3 -t test.mtx", tmp.path());
+    CommandResult r =
+        RunCommand("rmtxop -ff -c .3 .9 .2 test.mtx -c .7 .2 .3 -t test.mtx", tmp.path());
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(r.out, ReadFile(DataDir() / "radiance_util/rmtxop.mtx"));
 }
@@ -107,7 +111,8 @@ TEST(RadianceRegression, RmtxopMatchesExactly) {
 TEST(RadianceRegression, DctimestepMatchesToPrintedPrecision) {
     TempDir tmp;
     fs::create_symlink(DataDir() / "radiance_util/test.mtx", tmp.path() / "test.mtx");
-    fs::create_symlink(DataDir() / "radiance_util/genskyvec_3-21_10-15.vec", tmp.path() / "sky.vec");
+    fs::create_symlink(DataDir() / "radiance_util/genskyvec_3-21_10-15.vec",
+                       tmp.path() / "sky.vec");
     CommandResult r = RunCommand("dctimestep '!rmtxop -ff -t test.mtx' sky.vec", tmp.path());
     ASSERT_EQ(r.status, 0) << r.err;
     std::string ref = ReadFile(DataDir() / "radiance_util/dctimestep.mtx");
@@ -128,27 +133,33 @@ TEST(RadianceRegression, DctimestepMatchesToPrintedPrecision) {
 class BadInput : public testing::Test {
   protected:
     void SetUp() override {
-        for (const char *f : {"dc.mtx", "dc.fmx", "sky.mtx", "sky.fmx", "vmx.mtx", "A.mtx", "B.mtx", "A.fmx"})
+        for (const char *f :
+             {"dc.mtx", "dc.fmx", "sky.mtx", "sky.fmx", "vmx.mtx", "A.mtx", "B.mtx", "A.fmx"})
             fs::create_symlink(DataDir() / "matrix" / f, tmp_.path() / f);
         fs::create_symlink(DataDir() / "bsdf/blindsT3.xml", tmp_.path() / "blindsT3.xml");
     }
     void ExpectError(const std::string &cmd, std::initializer_list<const char *> words) {
         CommandResult r = RunCommand(cmd, tmp_.path());
         EXPECT_NE(r.status, 0) << cmd;
-        for (const char *w : words) EXPECT_NE(r.err.find(w), std::string::npos) << cmd << " said: " << r.err;
+        for (const char *w : words)
+            EXPECT_NE(r.err.find(w), std::string::npos) << cmd << " said: " << r.err;
     }
     TempDir tmp_;
 };
 
-TEST_F(BadInput, MissingFile) { ExpectError("dctimestep nosuch.mtx sky.mtx", {"nosuch.mtx", "cannot open"}); }
+TEST_F(BadInput, MissingFile) {
+    ExpectError("dctimestep nosuch.mtx sky.mtx", {"nosuch.mtx", "cannot open"});
+}
 
 TEST_F(BadInput, TruncatedBinary) {
     RunCommand("head -c 5000 dc.fmx > short.fmx", tmp_.path());
-    ExpectError("dctimestep -of short.fmx sky.fmx", {"short.fmx", "unexpected end of input in row", "of 8"});
+    ExpectError("dctimestep -of short.fmx sky.fmx",
+                {"short.fmx", "unexpected end of input in row", "of 8"});
 }
 
 TEST_F(BadInput, TruncatedPipe) {
-    ExpectError("dctimestep dc.mtx '!head -c 3000 sky.fmx'", {"!head -c 3000 sky.fmx", "unexpected end of input"});
+    ExpectError("dctimestep dc.mtx '!head -c 3000 sky.fmx'",
+                {"!head -c 3000 sky.fmx", "unexpected end of input"});
 }
 
 TEST_F(BadInput, NonNumericAscii) {
@@ -217,7 +228,8 @@ TEST(MatrixInputs, ByteSwappedFloatReadsTheSame) {
     std::string head = f.substr(0, end), body = f.substr(end);
     ASSERT_NE(head.find("BigEndian=0"), std::string::npos);
     head.replace(head.find("BigEndian=0"), 11, "BigEndian=1");
-    for (size_t i = 0; i + 4 <= body.size(); i += 4) std::swap(body[i], body[i + 3]), std::swap(body[i + 1], body[i + 2]);
+    for (size_t i = 0; i + 4 <= body.size(); i += 4)
+        std::swap(body[i], body[i + 3]), std::swap(body[i + 1], body[i + 2]);
     WriteFile(tmp.path() / "A_be.fmx", head + body);
     fs::create_symlink(DataDir() / "matrix/A.fmx", tmp.path() / "A.fmx");
     CommandResult a = RunCommand("rmtxop -fa A.fmx", tmp.path());
