@@ -1,0 +1,294 @@
+#include "sky/perez.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace dayflux {
+
+namespace {
+
+constexpr double kEfficacy = 179.;          // RADIANCE's WHTEFFICACY, lm/W
+constexpr double kSolarConstantE = 1367.0;  // W/m2
+constexpr double kSolarConstantL = 127.5;   // klx
+constexpr double kDewPoint = 11.0;          // deg C, gendaymtx's fixed surface dew point
+constexpr double kTiny = 1e-6;              // RADIANCE's FTINY
+
+double Rad(double deg) { return deg * (M_PI / 180.); }
+
+// Perez et al. 1993, Table 1: a..e as (x0 + x1 z + delta (x2 + x3 z)) for 8 clearness bins.
+constexpr double kPerezCoefficients[8][20] = {
+    {1.3525, -0.2576, -0.2690, -1.4366, -0.7670, 0.0007, 1.2734, -0.1233, 2.8000,  0.6004,
+     1.2375, 1.0000,  1.8734,  0.6297,  0.9738,  0.2809, 0.0356, -0.1246, -0.5718, 0.9938},
+    {-1.2219, -0.7730, 1.4148,  1.1016,  -0.2054, 0.0367, -3.9128, 0.9156, 6.9750,  0.1774,
+     6.4477,  -0.1239, -1.5798, -0.5081, -1.7812, 0.1080, 0.2624,  0.0672, -0.2190, -0.4285},
+    {-1.1000,  -0.2515, 0.8952,  0.0156, 0.2782, -0.1812, -4.5000, 1.1766, 24.7219, -13.0812,
+     -37.7000, 34.8438, -5.0000, 1.5218, 3.9229, -2.6204, -0.0156, 0.1597, 0.4199,  -0.5562},
+    {-0.5484,  -0.6654, -0.2672, 0.7117, 0.7234, -0.6219, -5.6812, 2.6297,  33.3389, -18.3000,
+     -62.2500, 52.0781, -3.5000, 0.0016, 1.1477, 0.1062,  0.4659,  -0.3296, -0.0876, -0.0329},
+    {-0.6000,  -0.3566, -2.5000, 2.3250,  0.2937, 0.0496, -5.6812, 1.8415, 21.0000, -4.7656,
+     -21.5906, 7.2492,  -3.5000, -0.1554, 1.4062, 0.3988, 0.0032,  0.0766, -0.0656, -0.1294},
+    {-1.0156, -0.3670, 1.0078,  1.4051,  0.2875,  -0.5328, -3.8500, 3.3750, 14.0000, -0.9999,
+     -7.1406, 7.5469,  -3.4000, -0.1078, -1.0750, 1.5702,  -0.0672, 0.4016, 0.3017,  -0.4844},
+    {-1.0000, 0.0211,  0.5025,  -0.5119, -0.3000, 0.1922, 0.7023, -1.6317, 19.0000, -5.0000,
+     1.2438,  -1.9094, -4.0000, 0.0250,  0.3844,  0.2656, 1.0468, -0.3788, -2.4517, 1.4656},
+    {-1.0500,  0.0289,  0.4260,  0.3590, -0.3250, 0.1156, 0.7781, 0.0025,  31.0625, -14.5000,
+     -46.1148, 55.3750, -7.2312, 0.4050, 13.3500, 0.6234, 1.5000, -0.6426, 1.8564,  0.5636}};
+
+// Clearness (epsilon) bins of Perez et al. 1993.
+constexpr double kClearnessBounds[9] = {1.000, 1.065, 1.230, 1.500, 1.950,
+                                        2.800, 4.500, 6.200, 12.01};
+
+// Perez et al. 1990, Table 4: luminous efficacy a + b W + c cos(Z) + d ln(delta) (diffuse) and
+// a + b W + c exp(5.73 Z - 5) + d delta (direct).
+struct Efficacy {
+    double a, b, c, d;
+};
+constexpr Efficacy kDiffuseEfficacy[8] = {
+    {97.24, -0.46, 12.00, -8.91},   {107.22, 1.15, 0.59, -3.95},    {104.97, 2.96, -5.53, -8.77},
+    {102.39, 5.59, -13.95, -13.90}, {100.71, 5.94, -22.75, -23.74}, {106.42, 3.83, -36.15, -28.83},
+    {141.88, 1.90, -53.24, -14.03}, {152.23, 0.35, -45.27, -7.98}};
+constexpr Efficacy kDirectEfficacy[8] = {
+    {57.20, -4.55, -2.98, 117.12}, {98.99, -3.46, -1.21, 12.38},  {109.83, -4.90, -1.71, -8.81},
+    {110.34, -5.84, -1.99, -4.56}, {106.36, -3.97, -1.75, -6.16}, {107.19, -1.25, -1.51, -26.73},
+    {105.75, 0.77, -1.26, -34.44}, {101.18, 1.58, -1.10, -8.29}};
+
+// The Perez quantities of one step, named as in the papers.
+struct Atmosphere {
+    double sun_zenith = 0, precipitable_water = 0, eccentricity = 1;
+    double diff_irrad = 0, dir_irrad = 0, diff_illum = 0, dir_illum = 0;
+    double brightness = 0, clearness = 0;
+
+    double AirMass() const {
+        return 1.0 / (std::cos(sun_zenith) +
+                      0.15 * std::pow(93.885 - sun_zenith * (180. / M_PI), -1.253));
+    }
+    double Brightness() const { return diff_irrad * AirMass() / (kSolarConstantE * eccentricity); }
+    double Clearness() const {
+        const double z3 = sun_zenith * sun_zenith * sun_zenith;
+        return ((diff_irrad + dir_irrad) / diff_irrad + 1.041 * z3) / (1.0 + 1.041 * z3);
+    }
+    int Category() const {
+        int i = 0;
+        for (; i < 8; ++i)
+            if (clearness >= kClearnessBounds[i] && clearness < kClearnessBounds[i + 1]) break;
+        return i;
+    }
+    double DiffuseEfficacy(int i) const {
+        const Efficacy &e = kDiffuseEfficacy[i];
+        return e.a + e.b * precipitable_water + e.c * std::cos(sun_zenith) +
+               e.d * std::log(brightness);
+    }
+    double DirectEfficacy(int i) const {
+        const Efficacy &e = kDirectEfficacy[i];
+        return std::max(e.a + e.b * precipitable_water + e.c * std::exp(5.73 * sun_zenith - 5.0) +
+                            e.d * brightness,
+                        0.0);
+    }
+    // Photometric input: iterate to the irradiances that give the measured illuminances.
+    int FromIlluminance() {
+        double test1 = 0.1, test2 = 0.1;
+        int counter = 0;
+        diff_irrad = diff_illum * kSolarConstantE / (kSolarConstantL * 1000.0);
+        dir_irrad = dir_illum * kSolarConstantE / (kSolarConstantL * 1000.0);
+        brightness = std::max(Brightness(), 0.01);
+        clearness = std::min(Clearness(), 12.0);
+        while ((std::fabs(diff_irrad - test1) > 10.0 || std::fabs(dir_irrad - test2) > 10.0) &&
+               counter != 5) {
+            test1 = diff_irrad;
+            test2 = dir_irrad;
+            ++counter;
+            const int i = Category();
+            diff_irrad = diff_illum / DiffuseEfficacy(i);
+            dir_irrad = DirectEfficacy(i);
+            if (dir_irrad > 0.1) dir_irrad = dir_illum / dir_irrad;
+            brightness = Brightness();
+            clearness = Clearness();
+            if (clearness > 12.0) clearness = 12.0;
+            if (brightness < 0.01) brightness = 0.01;
+        }
+        return Category();
+    }
+};
+
+void PerezParameters(double sz, double epsilon, double delta, int index, double out[5]) {
+    if (epsilon > 1.065 && epsilon < 2.8 && delta < 0.2) delta = 0.2;
+    double x[5][4];
+    for (int i = 0; i < 5; ++i)
+        for (int j = 0; j < 4; ++j) x[i][j] = kPerezCoefficients[index][4 * i + j];
+    for (int i = 0; i < 5; ++i) out[i] = x[i][0] + x[i][1] * sz + delta * (x[i][2] + x[i][3] * sz);
+    if (index == 0) {  // overcast: c and d from Eqns. 7 and 8
+        out[2] = std::exp(std::pow(delta * (x[2][0] + x[2][1] * sz), x[2][2])) - x[2][3];
+        out[3] = -std::exp(delta * (x[3][0] + x[3][1] * sz)) + x[3][2] + delta * x[3][3];
+    }
+}
+
+// CIE luminance weights of RADIANCE's standard primaries (bright()).
+double Brightness(const float c[3]) {
+    const double xr = 0.640, yr = 0.330, xg = 0.290, yg = 0.600, xb = 0.150, yb = 0.060,
+                 xw = 1. / 3., yw = 1. / 3.;
+    const double D = xr * (yg - yb) + xg * (yb - yr) + xb * (yr - yg);
+    const double CrD = (1. / yw) * (xw * (yg - yb) - yw * (xg - xb) + xg * yb - xb * yg);
+    const double CgD = (1. / yw) * (xw * (yb - yr) - yw * (xb - xr) - xr * yb + xb * yr);
+    const double CbD = (1. / yw) * (xw * (yr - yg) - yw * (xr - xg) + xr * yg - xg * yr);
+    return yr * CrD / D * c[0] + yg * CgD / D * c[1] + yb * CbD / D * c[2];
+}
+
+}  // namespace
+
+SkyModel::SkyModel(const SkyOptions &options) : options_(options), patches_(options.mf) {
+    const int n = patches_.Size();
+    cos_zenith_.resize(n);
+    sin_zenith_.resize(n);
+    inv_cos_zenith_.resize(n);
+    cos_azi_.resize(n);
+    sin_azi_.resize(n);
+    horizontal_weight_.resize(n);
+    row_of_.resize(n);
+    for (int p = 1; p < n; ++p) {
+        const double zsa = M_PI * 0.5 - patches_.Altitude(p);
+        cos_zenith_[p] = std::cos(zsa);
+        sin_zenith_[p] = std::sin(zsa);
+        inv_cos_zenith_[p] = 1.0 / std::cos(zsa);
+        cos_azi_[p] = std::cos(static_cast<double>(patches_.Azimuth(p)));
+        sin_azi_[p] = std::sin(static_cast<double>(patches_.Azimuth(p)));
+        // The normalisation weight uses RADIANCE's table sine of the patch altitude.
+        horizontal_weight_[p] = TableSin(patches_.Altitude(p));
+    }
+    int p = 1;
+    for (int r = 0; r < patches_.Rows(); ++r)
+        for (int j = 0; j < patches_.PatchesInRow(r); ++j) row_of_[p++] = r;
+    sky_black_ = Brightness(options_.sky_color) <= 1e-4;
+}
+
+double SkyModel::RowFactor(const SkyStep &s, int p) const {
+    if (!s.sky_in_use || s.uniform) return 0;
+    return 1.0 + s.perez[0] * std::exp(s.perez[1] * inv_cos_zenith_[p]);
+}
+
+float SkyModel::RelativeLuminance(const SkyStep &s, int p, double row_factor) const {
+    // Angle between the sun and the patch centre (RADIANCE's Eqn. 8-20), kept inside acos's domain.
+    const double cos_azi_diff =
+        cos_azi_[p] * std::cos(s.azimuth) + sin_azi_[p] * std::sin(s.azimuth);
+    double cg =
+        s.cos_sun_zenith * cos_zenith_[p] + s.sin_sun_zenith * sin_zenith_[p] * cos_azi_diff;
+    cg = std::clamp(cg, -1.0, 1.0);
+    const double gamma = std::acos(cg);
+    float l = static_cast<float>(
+        row_factor * (1.0 + s.perez[2] * std::exp(s.perez[3] * gamma) + s.perez[4] * cg * cg));
+    return l < 0 ? 0.f : l;
+}
+
+SkyStep SkyModel::Prepare(double dir, double dif, WeatherUnits units, double altitude,
+                          double azimuth, int julian_date, bool add_sun) const {
+    SkyStep s;
+    s.azimuth = azimuth;
+    Atmosphere a;
+    a.precipitable_water = std::exp(0.07 * kDewPoint - 0.075);
+    if (altitude <= 0.0)
+        a.sun_zenith = Rad(90.0);
+    else if (altitude >= Rad(87.0))
+        a.sun_zenith = Rad(3.0);  // keeps the circumsolar region off the zenith
+    else
+        a.sun_zenith = Rad(90.0) - altitude;
+    const double day_angle = (julian_date - 1.0) * (2.0 * M_PI / 365.0);
+    a.eccentricity = 1.00011 + 0.034221 * std::cos(day_angle) + 0.00128 * std::sin(day_angle) +
+                     0.000719 * std::cos(2.0 * day_angle) + 0.000077 * std::sin(2.0 * day_angle);
+    if (units == WeatherUnits::kDirectHorizontal && altitude > kTiny) dir /= std::sin(altitude);
+    int index;
+    if (units != WeatherUnits::kPhotometric) {
+        a.dir_irrad = dir;
+        a.diff_irrad = dif;
+        a.brightness = a.Brightness();
+        a.clearness = a.Clearness();
+        if (a.clearness > 11.9) a.clearness = 11.9;
+        if (a.brightness < 0.01) a.brightness = 0.01;
+        index = a.Category();
+        a.diff_illum = a.diff_irrad * a.DiffuseEfficacy(index);
+        a.dir_illum = a.dir_irrad * a.DirectEfficacy(index);
+    } else {
+        a.dir_illum = dir;
+        a.diff_illum = dif;
+        index = a.FromIlluminance();
+    }
+    if (options_.solar_radiance) {
+        a.diff_illum = a.diff_irrad * kEfficacy;
+        a.dir_illum = a.dir_irrad * kEfficacy;
+    }
+    s.dir_illum = a.dir_illum;
+    // Ground: diffuse plus direct on the horizontal, reflected.
+    float g = static_cast<float>(a.diff_illum);
+    if (altitude > 0) g = static_cast<float>(g + a.dir_illum * std::sin(altitude));
+    g = static_cast<float>(g * (1. / M_PI / kEfficacy));
+    for (int k = 0; k < 3; ++k) s.ground[k] = g * options_.ground_reflectance[k];
+
+    if (!sky_black_) {
+        s.sky_in_use = true;
+        PerezParameters(a.sun_zenith, a.clearness, a.brightness, index, s.perez);
+        s.cos_sun_zenith = std::cos(a.sun_zenith);
+        s.sin_sun_zenith = std::sin(a.sun_zenith);
+        double norm = 0;  // relative horizontal illuminance of the sky patches
+        const int n = patches_.Size();
+        double row_factor = 0;
+        int row = -1;
+        for (int p = 1; p < n; ++p) {
+            if (row_of_[p] != row) row = row_of_[p], row_factor = RowFactor(s, p);
+            norm += static_cast<double>(RelativeLuminance(s, p, row_factor)) *
+                    horizontal_weight_[p] * patches_.SolidAngle(p);
+        }
+        if (norm <= kTiny) {  // zero sky: make it uniform
+            s.uniform = true;
+            norm = M_PI;
+        }
+        s.scale = (a.diff_illum / norm) * (1. / kEfficacy);
+    }
+
+    // The sun, spread over the nearest patches with weights 1 / (1.002 - cos(angle)).
+    const float *sc = options_.sun_color;
+    if (add_sun && a.dir_illum > 1e-4 && Brightness(sc) > 1e-4) {
+        const int nsuns = std::clamp(options_.sun_patches, 1, 4);
+        double near_dot[4];
+        int near_patch[4] = {0, 0, 0, 0};
+        for (int i = 0; i < nsuns; ++i) near_dot[i] = -1.;
+        double sv[3];
+        sv[1] = std::cos(altitude);
+        sv[0] = sv[1] * std::sin(azimuth);
+        sv[1] *= std::cos(azimuth);
+        sv[2] = std::sin(altitude);
+        for (int p = 1; p < patches_.Size(); ++p) {
+            double pv[3];
+            patches_.Direction(p, pv);
+            const double d = pv[0] * sv[0] + pv[1] * sv[1] + pv[2] * sv[2];
+            for (int i = 0; i < nsuns; ++i)
+                if (d > near_dot[i]) {
+                    for (int j = nsuns; --j > i;)
+                        near_dot[j] = near_dot[j - 1], near_patch[j] = near_patch[j - 1];
+                    near_dot[i] = d;
+                    near_patch[i] = p;
+                    break;
+                }
+        }
+        double wt[4], wtot = 0;
+        for (int i = nsuns; i--;) wtot += wt[i] = 1. / (1.002 - near_dot[i]);
+        for (int i = nsuns; i--;) {
+            float v = static_cast<float>(wt[i] * a.dir_illum / (kEfficacy * wtot));
+            const double omega = options_.fixed_sun_solid_angle > 0
+                                     ? options_.fixed_sun_solid_angle
+                                     : static_cast<double>(patches_.SolidAngle(near_patch[i]));
+            v = static_cast<float>(v / omega);
+            s.sun.push_back({near_patch[i], v});
+        }
+    }
+    return s;
+}
+
+void SkyModel::SkyValue(const SkyStep &s, int p, double row_factor, float rgb[3]) const {
+    if (!s.sky_in_use) {
+        rgb[0] = rgb[1] = rgb[2] = 0.f;
+        return;
+    }
+    const float l = s.uniform ? 1.f : RelativeLuminance(s, p, row_factor);
+    for (int k = 0; k < 3; ++k) rgb[k] = static_cast<float>(l * s.scale) * options_.sky_color[k];
+}
+
+}  // namespace dayflux
