@@ -183,6 +183,8 @@ SkyStep SkyModel::Prepare(double dir, double dif, WeatherUnits units, double alt
                           double azimuth, int julian_date, bool add_sun) const {
     SkyStep s;
     s.azimuth = azimuth;
+    s.cos_azimuth = std::cos(azimuth);
+    s.sin_azimuth = std::sin(azimuth);
     Atmosphere a;
     a.precipitable_water = std::exp(0.07 * kDewPoint - 0.075);
     if (altitude <= 0.0)

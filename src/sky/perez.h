@@ -38,6 +38,7 @@ struct SkyStep {
     double perez[5] = {};
     double cos_sun_zenith = 0, sin_sun_zenith = 0;
     double azimuth = 0;  // sun azimuth in gendaymtx's frame (from north, east positive)
+    double cos_azimuth = 0, sin_azimuth = 0;
     double scale = 0;    // luminance normalisation x 1/179
     float ground[3] = {};
     std::vector<SunPatch> sun;

@@ -1,0 +1,2 @@
+solar630
+solar870
