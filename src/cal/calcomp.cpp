@@ -1,0 +1,625 @@
+#include "cal/calcomp.h"
+
+#include <cerrno>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <unordered_map>
+
+namespace dayflux::cal {
+
+namespace {
+
+enum class Library {
+    kNone,
+    kAcos,
+    kAsin,
+    kAtan,
+    kAtan2,
+    kCeil,
+    kCos,
+    kExp,
+    kFloor,
+    kIf,
+    kLog,
+    kLog10,
+    kMax,
+    kMin,
+    kRand,
+    kSelect,
+    kSin,
+    kSqrt,
+    kTan,
+    kErf,
+    kErfc
+};
+
+struct LibraryEntry {
+    const char *name;
+    Library fn;
+    int nargs;  // -1: any number
+};
+
+constexpr LibraryEntry kLibrary[] = {
+    {"acos", Library::kAcos, 1},   {"asin", Library::kAsin, 1},   {"atan", Library::kAtan, 1},
+    {"atan2", Library::kAtan2, 2}, {"ceil", Library::kCeil, 1},   {"cos", Library::kCos, 1},
+    {"exp", Library::kExp, 1},     {"floor", Library::kFloor, 1}, {"if", Library::kIf, 3},
+    {"log", Library::kLog, 1},     {"log10", Library::kLog10, 1}, {"max", Library::kMax, -1},
+    {"min", Library::kMin, -1},    {"rand", Library::kRand, 1},   {"select", Library::kSelect, -1},
+    {"sin", Library::kSin, 1},     {"sqrt", Library::kSqrt, 1},   {"tan", Library::kTan, 1},
+    {"erf", Library::kErf, 1},     {"erfc", Library::kErfc, 1},
+};
+
+constexpr int kMaxDepth = 2000;  // calls deeper than this are taken as recursion without end
+
+bool IsIdChar(int c) { return std::isalnum(c) || c == '_' || c == '.' || c == '`'; }
+
+}  // namespace
+
+struct Context::Impl {
+    std::vector<std::string> names;
+    std::unordered_map<std::string, int> ids;
+    std::vector<std::unique_ptr<Definition>> defs;
+    std::vector<Library> library;
+    // Cached values of constant (':') variables, filled on first use.
+    mutable std::vector<char> have_constant;
+    mutable std::vector<double> constant_value;
+
+    int Intern(const std::string &raw) {
+        std::string name = raw;
+        while (name.size() > 1 && name.back() == '`') name.pop_back();  // "x`" is the global x
+        auto it = ids.find(name);
+        if (it != ids.end()) return it->second;
+        const int id = static_cast<int>(names.size());
+        names.push_back(name);
+        ids.emplace(name, id);
+        defs.emplace_back();
+        library.push_back(Library::kNone);
+        have_constant.push_back(0);
+        constant_value.push_back(0);
+        return id;
+    }
+    void Invalidate() { std::fill(have_constant.begin(), have_constant.end(), 0); }
+};
+
+// Evaluation with activation frames: arguments are expressions of the caller, evaluated on first
+// use and remembered, as RADIANCE does (so if() evaluates only the branch it takes).
+struct Evaluator {
+    const Context::Impl &cx;
+    const Channels *channels;
+    const FileLoc *where;
+    int depth = 0;
+
+    struct Frame {
+        const Frame *caller;
+        const Node *const *args;  // argument expressions (in the caller's frame)
+        int nargs;
+        const std::string *name;
+        mutable double value[16];
+        mutable unsigned have = 0;
+    };
+
+    [[noreturn]] void Fail(const std::string &msg) const { ErrorExit(where, msg); }
+
+    double Arg(const Frame *f, int i) {
+        if (!f || i < 1 || i > f->nargs)
+            Fail(std::string(f && f->name ? *f->name : "expression") + ": too few arguments");
+        if (i <= 16 && (f->have >> (i - 1) & 1u)) return f->value[i - 1];
+        const double v = Eval(f->args[i - 1], f->caller);
+        if (i <= 16) f->value[i - 1] = v, f->have |= 1u << (i - 1);
+        return v;
+    }
+
+    double Variable(int sym) {
+        const Context::Definition *d = cx.defs[sym].get();
+        if (!d) {
+            if (cx.library[sym] != Library::kNone)
+                Fail("'" + cx.names[sym] + "' is a function, used as a variable");
+            Fail("undefined variable '" + cx.names[sym] + "'");
+        }
+        if (!d->params.empty()) Fail("function '" + cx.names[sym] + "' used as a variable");
+        if (d->constant && cx.have_constant[sym]) return cx.constant_value[sym];
+        if (++depth > kMaxDepth) Fail("recursion without end evaluating '" + cx.names[sym] + "'");
+        const FileLoc *outer = where;
+        where = &d->loc;
+        const double v = Eval(d->body.get(), nullptr);
+        where = outer;
+        --depth;
+        if (d->constant) cx.have_constant[sym] = 1, cx.constant_value[sym] = v;
+        return v;
+    }
+
+    double LibraryCall(Library fn, const std::string &name, const Frame *f) {
+        auto a = [&](int i) { return Arg(f, i); };
+        switch (fn) {
+            case Library::kIf:
+                return a(1) > 0.0 ? a(2) : a(3);
+            case Library::kSelect: {
+                const double a1 = a(1);
+                const int n = static_cast<int>(a1 + .5);
+                if (a1 < -.5 || n >= f->nargs)
+                    Fail("select: index " + std::to_string(n) + " out of range");
+                if (n == 0) return f->nargs - 1;
+                return a(n + 1);
+            }
+            case Library::kMax:
+            case Library::kMin: {
+                double v = a(1);
+                for (int i = f->nargs; i > 1; --i) {
+                    const double x = a(i);
+                    if (fn == Library::kMax ? v < x : v > x) v = x;
+                }
+                return v;
+            }
+            case Library::kRand: {
+                double x = a(1);
+                x *= 1.0 / (1.0 + x * x) + 2.71828182845904;
+                x += .785398163397447 - std::floor(x);
+                x = 1e5 / x;
+                return x - std::floor(x);
+            }
+            case Library::kAcos:
+                return std::acos(a(1));
+            case Library::kAsin:
+                return std::asin(a(1));
+            case Library::kAtan:
+                return std::atan(a(1));
+            case Library::kAtan2:
+                return std::atan2(a(1), a(2));
+            case Library::kCeil:
+                return std::ceil(a(1));
+            case Library::kCos:
+                return std::cos(a(1));
+            case Library::kExp:
+                return std::exp(a(1));
+            case Library::kFloor:
+                return std::floor(a(1));
+            case Library::kLog:
+                return std::log(a(1));
+            case Library::kLog10:
+                return std::log10(a(1));
+            case Library::kSin:
+                return std::sin(a(1));
+            case Library::kSqrt:
+                return std::sqrt(a(1));
+            case Library::kTan:
+                return std::tan(a(1));
+            case Library::kErf:
+                return std::erf(a(1));
+            case Library::kErfc:
+                return std::erfc(a(1));
+            case Library::kNone:
+                break;
+        }
+        Fail("undefined function '" + name + "'");
+    }
+
+    double Call(const Node *n, const Frame *f) {
+        // The callee is a symbol, or an argument that names a function (functions as arguments).
+        int sym = n->kids[0]->index;
+        if (n->kids[0]->kind == Node::kArg) {
+            const Node *actual = f && sym <= f->nargs ? f->args[sym - 1] : nullptr;
+            if (!actual || actual->kind != Node::kVar) Fail("argument is not a function");
+            sym = actual->index;
+            // The named function's arguments still come from this call's expressions.
+        }
+        const int nargs = static_cast<int>(n->kids.size()) - 1;
+        std::vector<const Node *> args(nargs);
+        for (int i = 0; i < nargs; ++i) args[i] = n->kids[i + 1].get();
+        Frame frame{f, args.data(), nargs, &cx.names[sym], {}, 0};
+        const Context::Definition *d = cx.defs[sym].get();
+        if (!d || d->params.empty()) {
+            if (d) Fail("'" + cx.names[sym] + "' is a variable, called as a function");
+            return LibraryCall(cx.library[sym], cx.names[sym], &frame);
+        }
+        if (nargs < static_cast<int>(d->params.size())) Fail(cx.names[sym] + ": too few arguments");
+        if (++depth > kMaxDepth) Fail("recursion without end in '" + cx.names[sym] + "'");
+        const FileLoc *outer = where;
+        where = &d->loc;
+        const double v = Eval(d->body.get(), &frame);
+        where = outer;
+        --depth;
+        return v;
+    }
+
+    double Eval(const Node *n, const Frame *f) {
+        switch (n->kind) {
+            case Node::kNum:
+                return n->num;
+            case Node::kVar:
+                return Variable(n->index);
+            case Node::kArg:
+                return Arg(f, n->index);
+            case Node::kChan:
+                if (!channels)
+                    Fail("ray variable $" + std::to_string(n->index) +
+                         " used where there is no ray");
+                return channels->Value(n->index);
+            case Node::kCall:
+                return Call(n, f);
+            case Node::kAdd:
+                return Eval(n->kids[0].get(), f) + Eval(n->kids[1].get(), f);
+            case Node::kSub:
+                return Eval(n->kids[0].get(), f) - Eval(n->kids[1].get(), f);
+            case Node::kMul:
+                return Eval(n->kids[0].get(), f) * Eval(n->kids[1].get(), f);
+            case Node::kDiv: {
+                const double d = Eval(n->kids[1].get(), f);
+                if (d == 0) return 0;  // RADIANCE warns "Division by zero" and gives 0
+                return Eval(n->kids[0].get(), f) / d;
+            }
+            case Node::kPow:
+                return std::pow(Eval(n->kids[0].get(), f), Eval(n->kids[1].get(), f));
+            case Node::kNeg:
+                return -Eval(n->kids[0].get(), f);
+        }
+        return 0;
+    }
+};
+
+namespace {
+
+// Recursive-descent parser with RADIANCE's grammar and its constant reductions.
+class Parser {
+  public:
+    Parser(Context::Impl &cx, std::string_view text, const FileLoc &loc)
+        : cx_(cx), s_(text), loc_(loc) {
+        line_ = loc.line > 0 ? loc.line : 1;
+        Skip();
+    }
+
+    bool AtEnd() const { return pos_ >= s_.size(); }
+
+    void Statement() {
+        if (Peek() == ';') {
+            Next();
+            return;
+        }
+        if (!(std::isalpha(Peek()) || Peek() == '`')) Syntax("illegal variable name");
+        auto def = std::make_unique<Context::Definition>();
+        def->name = Name();
+        def->loc = Here();
+        if (Peek() == '(') {
+            do {
+                Next();
+                if (!std::isalpha(Peek())) Syntax("illegal parameter name");
+                def->params.push_back(Name());
+            } while (Peek() == ',');
+            if (Peek() != ')') Syntax("')' expected");
+            Next();
+        }
+        if (Peek() != '=' && Peek() != ':') Syntax("'=' or ':' expected");
+        def->constant = Next() == ':';
+        params_ = &def->params;
+        def->body = E1();
+        params_ = nullptr;
+        if (!AtEnd()) {
+            if (Peek() != ';') Syntax("';' expected");
+            Next();
+        }
+        const int sym = cx_.Intern(def->name);
+        def->name = cx_.names[sym];
+        cx_.defs[sym] = std::move(def);
+        cx_.Invalidate();
+    }
+
+    NodePtr Expression() {
+        NodePtr e = E1();
+        if (!AtEnd()) Syntax("unexpected character");
+        return e;
+    }
+
+    FileLoc Here() const { return FileLoc{loc_.file, line_}; }
+
+  private:
+    int Peek() const { return pos_ < s_.size() ? static_cast<unsigned char>(s_[pos_]) : -1; }
+    int Next() {
+        const int c = Peek();
+        ++pos_;
+        Skip();
+        return c;
+    }
+    // Skips white space and {comments} (which nest, as in RADIANCE).
+    void Skip() {
+        for (;;) {
+            while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_])))
+                line_ += s_[pos_++] == '\n';
+            if (pos_ < s_.size() && s_[pos_] == '{') {
+                int level = 0;
+                do {
+                    if (pos_ >= s_.size()) Syntax("'}' expected");
+                    if (s_[pos_] == '{') ++level;
+                    if (s_[pos_] == '}') --level;
+                    line_ += s_[pos_] == '\n';
+                    ++pos_;
+                } while (level > 0);
+                continue;
+            }
+            return;
+        }
+    }
+    // Names may be split by comments or spaces in RADIANCE; we read them as contiguous words.
+    std::string Name() {
+        std::string n;
+        while (pos_ < s_.size() && IsIdChar(static_cast<unsigned char>(s_[pos_]))) n += s_[pos_++];
+        Skip();
+        return n;
+    }
+    double Number() {
+        size_t start = pos_;
+        while (std::isdigit(Peek())) ++pos_;
+        if (Peek() == '.') {
+            ++pos_;
+            if (pos_ - start == 1 && !std::isdigit(Peek())) Syntax("badly formed number");
+            while (std::isdigit(Peek())) ++pos_;
+        }
+        if (Peek() == 'e' || Peek() == 'E') {
+            ++pos_;
+            if (Peek() == '-' || Peek() == '+') ++pos_;
+            if (!std::isdigit(Peek())) Syntax("missing exponent");
+            while (std::isdigit(Peek())) ++pos_;
+        }
+        const double v = std::strtod(std::string(s_.substr(start, pos_ - start)).c_str(), nullptr);
+        Skip();
+        return v;
+    }
+    [[noreturn]] void Syntax(const std::string &msg) const {
+        FileLoc here = Here();
+        std::string near = pos_ < s_.size() ? std::string(s_.substr(pos_, 20)) : "end of input";
+        ErrorExit(&here, msg + " at '" + near.substr(0, near.find('\n')) + "'");
+    }
+
+    static NodePtr Num(double v) {
+        auto n = std::make_unique<Node>();
+        n->kind = Node::kNum;
+        n->num = v;
+        return n;
+    }
+    static NodePtr Op(Node::Kind k, NodePtr a, NodePtr b = nullptr) {
+        auto n = std::make_unique<Node>();
+        n->kind = k;
+        n->kids.push_back(std::move(a));
+        if (b) n->kids.push_back(std::move(b));
+        return n;
+    }
+    // Reduces a node whose operands are all numbers, as RADIANCE's rconst().
+    NodePtr Reduce(NodePtr n) {
+        Evaluator ev{cx_, nullptr, nullptr};
+        FileLoc here = Here();
+        ev.where = &here;
+        return Num(ev.Eval(n.get(), nullptr));
+    }
+
+    NodePtr E1() {
+        NodePtr a = E2();
+        while (Peek() == '+' || Peek() == '-') {
+            const Node::Kind k = Next() == '+' ? Node::kAdd : Node::kSub;
+            NodePtr b = E2();
+            const bool fold = a->kind == Node::kNum && b->kind == Node::kNum;
+            a = Op(k, std::move(a), std::move(b));
+            if (fold) a = Reduce(std::move(a));
+        }
+        return a;
+    }
+    NodePtr E2() {
+        NodePtr a = E3();
+        while (Peek() == '*' || Peek() == '/') {
+            Node::Kind k = Next() == '*' ? Node::kMul : Node::kDiv;
+            NodePtr b = E3();
+            if (a->kind == Node::kNum && b->kind == Node::kNum) {
+                a = Reduce(Op(k, std::move(a), std::move(b)));
+            } else if (b->kind == Node::kNum) {
+                if (k == Node::kDiv) {  // RADIANCE multiplies by the reciprocal of a constant
+                    if (b->num == 0) Syntax("divide by zero constant");
+                    k = Node::kMul;
+                    b->num = 1. / b->num;
+                    a = Op(k, std::move(a), std::move(b));
+                } else if (b->num == 0) {
+                    a = std::move(b);
+                } else {
+                    a = Op(k, std::move(a), std::move(b));
+                }
+            } else if (a->kind == Node::kNum && a->num == 0) {
+                // 0 * E and 0 / E are 0
+            } else {
+                a = Op(k, std::move(a), std::move(b));
+            }
+        }
+        return a;
+    }
+    NodePtr E3() {
+        NodePtr a = E4();
+        if (Peek() != '^') return a;
+        Next();
+        NodePtr b = E3();
+        if (a->kind == Node::kNum && b->kind == Node::kNum)
+            return Reduce(Op(Node::kPow, std::move(a), std::move(b)));
+        if (a->kind == Node::kNum && a->num == 0) return a;
+        if ((b->kind == Node::kNum && b->num == 0) || (a->kind == Node::kNum && a->num == 1))
+            return Num(1);
+        if (b->kind == Node::kNum && b->num == 1) return a;
+        return Op(Node::kPow, std::move(a), std::move(b));
+    }
+    NodePtr E4() {
+        if (Peek() == '-') {
+            Next();
+            NodePtr a = E5();
+            if (a->kind == Node::kNum) {
+                a->num = -a->num;
+                return a;
+            }
+            if (a->kind == Node::kNeg) return std::move(a->kids[0]);
+            return Op(Node::kNeg, std::move(a));
+        }
+        if (Peek() == '+') Next();
+        return E5();
+    }
+    NodePtr E5() {
+        if (Peek() == '(') {
+            Next();
+            NodePtr a = E1();
+            if (Peek() != ')') Syntax("')' expected");
+            Next();
+            return a;
+        }
+        if (Peek() == '$') {
+            Next();
+            int n = 0;
+            while (std::isdigit(Peek())) n = n * 10 + (Next() - '0');
+            auto c = std::make_unique<Node>();
+            c->kind = Node::kChan;
+            c->index = n;
+            return c;
+        }
+        if (std::isalpha(Peek()) || Peek() == '`') {
+            std::string name = Name();
+            NodePtr ref = std::make_unique<Node>();
+            ref->kind = Node::kVar;
+            if (params_) {
+                for (size_t i = 0; i < params_->size(); ++i)
+                    if ((*params_)[i] == name)
+                        ref->kind = Node::kArg, ref->index = static_cast<int>(i) + 1;
+            }
+            if (ref->kind == Node::kVar) ref->index = cx_.Intern(name);
+            if (Peek() == '(') {
+                auto call = std::make_unique<Node>();
+                call->kind = Node::kCall;
+                call->kids.push_back(std::move(ref));
+                do {
+                    Next();
+                    call->kids.push_back(E1());
+                } while (Peek() == ',');
+                if (Peek() != ')') Syntax("')' expected");
+                Next();
+                return FoldConstantCall(std::move(call));
+            }
+            return FoldConstantVariable(std::move(ref));
+        }
+        if (std::isdigit(Peek()) || Peek() == '.') return Num(Number());
+        Syntax("unexpected character");
+    }
+
+    // A reference to a ':' variable already defined by a constant expression becomes its value.
+    NodePtr FoldConstantVariable(NodePtr ref) {
+        if (ref->kind != Node::kVar) return ref;
+        const Context::Definition *d = cx_.defs[ref->index].get();
+        if (!d || !d->constant || !d->params.empty()) return ref;
+        try {
+            Evaluator ev{cx_, nullptr, &d->loc};
+            return Num(ev.Eval(d->body.get(), nullptr));
+        } catch (const UserError &) {
+            return ref;  // depends on something not yet defined, or on a ray: evaluate later
+        }
+    }
+    // A call of a ':' function or library function with constant arguments is reduced too.
+    NodePtr FoldConstantCall(NodePtr call) {
+        const Node *callee = call->kids[0].get();
+        if (callee->kind != Node::kVar) return call;
+        for (size_t i = 1; i < call->kids.size(); ++i)
+            if (call->kids[i]->kind != Node::kNum) return call;
+        const Context::Definition *d = cx_.defs[callee->index].get();
+        const bool constant =
+            d ? (d->constant && !d->params.empty()) : cx_.library[callee->index] != Library::kNone;
+        if (!constant) return call;
+        try {
+            FileLoc here = Here();
+            Evaluator ev{cx_, nullptr, &here};
+            return Num(ev.Eval(call.get(), nullptr));
+        } catch (const UserError &) {
+            return call;
+        }
+    }
+
+    Context::Impl &cx_;
+    std::string_view s_;
+    FileLoc loc_;
+    size_t pos_ = 0;
+    int line_ = 1;
+    const std::vector<std::string> *params_ = nullptr;
+};
+
+}  // namespace
+
+Context::Context() : impl_(std::make_unique<Impl>()) {
+    for (const LibraryEntry &e : kLibrary) impl_->library[impl_->Intern(e.name)] = e.fn;
+}
+
+Context::~Context() = default;
+
+void Context::Load(std::string_view text, const FileLoc &loc) {
+    Parser p(*impl_, text, loc);
+    while (!p.AtEnd()) p.Statement();
+}
+
+void Context::LoadFile(const std::string &path) {
+    std::ifstream f(path);
+    if (!f) ErrorExit("cannot open '" + path + "'");
+    std::stringstream ss;
+    ss << f.rdbuf();
+    Load(ss.str(), FileLoc{path, 1});
+}
+
+void Context::Set(const std::string &name, double value, bool constant) {
+    std::ostringstream s;
+    s.precision(17);
+    s << name << (constant ? " : " : " = ") << value << ";";
+    Load(s.str(), FileLoc{"", 0});
+}
+
+Expression Context::Compile(std::string_view text, const FileLoc &loc) const {
+    Expression e;
+    Parser p(*impl_, text, loc);
+    e.root_ = p.Expression();
+    e.text_ = std::string(text);
+    e.loc_ = loc;
+    return e;
+}
+
+double Expression::Evaluate(const Context &cx, const Channels *channels) const {
+    Evaluator ev{*cx.impl_, channels, &loc_};
+    return ev.Eval(root_.get(), nullptr);
+}
+
+int Context::SymbolIndex(const std::string &name) const {
+    auto it = impl_->ids.find(name);
+    return it == impl_->ids.end() ? -1 : it->second;
+}
+
+const std::string &Context::SymbolName(int index) const { return impl_->names[index]; }
+
+const Context::Definition *Context::Find(int symbol) const {
+    return symbol >= 0 && symbol < static_cast<int>(impl_->defs.size()) ? impl_->defs[symbol].get()
+                                                                        : nullptr;
+}
+
+bool Context::IsLibrary(int symbol) const {
+    return impl_->library[symbol] != Library::kNone && !impl_->defs[symbol];
+}
+
+bool Context::IsDefined(const std::string &name) const {
+    const int s = SymbolIndex(name);
+    return s >= 0 && (impl_->defs[s] || impl_->library[s] != Library::kNone);
+}
+
+bool Context::IsFunction(const std::string &name) const {
+    const int s = SymbolIndex(name);
+    if (s < 0) return false;
+    if (impl_->defs[s]) return !impl_->defs[s]->params.empty();
+    return impl_->library[s] != Library::kNone;
+}
+
+double Context::Value(const std::string &name, const Channels *channels) const {
+    return Compile(name, FileLoc{"", 0}).Evaluate(*this, channels);
+}
+
+double Context::Call(const std::string &name, const std::vector<double> &args,
+                     const Channels *channels) const {
+    std::ostringstream s;
+    s.precision(17);
+    s << name << "(";
+    for (size_t i = 0; i < args.size(); ++i) s << (i ? "," : "") << "(" << args[i] << ")";
+    s << ")";
+    return Compile(s.str(), FileLoc{"", 0}).Evaluate(*this, channels);
+}
+
+}  // namespace dayflux::cal

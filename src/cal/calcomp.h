@@ -1,0 +1,109 @@
+// RADIANCE's calcomp expression language: definitions ("x = e;", "x : e;", "f(a,b) = e;"),
+// + - * / ^, unary minus, calls with lazily evaluated arguments, recursion, the library functions
+// (if, select, min, max, trig, ...), {comments}, $N channels for ray variables.
+// Expressions are parsed once into trees whose names are resolved to symbol numbers, so evaluation
+// does no string lookups.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "util/errors.h"
+
+namespace dayflux::cal {
+
+struct Node;
+using NodePtr = std::unique_ptr<Node>;
+
+struct Node {
+    enum Kind { kNum, kVar, kArg, kChan, kCall, kAdd, kSub, kMul, kDiv, kPow, kNeg };
+    Kind kind = kNum;
+    double num = 0;
+    int index = 0;  // symbol (kVar, and kCall's callee when it names a symbol), argument, channel
+    std::vector<NodePtr> kids;  // operands; for kCall, kids[0] is the callee (kVar or kArg)
+};
+
+// Values of $1, $2, ... (the ray variables: Dx Dy Dz = $1 $2 $3, see lib/rayinit.cal).
+class Channels {
+  public:
+    virtual ~Channels() = default;
+    virtual double Value(int n) const = 0;
+};
+
+class ChannelArray : public Channels {
+  public:
+    explicit ChannelArray(std::vector<double> v) : v_(std::move(v)) {}
+    double Value(int n) const override {
+        return n >= 1 && n <= static_cast<int>(v_.size()) ? v_[n - 1] : 0.0;
+    }
+    std::vector<double> &values() { return v_; }
+
+  private:
+    std::vector<double> v_;
+};
+
+class Context;
+
+// A compiled expression, evaluated against a context (which holds the definitions it uses).
+class Expression {
+  public:
+    Expression() = default;
+    double Evaluate(const Context &cx, const Channels *channels = nullptr) const;
+    const Node *Root() const { return root_.get(); }
+    const std::string &Text() const { return text_; }
+
+  private:
+    friend class Context;
+    NodePtr root_;
+    std::string text_;
+    FileLoc loc_;
+};
+
+class Context {
+  public:
+    Context();
+    ~Context();
+    Context(const Context &) = delete;
+    Context &operator=(const Context &) = delete;
+
+    // Parses and adds the definitions in text; loc names where it came from for messages.
+    void Load(std::string_view text, const FileLoc &loc);
+    // Reads a .cal file (the caller has found it on RAYPATH).
+    void LoadFile(const std::string &path);
+    // Sets or replaces a variable (as "name = value;" or with constant, "name : value;").
+    void Set(const std::string &name, double value, bool constant = false);
+    // Parses an expression (for example a -b bin expression).
+    Expression Compile(std::string_view text, const FileLoc &loc) const;
+
+    bool IsDefined(const std::string &name) const;
+    bool IsFunction(const std::string &name) const;  // user or library function
+    // Value of a variable (no arguments).
+    double Value(const std::string &name, const Channels *channels = nullptr) const;
+    // Value of a user or library function at numeric arguments.
+    double Call(const std::string &name, const std::vector<double> &args,
+                const Channels *channels = nullptr) const;
+
+    // For code generators: the definition of a symbol.
+    struct Definition {
+        std::string name;
+        std::vector<std::string> params;
+        NodePtr body;
+        bool constant = false;
+        FileLoc loc;
+    };
+    int SymbolIndex(const std::string &name) const;  // -1 if unknown
+    const std::string &SymbolName(int index) const;
+    const Definition *Find(int symbol) const;
+    bool IsLibrary(int symbol) const;
+
+    struct Impl;  // opaque: symbols, definitions, caches
+
+  private:
+    friend class Expression;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dayflux::cal

@@ -1,0 +1,101 @@
+#include "cal/calcomp.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace dayflux::cal {
+namespace {
+
+double Eval(Context &cx, const std::string &e, const Channels *ch = nullptr) {
+    return cx.Compile(e, FileLoc{"expr", 1}).Evaluate(cx, ch);
+}
+
+std::string ErrorOf(const std::function<void()> &f) {
+    try {
+        f();
+    } catch (const UserError &e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(Calcomp, ArithmeticAndPrecedenceAsRadiance) {
+    Context cx;
+    EXPECT_EQ(Eval(cx, "1 + 2*3 - 4/2"), 5);
+    EXPECT_EQ(Eval(cx, "2^3^2"), 512);  // right associative
+    EXPECT_EQ(Eval(cx, "-2^2"), 4);     // unary minus binds tighter than ^ in calcomp
+    EXPECT_EQ(Eval(cx, "(1+2)*-(3)"), -9);
+    EXPECT_EQ(Eval(cx, "1.5e2 + .5 + 2E-1"), 150.7);
+    EXPECT_EQ(Eval(cx, "7/0*1 + 1"), 1);  // division by zero gives 0
+}
+
+TEST(Calcomp, DefinitionsFunctionsAndRecursion) {
+    Context cx;
+    cx.Load(
+        "{ comments { nest } } a = 2; b : a*3; f(x, y) = x*10 + y;\n"
+        "fact(n) = if(n - .5, n*fact(n-1), 1);  g(h, x) = h(x) + 1;  sq2(x) = x*x;",
+        FileLoc{"t.cal", 1});
+    EXPECT_EQ(Eval(cx, "b"), 6);
+    EXPECT_EQ(Eval(cx, "f(1, 2)"), 12);
+    EXPECT_EQ(Eval(cx, "fact(6)"), 720);
+    EXPECT_EQ(Eval(cx, "g(sq2, 3)"), 10);  // a function passed as an argument
+    cx.Set("a", 5);
+    EXPECT_EQ(Eval(cx, "a"), 5);
+}
+
+TEST(Calcomp, IfAndSelectEvaluateLazily) {
+    Context cx;
+    cx.Load("boom(x) = boom(x+1); safe = if(1, 7, boom(0));", FileLoc{"t.cal", 1});
+    EXPECT_EQ(Eval(cx, "safe"), 7);
+    EXPECT_EQ(Eval(cx, "select(2, boom(0), 8, boom(1))"), 8);
+    EXPECT_EQ(Eval(cx, "select(0, 4, 5, 6)"), 3);  // select(0, ...) counts the choices
+    EXPECT_EQ(Eval(cx, "max(3, 9, 2) + min(3, 9, 2)"), 11);
+}
+
+TEST(Calcomp, ChannelsGiveRayVariables) {
+    Context cx;
+    cx.Load("Dx = $1; Dy = $2; Dz = $3; up = if(Dz, 1, -1);", FileLoc{"t.cal", 1});
+    ChannelArray ray({0.6, 0, -0.8});
+    EXPECT_EQ(Eval(cx, "up", &ray), -1);
+    EXPECT_DOUBLE_EQ(Eval(cx, "atan2(Dx, Dy)", &ray), M_PI / 2);
+}
+
+TEST(Calcomp, ConstantsAreReducedAsRadianceDoes) {
+    // RADIANCE turns x/c into x*(1/c): the same last bit as RADIANCE matters at bin boundaries.
+    Context cx;
+    cx.Load("x = $1;", FileLoc{"t.cal", 1});
+    ChannelArray v({0.7});
+    EXPECT_EQ(Eval(cx, "x/3", &v), 0.7 * (1. / 3.));
+    EXPECT_EQ(Eval(cx, "x*0 + 2^0 + x^1", &v), 0.7 + 1);
+    EXPECT_EQ(Eval(cx, "x*0 + 2^0"), 1);  // folded: x is never evaluated, so no ray is needed
+}
+
+TEST(Calcomp, ErrorsNameFileLineAndProblem) {
+    Context cx;
+    EXPECT_EQ(ErrorOf([&] {
+                  cx.Load("a = 1;\nb = (2;\n", FileLoc{"t.cal", 1});
+              }),
+              "t.cal:2: ')' expected at ';'");
+    EXPECT_EQ(ErrorOf([&] {
+                  cx.Load("a = 1\nb = 2;", FileLoc{"t.cal", 1});
+              }),
+              "t.cal:2: ';' expected at 'b = 2;'");
+    EXPECT_EQ(ErrorOf([&] {
+                  cx.Load("3a = 1;", FileLoc{"t.cal", 1});
+              }),
+              "t.cal:1: illegal variable name at '3a = 1;'");
+    EXPECT_EQ(ErrorOf([&] {
+                  cx.Load("c = 1 {", FileLoc{"t.cal", 1});
+              }),
+              "t.cal:1: '}' expected at 'end of input'");
+    cx.Load("u = v + 1;\nloop(n) = loop(n) + 1;", FileLoc{"u.cal", 1});
+    EXPECT_EQ(ErrorOf([&] { Eval(cx, "u"); }), "u.cal:1: undefined variable 'v'");
+    EXPECT_EQ(ErrorOf([&] { Eval(cx, "loop(1)"); }), "u.cal:2: recursion without end in 'loop'");
+    EXPECT_EQ(ErrorOf([&] { Eval(cx, "sqrt"); }),
+              "expr:1: 'sqrt' is a function, used as a variable");
+    EXPECT_EQ(ErrorOf([&] { Eval(cx, "Dx"); }), "expr:1: undefined variable 'Dx'");
+}
+
+}  // namespace
+}  // namespace dayflux::cal
