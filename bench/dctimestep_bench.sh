@@ -13,18 +13,19 @@
 # environment: OURS, RADIANCE_BIN, CASES (default "a b c"), RUNS (default 3),
 #              MTXCMP_MAX_MB (skip mtxcmp for outputs larger than this when cmp finds them
 #              byte-identical; default 400), KEEP_OUTPUTS=1 to keep the result files.
-# writes bench/results/dctimestep.csv and bench/results/dctimestep_check.txt
+# writes bench/results/dctimestep.csv, dctimestep_check.txt (agreement) and dctimestep_runs.txt (every run,
+# with user/sys CPU and load average, to spot interference from other work on the machine)
 set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
 data=${1:-/tmp/dayflux-bench}
-OURS=${OURS:-$here/../build/bin/dctimestep}
+OURS=${OURS:-$(realpath -m "$here/../build/bin/dctimestep")}
 RADIANCE_BIN=${RADIANCE_BIN:-/opt/radiance/bin}
 CASES=${CASES:-a b c}
 RUNS=${RUNS:-3}
 MTXCMP=/work/shared/tools/mtxcmp.py
 MTXCMP_MAX_MB=${MTXCMP_MAX_MB:-400}
-RAD_TIMEOUT_S=900
+RAD_TIMEOUT_S=${RAD_TIMEOUT_S:-900}
 RAD_VMEM_KIB=$((20 * 1024 * 1024))
 export RAYPATH=.:/opt/radiance/lib
 
@@ -38,11 +39,13 @@ results=$here/results
 mkdir -p "$results" "$data/out"
 csv=$results/dctimestep.csv
 check=$results/dctimestep_check.txt
+runlog=$results/dctimestep_runs.txt
 echo "case,program,wall_s,peak_rss_mib,output_format" > "$csv"
 {
     echo "# dctimestep output agreement, $(date -u +%Y-%m-%dT%H:%MZ)"
     echo "# ours: $OURS ; RADIANCE: $RADIANCE_BIN/dctimestep ; data: $data"
 } > "$check"
+echo "# every run: /usr/bin/time -f '%e %M %U %S', 1-minute load average before/after; $(date -u +%Y-%m-%dT%H:%MZ)" > "$runlog"
 
 case_args() {
     case $1 in
@@ -61,14 +64,19 @@ case_name() {
 
 # run PROG_KIND OUTFILE TIMEFILE ARGS...: one run under /usr/bin/time; returns the exit status.
 run() {
-    local kind=$1 out=$2 tfile=$3
+    local kind=$1 out=$2 tfile=$3 rc=0
     shift 3
+    rm -f "$tfile"
+    local load0; load0=$(cut -d' ' -f1 /proc/loadavg)
     if [ "$kind" = radiance ]; then
         (ulimit -v "$RAD_VMEM_KIB"
-         exec timeout "$RAD_TIMEOUT_S" /usr/bin/time -f "%e %M" -o "$tfile" "$RADIANCE_BIN/dctimestep" "$@" > "$out")
+         exec timeout "$RAD_TIMEOUT_S" /usr/bin/time -f "%e %M %U %S" -o "$tfile" "$RADIANCE_BIN/dctimestep" "$@" > "$out")
     else
-        /usr/bin/time -f "%e %M" -o "$tfile" "$OURS" "$@" > "$out"
-    fi
+        /usr/bin/time -f "%e %M %U %S" -o "$tfile" "$OURS" "$@" > "$out"
+    fi || rc=$?
+    printf '%s %s out=%s wall_s,rss_kib,user_s,sys_s: %s loadavg_before=%s after=%s rc=%s\n' "$(basename "$tfile" .time)" \
+        "$kind" "$out" "$(tail -n 1 "$tfile" 2>/dev/null)" "$load0" "$(cut -d' ' -f1 /proc/loadavg)" "$rc" >> "$runlog"
+    return $rc
 }
 
 header_len() {  # bytes up to and including the blank line that ends a RADIANCE header
@@ -114,7 +122,7 @@ for c in $CASES; do
     # Timed runs, output to /dev/null.
     tfile=$data/out/${c}_radiance.time
     if [ $rad_ok = 1 ] && run radiance /dev/null "$tfile" "${args[@]}"; then
-        read -r wall rss < <(tail -n 1 "$tfile")
+        read -r wall rss _ < <(tail -n 1 "$tfile")
         printf '%s,radiance,%s,%s,float\n' "$name" "$wall" "$(awk -v k="$rss" 'BEGIN{printf "%.1f", k/1024}')" >> "$csv"
     else
         printf '%s,radiance,%s,%s,float\n' "$name" "failed(>${RAD_TIMEOUT_S}s or >20GiB)" "" >> "$csv"
@@ -125,7 +133,7 @@ for c in $CASES; do
         if ! run ours /dev/null "$tfile" "${args[@]}"; then
             echo "  ours run $i FAILED"; best_wall="failed"; break
         fi
-        read -r wall rss < <(tail -n 1 "$tfile")
+        read -r wall rss _ < <(tail -n 1 "$tfile")
         echo "  ours run $i: ${wall}s ${rss}KiB"
         if [ -z "$best_wall" ] || awk -v a="$wall" -v b="$best_wall" 'BEGIN{exit !(a<b)}'; then best_wall=$wall; fi
         [ "$rss" -gt "$max_rss" ] && max_rss=$rss
@@ -133,4 +141,4 @@ for c in $CASES; do
     printf '%s,ours,%s,%s,float\n' "$name" "$best_wall" "$(awk -v k="$max_rss" 'BEGIN{printf "%.1f", k/1024}')" >> "$csv"
     tail -n 2 "$csv"
 done
-echo "wrote $csv and $check"
+echo "wrote $csv, $check and $runlog"

@@ -58,16 +58,20 @@ InputSource::~InputSource() {
     }
 }
 
-void InputSource::Close() {
-    if (!fp_ || is_stdin_) return;
+bool InputSource::Close() {
+    if (!fp_ || is_stdin_) return true;
     if (is_pipe_) {
         int status = pclose(fp_);
         fp_ = nullptr;
-        if (status != 0) Warning("error running command '" + name_ + "'");
+        if (status != 0) {
+            Warning("error running command '" + name_ + "'");
+            return false;
+        }
     } else {
         std::fclose(fp_);
         fp_ = nullptr;
     }
+    return true;
 }
 
 bool InputSource::Fill() {

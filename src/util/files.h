@@ -58,7 +58,8 @@ class InputSource {
     // Bytes left to read when the source is a regular file, for sizing headerless binary data.
     std::optional<uint64_t> RemainingBytes();
     // Closes the source; a command that exited non-zero gives a warning as RADIANCE does.
-    void Close();
+    // Returns false for such a command.
+    bool Close();
 
   private:
     InputSource() = default;

@@ -1,0 +1,75 @@
+#include "scene/primitives.h"
+
+#include <cstring>
+
+namespace dayflux {
+
+namespace {
+using K = PrimitiveKind;
+constexpr PrimitiveType kTypes[] = {
+    {"polygon", K::kSurface},     {"cone", K::kSurface},        {"sphere", K::kSurface},
+    {"texfunc", K::kTexture},     {"ring", K::kSurface},        {"cylinder", K::kSurface},
+    {"instance", K::kVolume},     {"cup", K::kSurface},         {"bubble", K::kSurface},
+    {"tube", K::kSurface},        {"mesh", K::kVolume},         {"alias", K::kAlias},
+    {"plastic", K::kMaterial},    {"metal", K::kMaterial},      {"glass", K::kMaterial},
+    {"trans", K::kMaterial},      {"dielectric", K::kMaterial}, {"plastic2", K::kMaterial},
+    {"metal2", K::kMaterial},     {"trans2", K::kMaterial},     {"interface", K::kMaterial},
+    {"plasfunc", K::kMaterial},   {"metfunc", K::kMaterial},    {"brightfunc", K::kPattern},
+    {"brightdata", K::kPattern},  {"brighttext", K::kPattern},  {"colorpict", K::kPattern},
+    {"glow", K::kLight},          {"source", K::kSurface},      {"light", K::kLight},
+    {"illum", K::kLight},         {"spotlight", K::kLight},     {"mist", K::kMaterial},
+    {"mirror", K::kMaterial},     {"transfunc", K::kMaterial},  {"BRTDfunc", K::kMaterial},
+    {"BSDF", K::kMaterial},       {"aBSDF", K::kMaterial},      {"plasdata", K::kMaterial},
+    {"metdata", K::kMaterial},    {"transdata", K::kMaterial},  {"colorfunc", K::kPattern},
+    {"antimatter", K::kMaterial}, {"colordata", K::kPattern},   {"colortext", K::kPattern},
+    {"texdata", K::kTexture},     {"mixfunc", K::kMixture},     {"mixdata", K::kMixture},
+    {"mixtext", K::kMixture},     {"mixpict", K::kMixture},     {"prism1", K::kMaterial},
+    {"prism2", K::kMaterial},     {"ashik2", K::kMaterial},
+};
+}  // namespace
+
+const PrimitiveType *FindPrimitiveType(const std::string &name) {
+    for (const PrimitiveType &t : kTypes)
+        if (name == t.name) return &t;
+    return nullptr;
+}
+
+Transform Transform::Then(const Transform &n) const {
+    if (identity) return n;
+    if (n.identity) return *this;
+    Transform r;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            double s = 0;
+            for (int k = 0; k < 4; ++k) s += m[4 * i + k] * n.m[4 * k + j];
+            r.m[4 * i + j] = s;
+        }
+    r.scale = scale * n.scale;
+    r.identity = false;
+    return r;
+}
+
+void Transform::Apply(const double p[3], double out[3]) const {
+    for (int j = 0; j < 3; ++j)
+        out[j] = p[0] * m[j] + p[1] * m[4 + j] + p[2] * m[8 + j] + m[12 + j];
+}
+
+void Transform::ApplyDirection(const double d[3], double out[3]) const {
+    for (int j = 0; j < 3; ++j) out[j] = d[0] * m[j] + d[1] * m[4 + j] + d[2] * m[8 + j];
+}
+
+size_t Scene::Count(PrimitiveKind kind) const {
+    size_t n = 0;
+    for (const Primitive &p : objects) n += p.info->kind == kind;
+    return n;
+}
+
+int Scene::FindModifier(const std::string &name) const {
+    for (int i = static_cast<int>(objects.size()); i--;)
+        if (objects[i].name == name && objects[i].info->kind != PrimitiveKind::kSurface &&
+            objects[i].info->kind != PrimitiveKind::kVolume)
+            return i;
+    return -1;
+}
+
+}  // namespace dayflux

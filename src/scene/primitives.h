@@ -1,0 +1,63 @@
+// RADIANCE scene primitives: "modifier type identifier / strings / integers / reals", the type
+// table with each type's kind and argument rules, and a scene as an ordered list of primitives
+// whose modifiers are resolved to the definitions in force where they were used.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "util/errors.h"
+
+namespace dayflux {
+
+enum class PrimitiveKind {
+    kSurface,
+    kMaterial,
+    kLight,
+    kPattern,
+    kTexture,
+    kMixture,
+    kVolume,
+    kAlias
+};
+
+struct PrimitiveType {
+    const char *name;
+    PrimitiveKind kind;
+};
+
+// Every type RADIANCE knows (otypes.h), with our classification; nullptr if name is unknown.
+const PrimitiveType *FindPrimitiveType(const std::string &name);
+
+// A 4x4 affine transform (row vectors, as RADIANCE's xf: p' = p M) with its uniform scale.
+struct Transform {
+    std::array<double, 16> m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    double scale = 1;
+    bool identity = true;
+    Transform Then(const Transform &next) const;  // this, followed by next
+    void Apply(const double p[3], double out[3]) const;
+    void ApplyDirection(const double d[3], double out[3]) const;  // no translation
+};
+
+struct Primitive {
+    int modifier = -1;  // index of the modifier primitive, -1 for void
+    std::string modifier_name;
+    std::string type;
+    const PrimitiveType *info = nullptr;
+    std::string name;
+    std::vector<std::string> sargs;
+    std::vector<double> fargs;
+    Transform xf;  // from xform commands the primitive came through
+    FileLoc loc;
+};
+
+struct Scene {
+    std::vector<Primitive> objects;
+
+    size_t Count(PrimitiveKind kind) const;
+    // The latest definition named `name` (as a modifier is looked up), -1 if none.
+    int FindModifier(const std::string &name) const;
+};
+
+}  // namespace dayflux

@@ -1,0 +1,314 @@
+#include "scene/reader.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "util/strings.h"
+
+namespace dayflux {
+
+namespace {
+
+constexpr int kMaxCommandDepth = 32;
+
+bool IsSpace(int c) {
+    return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v';
+}
+
+// A word as RADIANCE's fgetword() reads it: white-space separated, or in double quotes.
+bool Word(InputSource &in, std::string *w) {
+    int c;
+    while ((c = in.Peek()) >= 0 && IsSpace(c)) in.Get();
+    if (c < 0) return false;
+    w->clear();
+    if (c == '"') {
+        in.Get();
+        while ((c = in.Get()) >= 0 && c != '"') w->push_back(static_cast<char>(c));
+        return true;
+    }
+    while ((c = in.Peek()) >= 0 && !IsSpace(c)) w->push_back(static_cast<char>(in.Get()));
+    return true;
+}
+
+std::vector<std::string> SplitWords(const std::string &s) {
+    std::vector<std::string> words;
+    std::istringstream ss(s);
+    std::string w;
+    while (ss >> w) words.push_back(w);
+    return words;
+}
+
+Transform Rotation(int axis, double degrees) {
+    Transform t;
+    const double a = degrees * (M_PI / 180.), c = std::cos(a), s = std::sin(a);
+    const int i = (axis + 1) % 3, j = (axis + 2) % 3;  // the plane rotated: x->y for z, ...
+    t.m[4 * i + i] = c;
+    t.m[4 * i + j] = s;
+    t.m[4 * j + i] = -s;
+    t.m[4 * j + j] = c;
+    t.identity = false;
+    return t;
+}
+
+}  // namespace
+
+void SceneReader::ReadFile(const std::string &path) {
+    auto in = InputSource::Open(path);
+    Read(*in, Context{});
+}
+
+void SceneReader::ReadText(std::string_view text, const std::string &name) {
+    auto in = InputSource::FromString(std::string(text), name);
+    Read(*in, Context{});
+}
+
+void SceneReader::Read(InputSource &in, const Context &cx) {
+    for (;;) {
+        int c = in.Peek();
+        if (c < 0) break;
+        if (IsSpace(c)) {
+            in.Get();
+            continue;
+        }
+        if (c == '#') {
+            std::string skip;
+            in.ReadLine(&skip);
+            continue;
+        }
+        if (c == '!') {
+            FileLoc loc = in.Loc();
+            std::string line, command;
+            // A backslash at the end of a line continues the command.
+            while (in.ReadLine(&line)) {
+                if (!line.empty() && line.back() == '\\') {
+                    line.pop_back();
+                    command += line + " ";
+                    continue;
+                }
+                command += line;
+                break;
+            }
+            RunCommand(command.substr(1), loc, cx);
+            continue;
+        }
+        ReadPrimitive(in, cx);
+    }
+}
+
+void SceneReader::ReadPrimitive(InputSource &in, const Context &cx) {
+    Primitive p;
+    p.loc = in.Loc();
+    std::string w;
+    Word(in, &p.modifier_name);
+    if (!Word(in, &p.type))
+        ErrorExit(&p.loc, "unexpected end of input after modifier '" + p.modifier_name + "'");
+    p.info = FindPrimitiveType(p.type);
+    if (!p.info)
+        ErrorExit(&p.loc,
+                  "unknown type '" + p.type + "' (after modifier '" + p.modifier_name + "')");
+    if (!Word(in, &p.name)) ErrorExit(&p.loc, "missing identifier for " + p.type);
+    p.name = cx.name_prefix + p.name;
+    const bool surface =
+        p.info->kind == PrimitiveKind::kSurface || p.info->kind == PrimitiveKind::kVolume;
+    if (surface && !cx.modifier_override.empty()) p.modifier_name = cx.modifier_override;
+    if (p.info->kind == PrimitiveKind::kAlias) {
+        std::string ref;
+        if (!Word(in, &ref))
+            ErrorExit(&p.loc, "alias '" + p.name + "' needs the name it refers to");
+        auto it = modifiers_.find(ref);
+        if (it == modifiers_.end() && !allow_undefined_)
+            ErrorExit(&p.loc, "alias '" + p.name + "' refers to undefined '" + ref + "'");
+        p.sargs.push_back(ref);
+    } else {
+        auto count = [&](const char *what) {
+            FileLoc loc = in.Loc();
+            int n;
+            if (!Word(in, &w) || !ParseInt(w, &n) || n < 0)
+                ErrorExit(&loc, p.type + " '" + p.name + "': bad " + what + " argument count '" +
+                                    w + "'");
+            return n;
+        };
+        int ns = count("string");
+        for (int i = 0; i < ns; ++i) {
+            if (!Word(in, &w))
+                ErrorExit(&p.loc, p.type + " '" + p.name + "': missing string arguments");
+            p.sargs.push_back(w);
+        }
+        if (count("integer") != 0)
+            ErrorExit(&p.loc, p.type + " '" + p.name + "': integer arguments must be 0");
+        int nf = count("real");
+        for (int i = 0; i < nf; ++i) {
+            FileLoc loc = in.Loc();
+            double v;
+            if (!Word(in, &w))
+                ErrorExit(&loc, p.type + " '" + p.name + "': missing real arguments");
+            if (!IsFloatWord(w) || !ParseNumber(w, &v))
+                ErrorExit(&loc, p.type + " '" + p.name + "': real argument " +
+                                    std::to_string(i + 1) + " '" + w + "' is not a number");
+            p.fargs.push_back(v);
+        }
+    }
+    if (p.modifier_name == "void") {
+        p.modifier = -1;
+    } else {
+        auto it = modifiers_.find(p.modifier_name);
+        if (it != modifiers_.end())
+            p.modifier = it->second;
+        else if (!allow_undefined_)
+            ErrorExit(&p.loc, "undefined modifier '" + p.modifier_name + "' for " + p.type + " '" +
+                                  p.name + "'");
+    }
+    p.xf = cx.xf;
+    CheckArguments(p);
+    const int index = static_cast<int>(scene_->objects.size());
+    if (!surface) modifiers_[p.name] = index;
+    scene_->objects.push_back(std::move(p));
+}
+
+void SceneReader::CheckArguments(const Primitive &p) const {
+    const size_t ns = p.sargs.size(), nf = p.fargs.size();
+    auto need = [&](bool ok, const std::string &what) {
+        if (!ok)
+            ErrorExit(&p.loc, p.type + " '" + p.name + "' needs " + what + " (has " +
+                                  std::to_string(ns) + " strings, " + std::to_string(nf) +
+                                  " reals)");
+    };
+    const std::string &t = p.type;
+    if (t == "polygon")
+        need(nf >= 9 && nf % 3 == 0, "3n reals with n >= 3");
+    else if (t == "sphere" || t == "bubble")
+        need(nf == 4, "4 reals (centre, radius)");
+    else if (t == "cone" || t == "cup")
+        need(nf == 8, "8 reals (two centres, two radii)");
+    else if (t == "cylinder" || t == "tube")
+        need(nf == 7, "7 reals (two centres, radius)");
+    else if (t == "ring")
+        need(nf == 8, "8 reals (centre, normal, two radii)");
+    else if (t == "source")
+        need(nf == 4, "4 reals (direction, angle)");
+    else if (t == "plastic" || t == "metal")
+        need(nf == 5, "5 reals");
+    else if (t == "trans")
+        need(nf == 7, "7 reals");
+    else if (t == "glass")
+        need(nf == 3 || nf == 4, "3 or 4 reals");
+    else if (t == "dielectric")
+        need(nf == 5, "5 reals");
+    else if (t == "interface")
+        need(nf == 8, "8 reals");
+    else if (t == "light")
+        need(nf == 3, "3 reals");
+    else if (t == "glow")
+        need(nf == 4, "4 reals");
+    else if (t == "illum")
+        need(nf == 3, "3 reals");
+    else if (t == "spotlight")
+        need(nf == 7, "7 reals");
+    else if (t == "mirror")
+        need(nf == 3 && ns <= 1, "3 reals and at most one string");
+    else if (t == "plastic2" || t == "metal2")
+        need(ns >= 4 && nf == 6, "4+ strings and 6 reals");
+    else if (t == "trans2")
+        need(ns >= 4 && nf == 8, "4+ strings and 8 reals");
+    else if (t == "BSDF")
+        need(ns >= 6 && (nf == 0 || nf == 3 || nf == 6 || nf == 9),
+             "6+ strings and 0, 3, 6 or 9 reals");
+    else if (t == "aBSDF")
+        need(ns >= 5 && (nf == 0 || nf == 3 || nf == 6 || nf == 9),
+             "5+ strings and 0, 3, 6 or 9 reals");
+    else if (t == "brightfunc")
+        need(ns >= 2, "2+ strings (function, file)");
+    else if (t == "colorfunc")
+        need(ns >= 4, "4+ strings (3 functions, file)");
+    else if (t == "mixfunc")
+        need(ns >= 4, "4+ strings (2 modifiers, function, file)");
+    else if (t == "instance" || t == "mesh")
+        need(ns >= 1, "a file name");
+}
+
+bool SceneReader::Xform(const std::vector<std::string> &args, const FileLoc &loc,
+                        const Context &cx) {
+    Transform xf;
+    Context inner = cx;
+    std::vector<std::string> files;
+    auto number = [&](size_t *i) {
+        double v;
+        if (*i + 1 >= args.size() || !ParseNumber(args[*i + 1], &v))
+            ErrorExit(&loc, "xform: option " + args[*i] + " needs a number");
+        ++*i;
+        return v;
+    };
+    for (size_t i = 1; i < args.size(); ++i) {
+        const std::string &a = args[i];
+        if (a == "-t") {
+            Transform t;
+            for (int k = 0; k < 3; ++k) t.m[12 + k] = number(&i);
+            t.identity = false;
+            xf = xf.Then(t);
+        } else if (a == "-rx" || a == "-ry" || a == "-rz") {
+            xf = xf.Then(Rotation(a[2] - 'x', number(&i)));
+        } else if (a == "-s") {
+            Transform t;
+            const double s = number(&i);
+            for (int k = 0; k < 3; ++k) t.m[5 * k] = s;
+            t.scale = s;
+            t.identity = false;
+            xf = xf.Then(t);
+        } else if (a == "-mx" || a == "-my" || a == "-mz") {
+            Transform t;
+            t.m[5 * (a[2] - 'x')] = -1;
+            t.identity = false;
+            xf = xf.Then(t);
+        } else if (a == "-m" && i + 1 < args.size()) {
+            inner.modifier_override = args[++i];
+        } else if (a == "-n" && i + 1 < args.size()) {
+            inner.name_prefix = cx.name_prefix + args[++i] + ".";
+        } else if (a == "-e" || a == "-c") {
+            // expand or keep commands: the same scene either way
+        } else if (!a.empty() && a[0] == '-' && a.size() > 1) {
+            return false;  // arrays, -i, ...: let the real xform do it
+        } else {
+            files.push_back(a);
+        }
+    }
+    inner.xf = xf.Then(cx.xf);
+    inner.depth = cx.depth + 1;
+    if (files.empty()) files.push_back("-");
+    for (const std::string &f : files) {
+        auto in = InputSource::Open(f);
+        Read(*in, inner);
+    }
+    return true;
+}
+
+void SceneReader::RunCommand(const std::string &command, const FileLoc &loc, const Context &cx) {
+    if (cx.depth >= kMaxCommandDepth)
+        ErrorExit(&loc, "commands nested too deep (a command that includes itself?)");
+    std::vector<std::string> words = SplitWords(command);
+    if (words.empty()) ErrorExit(&loc, "empty command");
+    if (words[0] == "xform" && command.find_first_of("|;&<>$`'\"*?") == std::string::npos) {
+        try {
+            if (Xform(words, loc, cx)) return;
+        } catch (const UserError &e) {
+            ErrorExit(&loc, std::string("in '!") + command + "': " + e.what());
+        }
+    }
+    auto in = InputSource::Open("!" + command);
+    Context inner = cx;
+    inner.depth = cx.depth + 1;
+    try {
+        Read(*in, inner);
+    } catch (const UserError &e) {
+        ErrorExit(&loc, std::string("in '!") + command + "': " + e.what());
+    }
+    if (!in->Close()) ErrorExit(&loc, "command '!" + command + "' failed");
+}
+
+Scene ReadScene(const std::vector<std::string> &paths) {
+    Scene scene;
+    SceneReader reader(&scene);
+    for (const std::string &p : paths) reader.ReadFile(p);
+    return scene;
+}
+
+}  // namespace dayflux

@@ -1,0 +1,46 @@
+// Reading RADIANCE scene descriptions (.rad): primitives with their arguments checked against
+// their type, "#" comments, and "!command" lines whose output is read as scene text, as oconv
+// does. "!xform" with the usual options (-t -rx -ry -rz -s -mx -my -mz -m -n) is done here without
+// a shell, so scenes work where RADIANCE is not installed; other commands go to /bin/sh.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <unordered_map>
+
+#include "scene/primitives.h"
+#include "util/files.h"
+
+namespace dayflux {
+
+class SceneReader {
+  public:
+    explicit SceneReader(Scene *scene) : scene_(scene) {}
+    // Accept modifiers that are never defined (as xform does when it only rewrites text).
+    void AllowUndefinedModifiers(bool allow) { allow_undefined_ = allow; }
+    // path "-" reads stdin.
+    void ReadFile(const std::string &path);
+    void ReadText(std::string_view text, const std::string &name);
+
+  private:
+    struct Context {
+        Transform xf;
+        std::string modifier_override;  // xform -m
+        std::string name_prefix;        // xform -n
+        int depth = 0;
+    };
+    void Read(InputSource &in, const Context &cx);
+    void ReadPrimitive(InputSource &in, const Context &cx);
+    void RunCommand(const std::string &command, const FileLoc &loc, const Context &cx);
+    bool Xform(const std::vector<std::string> &args, const FileLoc &loc, const Context &cx);
+    void CheckArguments(const Primitive &p) const;
+
+    Scene *scene_;
+    std::unordered_map<std::string, int> modifiers_;  // latest modifier definition of each name
+    bool allow_undefined_ = false;
+};
+
+// Reads several scene files (as oconv takes them) into one scene.
+Scene ReadScene(const std::vector<std::string> &paths);
+
+}  // namespace dayflux

@@ -1,0 +1,159 @@
+#include "scene/reader.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "test_util.h"
+
+namespace dayflux {
+namespace {
+namespace fs = std::filesystem;
+
+fs::path Models() { return test::DataDir() / "scene/models"; }
+
+// Reads files as oconv would, with the working folder where the scene's !commands expect it.
+Scene ReadIn(const fs::path &dir, const std::vector<std::string> &files) {
+    const fs::path cwd = fs::current_path();
+    fs::current_path(dir);
+    Scene s;
+    try {
+        s = ReadScene(files);
+    } catch (...) {
+        fs::current_path(cwd);
+        throw;
+    }
+    fs::current_path(cwd);
+    return s;
+}
+
+std::string Counts(const Scene &s) {
+    std::map<std::string, int> n;
+    for (const Primitive &p : s.objects) ++n[p.type];
+    std::string out = std::to_string(s.objects.size());
+    for (const auto &[t, c] : n) out += " " + t + "=" + std::to_string(c);
+    return out;
+}
+
+std::map<std::string, std::string> RadianceCounts() {
+    std::map<std::string, std::string> m;
+    std::ifstream f(test::DataDir() / "scene/counts.txt");
+    std::string name, rest;
+    while (f >> name && std::getline(f, rest)) m[name] = rest.substr(1);
+    return m;
+}
+
+TEST(SceneReader, ModelsParseWithRadiancesCounts) {
+    auto ref = RadianceCounts();
+    const fs::path room = Models() / "room";
+    EXPECT_EQ(Counts(ReadIn(room, {"materials.rad", "room.rad", "objects/Glazing.rad",
+                                   "skyDomes/skyglow.rad"})),
+              ref["room2ph"]);
+    EXPECT_EQ(Counts(ReadIn(room, {"materials.rad", "room.rad", "objects/GlazingVmtx.rad"})),
+              ref["roomV"]);
+    EXPECT_EQ(Counts(ReadIn(room, {"materialBlack.rad", "roomBlack.rad", "materials.rad",
+                                   "objects/Glazing.rad"})),
+              ref["cds"]);
+    EXPECT_EQ(Counts(ReadIn(room, {"skies/suns.rad"})), ref["suns"]);
+    std::vector<std::string> open;
+    for (const char *f :
+         {"ceiling", "floor", "wall", "window_0", "window_1", "window_2", "window_3"})
+        open.push_back(std::string(f) + "_openroom.rad");
+    Scene openroom;
+    SceneReader r(&openroom);
+    r.AllowUndefinedModifiers(true);  // its materials live in another file, as for RADIANCE's xform
+    for (const auto &f : open) r.ReadFile((Models() / "frads_openroom" / f).string());
+    EXPECT_EQ(Counts(openroom), ref["openroom"]);
+
+    test::TempDir tmp;
+    ASSERT_EQ(
+        test::RunCommand("tar xJf '" + (Models() / "lbnl_office_objects.tar.xz").string() + "'",
+                         tmp.path())
+            .status,
+        0);
+    std::vector<std::string> office = {"Objects/materials.mat"};
+    for (const char *f :
+         {"ceiling", "cubefabric", "cubeframe", "desks", "extwalls", "floor", "ground", "horframe",
+          "lower_glass", "overhang", "upper_glass", "walls", "windowframe"})
+        office.push_back(std::string("Objects/") + f + ".rad");
+    EXPECT_EQ(Counts(ReadIn(tmp.path() / "frads_lbnl_office", office)), ref["lbnl_office"]);
+}
+
+TEST(SceneReader, ModifiersResolveToTheLatestDefinition) {
+    Scene s;
+    SceneReader r(&s);
+    r.ReadText(
+        "void plastic m 0 0 5 .1 .1 .1 0 0\nm polygon a 0 0 9 0 0 0 1 0 0 0 1 0\n"
+        "void metal m 0 0 5 .5 .5 .5 0 0\nm polygon b 0 0 9 0 0 0 1 0 0 0 1 0\n"
+        "void alias n m\nn ring c 0 0 8 0 0 0 0 0 1 0 1\n",
+        "t.rad");
+    ASSERT_EQ(s.objects.size(), 6u);
+    EXPECT_EQ(s.objects[1].modifier, 0);
+    EXPECT_EQ(s.objects[3].modifier, 2);
+    EXPECT_EQ(s.objects[5].modifier, 4);
+    EXPECT_EQ(s.objects[4].sargs[0], "m");
+}
+
+TEST(SceneReader, CommandsAndXformTransforms) {
+    test::TempDir tmp;
+    test::WriteFile(tmp.path() / "tri.rad", "m polygon t 0 0 9 1 0 0 0 1 0 0 0 1\n");
+    Scene s;
+    const fs::path cwd = fs::current_path();
+    fs::current_path(tmp.path());
+    SceneReader r(&s);
+    r.ReadText(
+        "void plastic m 0 0 5 .5 .5 .5 0 0\nvoid plastic black 0 0 5 0 0 0 0 0\n"
+        "!xform -s 2 -rz 90 -t 1 0 0 tri.rad\n!xform -m black -n w tri.rad\n"
+        "!printf 'void glow g 0 0 4 1 1 1 0\\n'\n",
+        "t.rad");
+    fs::current_path(cwd);
+    ASSERT_EQ(s.objects.size(), 5u);
+    // (1,0,0) scaled by 2 -> (2,0,0), turned 90 deg about z -> (0,2,0), moved -> (1,2,0).
+    double p[3] = {1, 0, 0}, q[3];
+    s.objects[2].xf.Apply(p, q);
+    EXPECT_NEAR(q[0], 1, 1e-12);
+    EXPECT_NEAR(q[1], 2, 1e-12);
+    EXPECT_NEAR(q[2], 0, 1e-12);
+    EXPECT_DOUBLE_EQ(s.objects[2].xf.scale, 2);
+    EXPECT_EQ(s.objects[3].modifier_name, "black");
+    EXPECT_EQ(s.objects[3].modifier, 1);
+    EXPECT_EQ(s.objects[3].name, "w.t");
+    EXPECT_EQ(s.objects[4].type, "glow");
+}
+
+std::string ErrorOf(const std::string &text) {
+    Scene s;
+    SceneReader r(&s);
+    try {
+        r.ReadText(text, "bad.rad");
+    } catch (const UserError &e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(SceneReader, BadInputNamesFileLineAndProblem) {
+    EXPECT_EQ(ErrorOf("void plastic m 0 0 5 1 1 1 0 0\nm triangle t 0 0 9 0 0 0 1 0 0 0 1 0\n"),
+              "bad.rad:2: unknown type 'triangle' (after modifier 'm')");
+    EXPECT_EQ(ErrorOf("void plastic m 0 0 4 1 1 1 0\n"),
+              "bad.rad:1: plastic 'm' needs 5 reals (has 0 strings, 4 reals)");
+    EXPECT_EQ(ErrorOf("nothere polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n"),
+              "bad.rad:1: undefined modifier 'nothere' for polygon 'p'");
+    EXPECT_EQ(ErrorOf("void plastic m 0 0 5 1 1 x 0 0\n"),
+              "bad.rad:1: plastic 'm': real argument 3 'x' is not a number");
+    EXPECT_EQ(ErrorOf("void plastic m 0 0 5 1 1\n"),
+              "bad.rad:1: plastic 'm': missing real arguments");
+    EXPECT_EQ(ErrorOf("void plastic m 0 1 7 0 5 1 1 1 0 0\n"),
+              "bad.rad:1: plastic 'm': integer arguments must be 0");
+    EXPECT_EQ(ErrorOf("void plastic m 0 0 5 1 1 1 0 0\nm polygon p 0 0 8 0 0 0 1 0 0 0 1\n"),
+              "bad.rad:2: polygon 'p' needs 3n reals with n >= 3 (has 0 strings, 8 reals)");
+    EXPECT_NE(ErrorOf("!xform nosuch.rad\n")
+                  .find("bad.rad:1: in '!xform nosuch.rad': cannot open file 'nosuch.rad'"),
+              std::string::npos);
+    EXPECT_EQ(ErrorOf("!false\n"), "bad.rad:1: command '!false' failed");
+}
+
+}  // namespace
+}  // namespace dayflux
