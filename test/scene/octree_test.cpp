@@ -1,0 +1,98 @@
+#include "scene/octree.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "scene/reader.h"
+#include "test_util.h"
+
+namespace dayflux {
+namespace {
+namespace fs = std::filesystem;
+
+// Runs f with the working folder set to the tutorial room, where oconv ran.
+template <class F>
+auto InRoom(F f) {
+    const fs::path cwd = fs::current_path();
+    fs::current_path(test::DataDir() / "scene/models/room");
+    struct Restore {
+        fs::path p;
+        ~Restore() { fs::current_path(p); }
+    } restore{cwd};
+    return f();
+}
+
+void ExpectSameObjects(const Scene &a, const Scene &b) {
+    ASSERT_EQ(a.objects.size(), b.objects.size());
+    for (size_t i = 0; i < a.objects.size(); ++i) {
+        const Primitive &p = a.objects[i], &q = b.objects[i];
+        EXPECT_EQ(p.type, q.type) << i;
+        EXPECT_EQ(p.name, q.name) << i;
+        EXPECT_EQ(p.modifier, q.modifier) << p.name;
+        EXPECT_EQ(p.modifier_name, q.modifier_name) << p.name;
+        EXPECT_EQ(p.sargs, q.sargs) << p.name;
+        ASSERT_EQ(p.fargs.size(), q.fargs.size()) << p.name;
+        // Frozen octrees store reals with a 31-bit mantissa.
+        for (size_t k = 0; k < p.fargs.size(); ++k)
+            EXPECT_NEAR(p.fargs[k], q.fargs[k], 1e-9 * std::max(1.0, std::fabs(q.fargs[k])))
+                << p.name;
+    }
+}
+
+TEST(Octree, FrozenOctreeHoldsTheSameObjectsAsItsSources) {
+    InRoom([] {
+        Scene rad =
+            ReadScene({"materials.rad", "room.rad", "objects/Glazing.rad", "skyDomes/skyglow.rad"});
+        Scene oct;
+        OctreeInfo info = ReadOctree("../../room2ph_frozen.oct", &oct);
+        EXPECT_TRUE(info.files.empty());
+        EXPECT_GT(info.cube_size, 6.0);
+        EXPECT_NE(info.header.find("oconv -f materials.rad"), std::string::npos);
+        ExpectSameObjects(oct, rad);
+        Scene black = ReadScene(
+            {"materialBlack.rad", "roomBlack.rad", "materials.rad", "objects/Glazing.rad"});
+        Scene cds;
+        ReadOctree("../../cds_frozen.oct", &cds);
+        ExpectSameObjects(cds, black);
+        return 0;
+    });
+}
+
+TEST(Octree, UnfrozenOctreeReadsItsSceneFiles) {
+    InRoom([] {
+        Scene oct;
+        OctreeInfo info = ReadOctree("../../room2ph.oct", &oct);
+        EXPECT_EQ(info.files.size(), 4u);
+        ExpectSameObjects(oct, ReadScene({"materials.rad", "room.rad", "objects/Glazing.rad",
+                                          "skyDomes/skyglow.rad"}));
+        EXPECT_TRUE(IsOctreeFile("../../room2ph.oct"));
+        EXPECT_FALSE(IsOctreeFile("room.rad"));
+        return 0;
+    });
+}
+
+std::string ErrorOf(const std::string &path) {
+    try {
+        Scene s;
+        ReadOctree(path, &s);
+    } catch (const UserError &e) {
+        std::string m = e.what();
+        return m.substr(m.rfind('/') + 1);
+    }
+    return "";
+}
+
+TEST(Octree, BadOctreesGetMessages) {
+    test::TempDir tmp;
+    std::string full = test::ReadFile(test::DataDir() / "scene/room2ph_frozen.oct");
+    test::WriteFile(tmp.path() / "short.oct", full.substr(0, full.size() - 100));
+    EXPECT_EQ(ErrorOf((tmp.path() / "short.oct").string()), "short.oct: truncated octree");
+    test::WriteFile(tmp.path() / "text.oct", "#?RADIANCE\nFORMAT=ascii\n\n");
+    EXPECT_EQ(ErrorOf((tmp.path() / "text.oct").string()),
+              "text.oct: not an octree (no FORMAT=Radiance_octree in header)");
+    EXPECT_EQ(ErrorOf((tmp.path() / "none.oct").string()), "none.oct': No such file or directory");
+}
+
+}  // namespace
+}  // namespace dayflux
