@@ -1,0 +1,150 @@
+#include "scene/flatten.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "scene/octree.h"
+#include "util/raypath.h"
+
+namespace dayflux {
+
+namespace {
+
+double Determinant(const Transform &t) {
+    const auto &m = t.m;
+    return m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
+           m[2] * (m[4] * m[9] - m[5] * m[8]);
+}
+
+Vec3 Point(const Transform &t, const double *p) {
+    Vec3 out;
+    t.Apply(p, out.data());
+    return out;
+}
+
+Vec3 Direction(const Transform &t, const double *d) {
+    Vec3 out;
+    t.ApplyDirection(d, out.data());
+    return out;
+}
+
+// Parses an instance's transform words (xform's -t -rx -ry -rz -s -mx -my -mz).
+Transform InstanceTransform(const Primitive &p) {
+    Transform xf;
+    for (size_t i = 1; i < p.sargs.size(); ++i) {
+        const std::string &a = p.sargs[i];
+        auto num = [&]() {
+            if (i + 1 >= p.sargs.size())
+                ErrorExit(&p.loc, "instance '" + p.name + "': option " + a + " needs a number");
+            return std::atof(p.sargs[++i].c_str());
+        };
+        Transform t;
+        t.identity = false;
+        if (a == "-t") {
+            for (int k = 0; k < 3; ++k) t.m[12 + k] = num();
+        } else if (a == "-rx" || a == "-ry" || a == "-rz") {
+            const double ang = num() * (M_PI / 180.), c = std::cos(ang), s = std::sin(ang);
+            const int ax = a[2] - 'x', u = (ax + 1) % 3, w = (ax + 2) % 3;
+            t.m[4 * u + u] = c, t.m[4 * u + w] = s, t.m[4 * w + u] = -s, t.m[4 * w + w] = c;
+        } else if (a == "-s") {
+            const double s = num();
+            for (int k = 0; k < 3; ++k) t.m[5 * k] = s;
+            t.scale = s;
+        } else if (a == "-mx" || a == "-my" || a == "-mz") {
+            t.m[5 * (a[2] - 'x')] = -1;
+        } else {
+            ErrorExit(&p.loc,
+                      "instance '" + p.name + "': unsupported transform option '" + a + "'");
+        }
+        xf = xf.Then(t);
+    }
+    return xf;
+}
+
+class Flattener {
+  public:
+    explicit Flattener(FlatScene *out) : out_(out) {}
+
+    void Add(int first, int last, const Transform &outer, int depth) {
+        for (int i = first; i < last; ++i) {
+            const Primitive p = out_->scene.objects[i];  // copy: instances append to the scene
+            const Transform xf = p.xf.Then(outer);
+            const std::string &t = p.type;
+            if (t == "polygon") {
+                Polygon(p, xf, i);
+            } else if (t == "sphere" || t == "bubble") {
+                AnalyticShape s{AnalyticShape::kSphere, t == "bubble"};
+                s.p0 = Point(xf, &p.fargs[0]);
+                s.r0 = p.fargs[3] * xf.scale;
+                s.object = i;
+                out_->shapes.push_back(s);
+            } else if (t == "cone" || t == "cup" || t == "cylinder" || t == "tube") {
+                const bool cyl = t == "cylinder" || t == "tube";
+                AnalyticShape s{cyl ? AnalyticShape::kCylinder : AnalyticShape::kCone,
+                                t == "cup" || t == "tube"};
+                s.p0 = Point(xf, &p.fargs[0]);
+                s.p1 = Point(xf, &p.fargs[3]);
+                s.r0 = p.fargs[6] * xf.scale;
+                s.r1 = (cyl ? p.fargs[6] : p.fargs[7]) * xf.scale;
+                s.object = i;
+                out_->shapes.push_back(s);
+            } else if (t == "ring") {
+                AnalyticShape s{AnalyticShape::kRing};
+                s.p0 = Point(xf, &p.fargs[0]);
+                s.p1 = Direction(xf, &p.fargs[3]);
+                s.r0 = p.fargs[6] * xf.scale;
+                s.r1 = p.fargs[7] * xf.scale;
+                s.object = i;
+                out_->shapes.push_back(s);
+            } else if (t == "source") {
+                AnalyticShape s{AnalyticShape::kSource};
+                s.p0 = Direction(xf, &p.fargs[0]);
+                s.r0 = p.fargs[3];
+                s.object = i;
+                out_->shapes.push_back(s);
+            } else if (t == "instance") {
+                if (depth > 8) ErrorExit(&p.loc, "instances nested too deep");
+                const std::string path = FindOnRaypath(p.sargs[0]);
+                const int before = static_cast<int>(out_->scene.objects.size());
+                ReadOctree(path, &out_->scene);
+                Add(before, static_cast<int>(out_->scene.objects.size()),
+                    InstanceTransform(p).Then(xf), depth + 1);
+            } else if (t == "mesh") {
+                ErrorExit(&p.loc,
+                          "mesh '" + p.name + "': RADIANCE mesh files are not supported yet");
+            }
+        }
+    }
+
+  private:
+    void Polygon(const Primitive &p, const Transform &xf, int object) {
+        const size_t n = p.fargs.size() / 3;
+        std::vector<Vec3> v(n);
+        for (size_t k = 0; k < n; ++k) v[k] = Point(xf, &p.fargs[3 * k]);
+        // A mirroring transform turns the polygon over; xform reverses its vertices to keep the
+        // side the normal points to.
+        if (!xf.identity && Determinant(xf) < 0) std::reverse(v.begin(), v.end());
+        const auto tris = TriangulatePolygon(v);
+        if (tris.empty()) return;
+        const uint32_t base = static_cast<uint32_t>(out_->vertices.size());
+        out_->vertices.insert(out_->vertices.end(), v.begin(), v.end());
+        for (const auto &t : tris) {
+            out_->triangles.push_back({base + t[0], base + t[1], base + t[2]});
+            out_->triangle_object.push_back(object);
+        }
+    }
+
+    FlatScene *out_;
+};
+
+}  // namespace
+
+FlatScene Flatten(Scene scene) {
+    FlatScene flat;
+    flat.scene = std::move(scene);
+    Flattener f(&flat);
+    f.Add(0, static_cast<int>(flat.scene.objects.size()), Transform{}, 0);
+    return flat;
+}
+
+}  // namespace dayflux
