@@ -1,0 +1,300 @@
+#include "cal/glsl.h"
+
+#include <charconv>
+#include <functional>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace dayflux::cal {
+
+namespace {
+
+// Double-precision math for GLSL, written from the series definitions: each function reduces its
+// argument to a small interval where a Taylor (or atanh) series converges to double precision.
+constexpr const char *kMathLibrary = R"GLSL(
+const double cal_PI = 3.14159265358979323846LF;
+const double cal_LN2 = 0.693147180559945309417LF;
+double cal_exp(double x) {
+    if (x > 709.0LF) return 1.0LF / 0.0LF;
+    if (x < -745.0LF) return 0.0LF;
+    double k = floor(x / cal_LN2 + 0.5LF);
+    // ln 2 in two parts, so that x - k ln2 keeps its accuracy.
+    double r = (x - k * 0.693145751953125LF) - k * 1.42860682030941723212e-6LF;
+    double term = 1.0LF, sum = 1.0LF;
+    for (int i = 1; i < 20; ++i) { term *= r / double(i); sum += term; }
+    return ldexp(sum, int(k));
+}
+double cal_log(double x) {
+    if (x <= 0.0LF) return x == 0.0LF ? -1.0LF / 0.0LF : 0.0LF / 0.0LF;
+    int e;
+    double m = frexp(x, e);
+    if (m < 0.70710678118654752440LF) { m *= 2.0LF; e -= 1; }
+    double s = (m - 1.0LF) / (m + 1.0LF), s2 = s * s, term = s, sum = 0.0LF;
+    for (int i = 0; i < 20; ++i) { sum += term / double(2 * i + 1); term *= s2; }
+    return 2.0LF * sum + double(e) * cal_LN2;
+}
+double cal_log10(double x) { return cal_log(x) / 2.30258509299404568402LF; }
+double cal_sin_series(double r) {
+    double r2 = r * r, term = r, sum = r;
+    for (int i = 1; i < 12; ++i) { term *= -r2 / double((2 * i) * (2 * i + 1)); sum += term; }
+    return sum;
+}
+double cal_cos_series(double r) {
+    double r2 = r * r, term = 1.0LF, sum = 1.0LF;
+    for (int i = 1; i < 12; ++i) { term *= -r2 / double((2 * i - 1) * (2 * i)); sum += term; }
+    return sum;
+}
+// x = q pi/2 + r with |r| <= pi/4; pi/2 in three parts for the reduction.
+double cal_reduce(double x, out int q) {
+    double k = floor(x / (cal_PI / 2.0LF) + 0.5LF);
+    q = int(k - 4.0LF * floor(k / 4.0LF));
+    return ((x - k * 1.5707963267341256LF) - k * 6.077100506506192e-11LF) - k * 2.0222662487959506e-21LF;
+}
+double cal_sin(double x) {
+    int q; double r = cal_reduce(x, q);
+    return q == 0 ? cal_sin_series(r) : q == 1 ? cal_cos_series(r) : q == 2 ? -cal_sin_series(r) : -cal_cos_series(r);
+}
+double cal_cos(double x) {
+    int q; double r = cal_reduce(x, q);
+    return q == 0 ? cal_cos_series(r) : q == 1 ? -cal_sin_series(r) : q == 2 ? -cal_cos_series(r) : cal_sin_series(r);
+}
+double cal_tan(double x) { return cal_sin(x) / cal_cos(x); }
+// atan for |x| <= 1: halve the angle twice (atan x = 2 atan(x / (1 + sqrt(1 + x^2)))), then the series.
+double cal_atan_unit(double x) {
+    double y = x / (1.0LF + sqrt(1.0LF + x * x));
+    y = y / (1.0LF + sqrt(1.0LF + y * y));
+    double y2 = y * y, term = y, sum = 0.0LF;
+    for (int i = 0; i < 18; ++i) { sum += term / double(2 * i + 1); term *= -y2; }
+    return 4.0LF * sum;
+}
+double cal_atan(double x) {
+    if (abs(x) <= 1.0LF) return cal_atan_unit(x);
+    return (x > 0.0LF ? cal_PI / 2.0LF : -cal_PI / 2.0LF) - cal_atan_unit(1.0LF / x);
+}
+double cal_atan2(double y, double x) {
+    if (x == 0.0LF && y == 0.0LF) return 0.0LF;
+    if (abs(y) <= abs(x)) {
+        double a = cal_atan_unit(y / x);
+        if (x > 0.0LF) return a;
+        return y >= 0.0LF ? a + cal_PI : a - cal_PI;
+    }
+    double a = cal_atan_unit(x / y);
+    return y > 0.0LF ? cal_PI / 2.0LF - a : -cal_PI / 2.0LF - a;
+}
+double cal_asin(double x) { return cal_atan2(x, sqrt((1.0LF - x) * (1.0LF + x))); }
+double cal_acos(double x) { return cal_atan2(sqrt((1.0LF - x) * (1.0LF + x)), x); }
+double cal_pow(double x, double y) {
+    if (y == 0.0LF) return 1.0LF;
+    if (x == 0.0LF) return y > 0.0LF ? 0.0LF : 1.0LF / 0.0LF;
+    if (x < 0.0LF) {
+        if (y != floor(y)) return 0.0LF / 0.0LF;
+        double m = cal_exp(y * cal_log(-x));
+        return y - 2.0LF * floor(y / 2.0LF) == 0.0LF ? m : -m;
+    }
+    return cal_exp(y * cal_log(x));
+}
+double cal_div(double a, double b) { return b == 0.0LF ? 0.0LF : a / b; }
+double cal_rand(double x) {
+    x *= 1.0LF / (1.0LF + x * x) + 2.71828182845904LF;
+    x += 0.785398163397447LF - floor(x);
+    x = 1e5LF / x;
+    return x - floor(x);
+}
+)GLSL";
+
+std::string Literal(double v) {
+    char buf[64];
+    auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::scientific, 17);
+    std::string s(buf, r.ptr);
+    if (v != v) return "(0.0LF/0.0LF)";
+    if (s == "inf") return "(1.0LF/0.0LF)";
+    if (s == "-inf") return "(-1.0LF/0.0LF)";
+    return "(" + s + "LF)";
+}
+
+class Generator {
+  public:
+    Generator(const Context &cx, const GlslOptions &o) : cx_(cx), o_(o) {}
+
+    std::string Entry(const GlslEntry &e) {
+        where_ = e.expr->Text();
+        return "double " + e.name + "() { return " + Expr(e.expr->Root(), nullptr, 0) + "; }\n";
+    }
+
+    std::string Definitions() const {
+        std::string s;
+        for (const std::string &d : forward_) s += d;
+        for (const std::string &d : bodies_) s += d;
+        return s;
+    }
+
+  private:
+    [[noreturn]] void Fail(const std::string &msg) const {
+        ErrorExit("in '" + where_ + "': " + msg + " (GLSL)");
+    }
+
+    // The GLSL name of a definition at an unrolling depth (0 for non-recursive use).
+    std::string Emit(int sym, int depth) {
+        const Context::Definition *d = cx_.Find(sym);
+        const std::string key = std::to_string(sym) + "_" + std::to_string(depth);
+        const std::string fname = "cal_d" + key;
+        if (emitted_.count(key)) return fname;
+        emitted_.insert(key);
+        std::string params, decl;
+        for (size_t i = 0; i < d->params.size(); ++i)
+            params += (i ? ", " : "") + std::string("double a") + std::to_string(i + 1);
+        forward_.push_back("double " + fname + "(" + params + ");\n");
+        std::string body;
+        if (depth >= o_.recursion_depth) {
+            body = "0.0LF / 0.0LF";  // deeper than unrolled: NaN marks it
+        } else {
+            active_.push_back(sym);
+            body = Expr(d->body.get(), d, depth);
+            active_.pop_back();
+        }
+        bodies_.push_back("double " + fname + "(" + params + ") { return " + body + "; }\n");
+        return fname;
+    }
+
+    // Depth for a call to sym from the definition currently being generated: a call back into a
+    // function on the active chain goes one level deeper.
+    int CallDepth(int sym, int depth) const {
+        for (int a : active_)
+            if (a == sym) return depth + 1;
+        return depth;
+    }
+
+    std::string Library(const std::string &name, const std::vector<std::string> &a) {
+        auto need = [&](size_t n) {
+            if (a.size() < n) Fail(name + ": too few arguments");
+        };
+        if (name == "if") {
+            need(3);
+            return "((" + a[0] + ") > 0.0LF ? (" + a[1] + ") : (" + a[2] + "))";
+        }
+        if (name == "select") {
+            need(1);
+            // select(0, ...) gives the number of choices.
+            return "((cal_sel_i(" + a[0] + ") == 0) ? " +
+                   Literal(static_cast<double>(a.size() - 1)) + " : cal_select_" +
+                   Select(a.size() - 1) + "(cal_sel_i(" + a[0] + ")" + Tail(a) + "))";
+        }
+        if (name == "max" || name == "min") {
+            need(1);
+            std::string s = a[0];
+            for (size_t i = 1; i < a.size(); ++i) s = name + "(" + s + ", " + a[i] + ")";
+            return s;
+        }
+        static const std::map<std::string, std::string> unary = {
+            {"sin", "cal_sin"},     {"cos", "cal_cos"},   {"tan", "cal_tan"}, {"asin", "cal_asin"},
+            {"acos", "cal_acos"},   {"atan", "cal_atan"}, {"exp", "cal_exp"}, {"log", "cal_log"},
+            {"log10", "cal_log10"}, {"sqrt", "sqrt"},     {"floor", "floor"}, {"ceil", "ceil"},
+            {"rand", "cal_rand"}};
+        auto it = unary.find(name);
+        if (it != unary.end()) {
+            need(1);
+            return it->second + "(" + a[0] + ")";
+        }
+        if (name == "atan2") {
+            need(2);
+            return "cal_atan2(" + a[0] + ", " + a[1] + ")";
+        }
+        Fail("function '" + name + "' has no GLSL version");
+    }
+
+    // select() with n choices: a helper taking the index and every choice (choices are evaluated
+    // eagerly here, which is safe because they have no side effects and recursion is unrolled).
+    std::string Select(size_t n) {
+        const std::string name = std::to_string(n);
+        if (selects_.insert(n).second) {
+            std::string params = "int i", body = "(0.0LF/0.0LF)";
+            for (size_t k = n; k >= 1; --k)
+                body =
+                    "(i == " + std::to_string(k) + " ? c" + std::to_string(k) + " : " + body + ")";
+            for (size_t k = 1; k <= n; ++k) params += ", double c" + std::to_string(k);
+            forward_.insert(forward_.begin(), "double cal_select_" + name + "(" + params +
+                                                  ") { return " + body + "; }\n");
+        }
+        return name;
+    }
+    static std::string Tail(const std::vector<std::string> &a) {
+        std::string s;
+        for (size_t i = 1; i < a.size(); ++i) s += ", " + a[i];
+        return s;
+    }
+
+    std::string Expr(const Node *n, const Context::Definition *in, int depth) {
+        auto kid = [&](int i) { return Expr(n->kids[i].get(), in, depth); };
+        switch (n->kind) {
+            case Node::kNum:
+                return Literal(n->num);
+            case Node::kChan:
+                if (n->index < 1 || n->index > o_.channels)
+                    Fail("channel $" + std::to_string(n->index) + " out of range");
+                return "cal_chan[" + std::to_string(n->index) + "]";
+            case Node::kArg:
+                return "a" + std::to_string(n->index);
+            case Node::kAdd:
+                return "(" + kid(0) + " + " + kid(1) + ")";
+            case Node::kSub:
+                return "(" + kid(0) + " - " + kid(1) + ")";
+            case Node::kMul:
+                return "(" + kid(0) + " * " + kid(1) + ")";
+            case Node::kDiv:
+                return "cal_div(" + kid(0) + ", " + kid(1) + ")";
+            case Node::kPow:
+                return "cal_pow(" + kid(0) + ", " + kid(1) + ")";
+            case Node::kNeg:
+                return "(-" + kid(0) + ")";
+            case Node::kVar: {
+                const Context::Definition *d = cx_.Find(n->index);
+                if (!d) Fail("undefined variable '" + cx_.SymbolName(n->index) + "'");
+                if (!d->params.empty()) Fail("function '" + d->name + "' used as a variable");
+                return Emit(n->index, CallDepth(n->index, depth)) + "()";
+            }
+            case Node::kCall: {
+                if (n->kids[0]->kind != Node::kVar)
+                    Fail("functions passed as arguments are not supported");
+                const int sym = n->kids[0]->index;
+                std::vector<std::string> args;
+                for (size_t i = 1; i < n->kids.size(); ++i)
+                    args.push_back(kid(static_cast<int>(i)));
+                const Context::Definition *d = cx_.Find(sym);
+                if (!d) return Library(cx_.SymbolName(sym), args);
+                if (d->params.empty())
+                    Fail("'" + d->name + "' is a variable, called as a function");
+                if (args.size() < d->params.size()) Fail(d->name + ": too few arguments");
+                std::string call = Emit(sym, CallDepth(sym, depth)) + "(";
+                for (size_t i = 0; i < d->params.size(); ++i) call += (i ? ", " : "") + args[i];
+                return call + ")";
+            }
+        }
+        return "0.0LF";
+    }
+
+    const Context &cx_;
+    const GlslOptions &o_;
+    std::string where_;
+    std::set<std::string> emitted_;
+    std::set<size_t> selects_;
+    std::vector<int> active_;
+    std::vector<std::string> forward_, bodies_;
+};
+
+}  // namespace
+
+std::string GenerateGlsl(const Context &cx, const std::vector<GlslEntry> &entries,
+                         const GlslOptions &options) {
+    Generator g(cx, options);
+    std::string entry_code;
+    for (const GlslEntry &e : entries) entry_code += g.Entry(e);
+    std::string s = "double cal_chan[" + std::to_string(options.channels + 1) + "];\n";
+    s += kMathLibrary;
+    s += "int cal_sel_i(double a) { return int(floor(a + 0.5LF)); }\n";
+    s += g.Definitions();
+    s += entry_code;
+    return s;
+}
+
+}  // namespace dayflux::cal

@@ -1,0 +1,31 @@
+// GLSL code generation for calcomp expressions: every definition an expression uses becomes a
+// GLSL function in double precision, so the GPU evaluates the user's own bin functions and
+// patterns, not a fixed list. GLSL has no recursion: recursive functions (raccum, kfindrow, ...)
+// are unrolled to a fixed depth. GLSL has no double-precision transcendental functions either:
+// the generated code carries its own (argument reduction and series), accurate to about 1e-15.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cal/calcomp.h"
+
+namespace dayflux::cal {
+
+struct GlslEntry {
+    std::string name;        // the GLSL function generated: double name()
+    const Expression *expr;  // evaluated with the channels in cal_chan[1..]
+};
+
+struct GlslOptions {
+    int recursion_depth = 64;  // unrolled copies of each recursive function
+    int channels = 27;         // size of the channel array (rayinit.cal's $1..$27)
+};
+
+// GLSL source (no #version line): "double cal_chan[N+1];" to fill before calling the entries,
+// the math library, and one function per entry. Throws UserError for what GLSL cannot express
+// (functions passed as arguments), naming the expression.
+std::string GenerateGlsl(const Context &cx, const std::vector<GlslEntry> &entries,
+                         const GlslOptions &options = {});
+
+}  // namespace dayflux::cal
