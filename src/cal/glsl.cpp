@@ -245,7 +245,12 @@ class Generator {
                 return "cal_div(" + kid(0) + ", " + kid(1) + ")";
             case Node::kPow:
                 return "cal_pow(" + kid(0) + ", " + kid(1) + ")";
-            case Node::kNeg:
+            case Node::kNeg: {
+                std::string s = "(-";  // built in steps: GCC 12 warns falsely on "(-" + string
+                s += kid(0);
+                s += ")";
+                return s;
+            }
                 return "(-" + kid(0) + ")";
             case Node::kVar: {
                 const Context::Definition *d = cx_.Find(n->index);
