@@ -31,7 +31,8 @@ enum class Library {
     kSqrt,
     kTan,
     kErf,
-    kErfc
+    kErfc,
+    kArg
 };
 
 struct LibraryEntry {
@@ -47,7 +48,7 @@ constexpr LibraryEntry kLibrary[] = {
     {"log", Library::kLog, 1},     {"log10", Library::kLog10, 1}, {"max", Library::kMax, -1},
     {"min", Library::kMin, -1},    {"rand", Library::kRand, 1},   {"select", Library::kSelect, -1},
     {"sin", Library::kSin, 1},     {"sqrt", Library::kSqrt, 1},   {"tan", Library::kTan, 1},
-    {"erf", Library::kErf, 1},     {"erfc", Library::kErfc, 1},
+    {"erf", Library::kErf, 1},     {"erfc", Library::kErfc, 1},   {"arg", Library::kArg, 1},
 };
 
 constexpr int kMaxDepth = 2000;  // calls deeper than this are taken as recursion without end
@@ -188,6 +189,16 @@ struct Evaluator {
                 return std::erf(a(1));
             case Library::kErfc:
                 return std::erfc(a(1));
+            case Library::kArg: {
+                const std::vector<double> *args = channels ? channels->ObjectArguments() : nullptr;
+                if (!args) Fail("arg() used where there is no object");
+                const int n = static_cast<int>(a(1) + .5);
+                if (n == 0) return static_cast<double>(args->size());
+                if (n < 1 || n > static_cast<int>(args->size()))
+                    Fail("arg(" + std::to_string(n) + "): the object has " +
+                         std::to_string(args->size()) + " arguments");
+                return (*args)[n - 1];
+            }
             case Library::kNone:
                 break;
         }

@@ -31,6 +31,9 @@ class Channels {
   public:
     virtual ~Channels() = default;
     virtual double Value(int n) const = 0;
+    // The real arguments of the object being evaluated (a pattern's A1, A2, ...), for arg(n);
+    // nullptr where there is no object.
+    virtual const std::vector<double> *ObjectArguments() const { return nullptr; }
 };
 
 class ChannelArray : public Channels {
@@ -39,10 +42,18 @@ class ChannelArray : public Channels {
     double Value(int n) const override {
         return n >= 1 && n <= static_cast<int>(v_.size()) ? v_[n - 1] : 0.0;
     }
+    const std::vector<double> *ObjectArguments() const override {
+        return has_args_ ? &args_ : nullptr;
+    }
     std::vector<double> &values() { return v_; }
+    void SetObjectArguments(std::vector<double> a) {
+        args_ = std::move(a);
+        has_args_ = true;
+    }
 
   private:
-    std::vector<double> v_;
+    std::vector<double> v_, args_;
+    bool has_args_ = false;
 };
 
 class Context;
