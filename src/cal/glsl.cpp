@@ -196,6 +196,10 @@ class Generator {
             need(1);
             return it->second + "(" + a[0] + ")";
         }
+        if (name == "arg") {
+            need(1);
+            return "cal_argv(" + a[0] + ")";
+        }
         if (name == "atan2") {
             need(2);
             return "cal_atan2(" + a[0] + ", " + a[1] + ")";
@@ -297,6 +301,10 @@ std::string GenerateGlsl(const Context &cx, const std::vector<GlslEntry> &entrie
     std::string s = "double cal_chan[" + std::to_string(options.channels + 1) + "];\n";
     s += kMathLibrary;
     s += "int cal_sel_i(double a) { return int(floor(a + 0.5LF)); }\n";
+    // A pattern's real arguments: cal_arg[0] is their count, as arg(0).
+    s += "double cal_arg[" + std::to_string(options.max_args + 1) + "];\n";
+    s += "double cal_argv(double n) { int i = cal_sel_i(n); return i >= 0 && i <= " +
+         std::to_string(options.max_args) + " ? cal_arg[i] : 0.0LF; }\n";
     s += g.Definitions();
     s += entry_code;
     return s;

@@ -20,6 +20,7 @@ struct GlslEntry {
 struct GlslOptions {
     int recursion_depth = 64;  // unrolled copies of each recursive function
     int channels = 27;         // size of the channel array (rayinit.cal's $1..$27)
+    int max_args = 32;         // object arguments available to arg(n) in cal_arg[1..]
 };
 
 // GLSL source (no #version line): "double cal_chan[N+1];" to fill before calling the entries,
