@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <random>
 
@@ -35,7 +36,7 @@ class GlslAgainstInterpreter : public testing::Test {
     // Evaluates exprs on the device for n random directions and compares every value with the
     // interpreter's; returns the number that differ.
     void Compare(Context &cx, const std::vector<std::string> &exprs, int n, unsigned seed,
-                 double tolerance = 0) {
+                 double tolerance = 0, const std::vector<double> &object_args = {}) {
         if (!device_) GTEST_SKIP() << "no Vulkan device with shaderFloat64: " << skip_reason_;
         std::vector<Expression> compiled;
         for (const auto &e : exprs) compiled.push_back(cx.Compile(e, FileLoc{"-b", 0}));
@@ -50,6 +51,12 @@ class GlslAgainstInterpreter : public testing::Test {
             GenerateGlsl(cx, entries) +
             "void main() {\n  uint i = gl_GlobalInvocationID.x;\n  if (i >= " + std::to_string(n) +
             "u) return;\n  for (int c = 0; c < 3; ++c) cal_chan[c + 1] = dirs[3 * i + c];\n";
+        src += "  cal_arg[0] = " + std::to_string(object_args.size()) + ".0LF;\n";
+        for (size_t a = 0; a < object_args.size(); ++a) {
+            char lit[64];
+            std::snprintf(lit, sizeof lit, "%.17e", object_args[a]);
+            src += "  cal_arg[" + std::to_string(a + 1) + "] = " + lit + "LF;\n";
+        }
         for (int e = 0; e < k; ++e)
             src += "  vals[" + std::to_string(k) + " * i + " + std::to_string(e) + "] = entry" +
                    std::to_string(e) + "();\n";
@@ -69,6 +76,7 @@ class GlslAgainstInterpreter : public testing::Test {
         std::vector<double> gpu(static_cast<size_t>(n) * k);
         std::memcpy(gpu.data(), out.data(), out.size());
         ChannelArray ray(std::vector<double>(27, 0.0));
+        ray.SetObjectArguments(object_args);
         int differ = 0;
         for (int i = 0; i < n; ++i) {
             std::copy(&dirs[3 * i], &dirs[3 * i + 3], ray.values().begin());
@@ -124,6 +132,19 @@ TEST_F(GlslAgainstInterpreter, MathFunctionsMatchTheCLibrary) {
              "(-2)^3", "sqrt(Dx*Dx)", "select(floor(3*Dx*Dx) + 1, 1, 2, 3, 4)",
              "max(Dx, Dy, Dz) - min(Dx, Dy)", "if(Dx, 1/Dy, floor(Dz))", "rand(Dx)"},
             20000, 10, 2e-14);
+}
+
+// A sky pattern as gensky writes it: skybright.cal's skybr with the pattern's arguments.
+TEST_F(GlslAgainstInterpreter, SkyPatternWithObjectArguments) {
+    // Each pattern has a context of its own (the two files use the same names, as RADIANCE's do).
+    Context gensky, gendaylit;
+    gensky.LoadFile(Lib("rayinit.cal"));
+    gensky.LoadFile(Lib("skybright.cal"));
+    gendaylit.LoadFile(Lib("rayinit.cal"));
+    gendaylit.LoadFile(Lib("perezlum.cal"));
+    Compare(gensky, {"skybr"}, 20000, 11, 2e-14, {1, 21.8, 3.9, 2.2, -0.42, -0.43, 0.80});
+    Compare(gendaylit, {"skybright"}, 20000, 12, 2e-14,
+            {7.5, 3.1, -1, -0.3, 3, -2, 0.5, 0.2, -0.4, 0.89});
 }
 
 }  // namespace
