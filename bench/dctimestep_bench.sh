@@ -5,7 +5,7 @@
 #   c) five-phase sun       dctimestep -of Cds.fmx sun_m6.fmx
 # Each program first writes its result to a file once, and the two results are compared
 # (body bytes with cmp, then python3 /work/shared/tools/mtxcmp.py REF OURS --rel 1e-5).
-# Then the timed runs, output to /dev/null, under /usr/bin/time -f "%e %M": RADIANCE once,
+# Then the timed runs, output to /dev/null, under /usr/bin/time -f "%e %M %U %S": RADIANCE once,
 # ours 3 times (minimum wall time, maximum peak RSS). RADIANCE runs are limited to 15 minutes
 # and 20 GiB of address space; a run over the limit is recorded as such.
 #

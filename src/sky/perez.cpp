@@ -145,7 +145,9 @@ SkyModel::SkyModel(const SkyOptions &options) : options_(options), patches_(opti
     sin_azi_.resize(n);
     horizontal_weight_.resize(n);
     row_of_.resize(n);
+    direction_.resize(n);
     for (int p = 1; p < n; ++p) {
+        patches_.Direction(p, direction_[p].data());
         const double zsa = M_PI * 0.5 - patches_.Altitude(p);
         cos_zenith_[p] = std::cos(zsa);
         sin_zenith_[p] = std::sin(zsa);
@@ -168,8 +170,7 @@ double SkyModel::RowFactor(const SkyStep &s, int p) const {
 
 float SkyModel::RelativeLuminance(const SkyStep &s, int p, double row_factor) const {
     // Angle between the sun and the patch centre (RADIANCE's Eqn. 8-20), kept inside acos's domain.
-    const double cos_azi_diff =
-        cos_azi_[p] * std::cos(s.azimuth) + sin_azi_[p] * std::sin(s.azimuth);
+    const double cos_azi_diff = cos_azi_[p] * s.cos_azimuth + sin_azi_[p] * s.sin_azimuth;
     double cg =
         s.cos_sun_zenith * cos_zenith_[p] + s.sin_sun_zenith * sin_zenith_[p] * cos_azi_diff;
     cg = std::clamp(cg, -1.0, 1.0);
@@ -258,8 +259,7 @@ SkyStep SkyModel::Prepare(double dir, double dif, WeatherUnits units, double alt
         sv[1] *= std::cos(azimuth);
         sv[2] = std::sin(altitude);
         for (int p = 1; p < patches_.Size(); ++p) {
-            double pv[3];
-            patches_.Direction(p, pv);
+            const double *pv = direction_[p].data();
             const double d = pv[0] * sv[0] + pv[1] * sv[1] + pv[2] * sv[2];
             for (int i = 0; i < nsuns; ++i)
                 if (d > near_dot[i]) {

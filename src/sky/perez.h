@@ -5,6 +5,7 @@
 // write patch-major output without holding the whole matrix.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "sky/patches.h"
@@ -72,6 +73,7 @@ class SkyModel {
     // Per patch: quantities of the patch centre used for every step.
     std::vector<double> cos_zenith_, sin_zenith_, inv_cos_zenith_, cos_azi_, sin_azi_,
         horizontal_weight_;
+    std::vector<std::array<double, 3>> direction_;  // patch centres, as gendaymtx computes them
     std::vector<int> row_of_;
     bool sky_black_;
 };
