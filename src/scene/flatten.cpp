@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "scene/meshes.h"
 #include "scene/octree.h"
 #include "util/raypath.h"
 
@@ -110,8 +111,18 @@ class Flattener {
                 Add(before, static_cast<int>(out_->scene.objects.size()),
                     InstanceTransform(p).Then(xf), depth + 1);
             } else if (t == "mesh") {
-                ErrorExit(&p.loc,
-                          "mesh '" + p.name + "': RADIANCE mesh files are not supported yet");
+                const Transform mxf = InstanceTransform(p).Then(xf);
+                const bool flip = !mxf.identity && Determinant(mxf) < 0;
+                for (const MeshTriangle &mt : ReadMesh(FindOnRaypath(p.sargs[0]), &out_->scene)) {
+                    const uint32_t base = static_cast<uint32_t>(out_->vertices.size());
+                    for (const Vec3 &v : mt.v) out_->vertices.push_back(Point(mxf, v.data()));
+                    if (flip)
+                        out_->triangles.push_back({base, base + 2, base + 1});
+                    else
+                        out_->triangles.push_back({base, base + 1, base + 2});
+                    out_->triangle_object.push_back(i);
+                    out_->triangle_material.push_back(mt.material);
+                }
             }
         }
     }
@@ -131,6 +142,7 @@ class Flattener {
         for (const auto &t : tris) {
             out_->triangles.push_back({base + t[0], base + t[1], base + t[2]});
             out_->triangle_object.push_back(object);
+            out_->triangle_material.push_back(-1);
         }
     }
 

@@ -24,6 +24,9 @@ struct FlatScene {
     std::vector<Vec3> vertices;
     std::vector<std::array<uint32_t, 3>> triangles;
     std::vector<int> triangle_object;  // primitive index of each triangle
+    // The material of each triangle where it is not the primitive's modifier (mesh materials), else
+    // -1.
+    std::vector<int> triangle_material;
     std::vector<AnalyticShape> shapes;
     // Scene objects (from instances too), so triangle_object indexes into it.
     Scene scene;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <random>
 
 #include "scene/reader.h"
@@ -121,6 +122,41 @@ TEST(Flatten, TutorialRoomIsWatertightEnoughToCount) {
             floor += TriangleArea(f.vertices[t[0]], f.vertices[t[1]], f.vertices[t[2]]);
         }
     EXPECT_NEAR(floor, 6.096 * 6.096, 1e-3);
+}
+
+}  // namespace
+}  // namespace dayflux
+
+namespace dayflux {
+namespace {
+
+// A RADIANCE mesh made by obj2mesh (test/data/scene/mesh: box.obj, box.mat -> box.rtm).
+TEST(Flatten, MeshFromObj2mesh) {
+    setenv("RAYPATH", (test::DataDir() / "scene/mesh").c_str(), 1);
+    Scene s;
+    SceneReader r(&s);
+    r.ReadText("void plastic grey 0 0 5 .5 .5 .5 0 0\ngrey mesh box 5 box.rtm -t 2 0 0 0 0\n",
+               "t.rad");
+    FlatScene f = Flatten(std::move(s));
+    unsetenv("RAYPATH");
+    ASSERT_EQ(f.triangles.size(), 12u);
+    double area = 0;
+    int red = 0;
+    for (size_t i = 0; i < f.triangles.size(); ++i) {
+        const auto &t = f.triangles[i];
+        area += TriangleArea(f.vertices[t[0]], f.vertices[t[1]], f.vertices[t[2]]);
+        ASSERT_GE(f.triangle_material[i], 0);
+        red += f.scene.objects[f.triangle_material[i]].name == "red";
+        for (int k = 0; k < 3; ++k) {
+            const Vec3 &v = f.vertices[t[k]];
+            // Corners of the unit box moved by 2 in x, to the mesh's quantisation (~1e-9).
+            EXPECT_NEAR(v[0] - 2, std::round(v[0] - 2), 1e-8);
+            EXPECT_TRUE(v[0] > 1.9 && v[0] < 3.1);
+        }
+    }
+    EXPECT_NEAR(area, 6, 1e-7);
+    EXPECT_EQ(red, 2);
+    EXPECT_EQ(f.triangle_object[0], 1);
 }
 
 }  // namespace
