@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "scene/octree.h"
 #include "util/strings.h"
 
 namespace dayflux {
@@ -150,6 +151,13 @@ void SceneReader::ReadPrimitive(InputSource &in, const Context &cx) {
     }
     if (p.modifier_name == "void") {
         p.modifier = -1;
+    } else if (p.modifier_name == "inherit" && p.info->kind == PrimitiveKind::kAlias) {
+        // "inherit alias new old": the copy keeps old's own modifier.
+        auto it = modifiers_.find(p.sargs[0]);
+        if (it != modifiers_.end()) {
+            p.modifier = scene_->objects[it->second].modifier;
+            p.modifier_name = scene_->objects[it->second].modifier_name;
+        }
     } else {
         auto it = modifiers_.find(p.modifier_name);
         if (it != modifiers_.end())
@@ -302,6 +310,18 @@ void SceneReader::RunCommand(const std::string &command, const FileLoc &loc, con
         ErrorExit(&loc, std::string("in '!") + command + "': " + e.what());
     }
     if (!in->Close()) ErrorExit(&loc, "command '!" + command + "' failed");
+}
+
+Scene LoadScene(const std::vector<std::string> &inputs) {
+    Scene scene;
+    SceneReader reader(&scene);
+    for (const std::string &in : inputs) {
+        if (in != "-" && in[0] != '!' && IsOctreeFile(in))
+            ReadOctree(in, &scene);
+        else
+            reader.ReadFile(in);
+    }
+    return scene;
 }
 
 Scene ReadScene(const std::vector<std::string> &paths) {

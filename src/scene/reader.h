@@ -42,5 +42,7 @@ class SceneReader {
 
 // Reads several scene files (as oconv takes them) into one scene.
 Scene ReadScene(const std::vector<std::string> &paths);
+// As programs take their scene: octrees (oconv output) and .rad files alike, in order.
+Scene LoadScene(const std::vector<std::string> &inputs);
 
 }  // namespace dayflux

@@ -81,15 +81,28 @@ TEST(SceneReader, ModelsParseWithRadiancesCounts) {
     EXPECT_EQ(Counts(ReadIn(tmp.path() / "frads_lbnl_office", office)), ref["lbnl_office"]);
 }
 
+TEST(SceneReader, LoadSceneTakesOctreesAndRadFiles) {
+    const fs::path room = Models() / "room";
+    const fs::path cwd = fs::current_path();
+    fs::current_path(room);
+    Scene s = LoadScene({"../../room2ph_frozen.oct", "objects/GlazingVmtx.rad"});
+    fs::current_path(cwd);
+    EXPECT_EQ(s.objects.size(), 29u + 2u);
+    EXPECT_EQ(s.objects.back().type, "polygon");
+}
+
 TEST(SceneReader, ModifiersResolveToTheLatestDefinition) {
     Scene s;
     SceneReader r(&s);
     r.ReadText(
         "void plastic m 0 0 5 .1 .1 .1 0 0\nm polygon a 0 0 9 0 0 0 1 0 0 0 1 0\n"
         "void metal m 0 0 5 .5 .5 .5 0 0\nm polygon b 0 0 9 0 0 0 1 0 0 0 1 0\n"
-        "void alias n m\nn ring c 0 0 8 0 0 0 0 0 1 0 1\n",
+        "void alias n m\nn ring c 0 0 8 0 0 0 0 0 1 0 1\n"
+        "void brightfunc pat 2 noop . 0 0\npat plastic pm 0 0 5 1 1 1 0 0\ninherit alias pm2 pm\n",
         "t.rad");
-    ASSERT_EQ(s.objects.size(), 6u);
+    ASSERT_EQ(s.objects.size(), 9u);
+    EXPECT_EQ(s.objects[8].modifier, 6);  // inherit: the copy keeps pm's own modifier, pat
+    EXPECT_EQ(s.objects[8].modifier_name, "pat");
     EXPECT_EQ(s.objects[1].modifier, 0);
     EXPECT_EQ(s.objects[3].modifier, 2);
     EXPECT_EQ(s.objects[5].modifier, 4);
