@@ -1,8 +1,6 @@
 // gendaymtx: sky matrices (one row per patch, ground first; one column per time step) from
 // weather files, with RADIANCE's Perez sky, sun spreading, options and output layout.
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_pipeline.h>
-#include <tbb/task_arena.h>
 
 #include <cmath>
 #include <cstdio>
@@ -15,6 +13,7 @@
 #include "sky/perez.h"
 #include "sky/weather.h"
 #include "util/errors.h"
+#include "util/pipeline.h"
 #include "util/strings.h"
 
 namespace dayflux {
@@ -278,86 +277,70 @@ int Main(int argc, char **argv) {
         std::string text;
     };
     int next = 0;
-    const size_t tokens = 2 * static_cast<size_t>(tbb::this_task_arena::max_concurrency());
-    tbb::parallel_pipeline(
-        tokens,
-        tbb::make_filter<void, Block *>(
-            tbb::filter_mode::serial_in_order,
-            [&](tbb::flow_control &fc) -> Block * {
-                if (next >= npatch) {
-                    fc.stop();
-                    return nullptr;
+    OrderedPipeline<Block>(
+        [&]() -> std::unique_ptr<Block> {
+            if (next >= npatch) return nullptr;
+            auto b = std::make_unique<Block>(Block{next, std::min(npatch, next + block), {}});
+            next = b->p1;
+            return b;
+        },
+        [&](Block &b) {
+            std::vector<float> v(3 * static_cast<size_t>(nsteps));
+            std::vector<double> row_factor(nsteps);
+            int cached_row = -1;
+            for (int p = b.p0; p < b.p1; ++p) {
+                if (p == 0) {
+                    for (int i = 0; i < nsteps; ++i)
+                        for (int k = 0; k < 3; ++k)
+                            v[3 * i + k] = steps[i].dark ? 0.f : steps[i].sky.ground[k];
+                } else {
+                    if (model.RowOf(p) != cached_row) {
+                        cached_row = model.RowOf(p);
+                        for (int i = 0; i < nsteps; ++i)
+                            row_factor[i] = steps[i].dark ? 0 : model.RowFactor(steps[i].sky, p);
+                    }
+                    for (int i = 0; i < nsteps; ++i) {
+                        if (steps[i].dark)
+                            v[3 * i] = v[3 * i + 1] = v[3 * i + 2] = 0.f;
+                        else
+                            model.SkyValue(steps[i].sky, p, row_factor[i], &v[3 * i]);
+                    }
+                    for (const auto &[i, val] : sun_at[p])
+                        for (int k = 0; k < 3; ++k) v[3 * i + k] += val * o.sky.sun_color[k];
                 }
-                auto *b = new Block{next, std::min(npatch, next + block), {}};
-                next = b->p1;
-                return b;
-            }) &
-            tbb::make_filter<Block *, Block *>(
-                tbb::filter_mode::parallel,
-                [&](Block *b) {
-                    std::vector<float> v(3 * static_cast<size_t>(nsteps));
-                    std::vector<double> row_factor(nsteps);
-                    int cached_row = -1;
-                    for (int p = b->p0; p < b->p1; ++p) {
-                        if (p == 0) {
-                            for (int i = 0; i < nsteps; ++i)
-                                for (int k = 0; k < 3; ++k)
-                                    v[3 * i + k] = steps[i].dark ? 0.f : steps[i].sky.ground[k];
-                        } else {
-                            if (model.RowOf(p) != cached_row) {
-                                cached_row = model.RowOf(p);
-                                for (int i = 0; i < nsteps; ++i)
-                                    row_factor[i] =
-                                        steps[i].dark ? 0 : model.RowFactor(steps[i].sky, p);
-                            }
-                            for (int i = 0; i < nsteps; ++i) {
-                                if (steps[i].dark)
-                                    v[3 * i] = v[3 * i + 1] = v[3 * i + 2] = 0.f;
-                                else
-                                    model.SkyValue(steps[i].sky, p, row_factor[i], &v[3 * i]);
-                            }
-                            for (const auto &[i, val] : sun_at[p])
-                                for (int k = 0; k < 3; ++k)
-                                    v[3 * i + k] += val * o.sky.sun_color[k];
-                        }
-                        const float *row = v.data();
-                        float avg[3];
-                        if (average) {
-                            avg[0] = avg[1] = avg[2] = 0.f;
-                            for (int i = 0; i < nsteps; ++i)
-                                for (int k = 0; k < 3; ++k) avg[k] += v[3 * i + k];
-                            if (nsteps > 1)
-                                for (float &a : avg) a = static_cast<float>(a * (1. / nsteps));
-                            row = avg;
-                        }
-                        if (o.format == 'a') {
-                            for (int j = 0; j < ncols; ++j) {
-                                for (int k = 0; k < 3; ++k) {
-                                    char buf[32];
-                                    auto r = std::to_chars(buf, buf + sizeof buf,
-                                                           static_cast<double>(row[3 * j + k]),
-                                                           std::chars_format::general, 3);
-                                    b->text.append(buf, r.ptr);
-                                    b->text += k < 2 ? ' ' : '\n';
-                                }
-                            }
-                            if (ncols > 1) b->text += '\n';
-                        } else if (o.format == 'f') {
-                            b->text.append(reinterpret_cast<const char *>(row),
-                                           sizeof(float) * 3 * ncols);
-                        } else {
-                            for (int j = 0; j < 3 * ncols; ++j) {
-                                double d = row[j];
-                                b->text.append(reinterpret_cast<const char *>(&d), sizeof d);
-                            }
+                const float *row = v.data();
+                float avg[3];
+                if (average) {
+                    avg[0] = avg[1] = avg[2] = 0.f;
+                    for (int i = 0; i < nsteps; ++i)
+                        for (int k = 0; k < 3; ++k) avg[k] += v[3 * i + k];
+                    if (nsteps > 1)
+                        for (float &a : avg) a = static_cast<float>(a * (1. / nsteps));
+                    row = avg;
+                }
+                if (o.format == 'a') {
+                    for (int j = 0; j < ncols; ++j) {
+                        for (int k = 0; k < 3; ++k) {
+                            char buf[32];
+                            auto r = std::to_chars(buf, buf + sizeof buf,
+                                                   static_cast<double>(row[3 * j + k]),
+                                                   std::chars_format::general, 3);
+                            b.text.append(buf, r.ptr);
+                            b.text += k < 2 ? ' ' : '\n';
                         }
                     }
-                    return b;
-                }) &
-            tbb::make_filter<Block *, void>(tbb::filter_mode::serial_in_order, [&](Block *b) {
-                out.Write(b->text);
-                delete b;
-            }));
+                    if (ncols > 1) b.text += '\n';
+                } else if (o.format == 'f') {
+                    b.text.append(reinterpret_cast<const char *>(row), sizeof(float) * 3 * ncols);
+                } else {
+                    for (int j = 0; j < 3 * ncols; ++j) {
+                        double d = row[j];
+                        b.text.append(reinterpret_cast<const char *>(&d), sizeof d);
+                    }
+                }
+            }
+        },
+        [&](Block &b) { out.Write(b.text); });
     out.Commit();
     if (o.verbose) std::fprintf(stderr, "%s: done.\n", ProgramName().c_str());
     return 0;

@@ -1,11 +1,11 @@
 #include "matrix/products.h"
 
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_pipeline.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cstring>
+
+#include "util/pipeline.h"
 
 namespace dayflux {
 
@@ -254,44 +254,29 @@ int StreamProduct(MatrixReader &left, const ColumnOperand &right, const RowForma
     };
     bool done = false;
     int total = 0;
-    const size_t tokens = 2 * static_cast<size_t>(tbb::this_task_arena::max_concurrency());
-    tbb::parallel_pipeline(
-        tokens,
-        tbb::make_filter<void, Block *>(
-            tbb::filter_mode::serial_in_order,
-            [&](tbb::flow_control &fc) -> Block * {
-                if (done) {
-                    fc.stop();
-                    return nullptr;
-                }
-                auto *b = new Block;
-                b->a.resize(static_cast<size_t>(block_rows) * inner * 3);
-                while (b->nrows < block_rows &&
-                       left.ReadRow(b->a.data() + static_cast<size_t>(b->nrows) * inner * 3))
-                    ++b->nrows;
-                if (b->nrows < block_rows) done = true;
-                if (b->nrows == 0) {
-                    delete b;
-                    fc.stop();
-                    return nullptr;
-                }
-                return b;
-            }) &
-            tbb::make_filter<Block *, Block *>(
-                tbb::filter_mode::parallel,
-                [&](Block *b) {
-                    std::vector<float> res(static_cast<size_t>(b->nrows) * ncols * 3);
-                    MultiplyRows(b->a.data(), b->nrows, inner, right, 0, ncols, res.data());
-                    std::vector<float>().swap(b->a);
-                    for (int r = 0; r < b->nrows; ++r)
-                        fmt.Append(res.data() + static_cast<size_t>(r) * ncols * 3, &b->text);
-                    return b;
-                }) &
-            tbb::make_filter<Block *, void>(tbb::filter_mode::serial_in_order, [&](Block *b) {
-                out.Write(b->text);
-                total += b->nrows;
-                delete b;
-            }));
+    OrderedPipeline<Block>(
+        [&]() -> std::unique_ptr<Block> {
+            if (done) return nullptr;
+            auto b = std::make_unique<Block>();
+            b->a.resize(static_cast<size_t>(block_rows) * inner * 3);
+            while (b->nrows < block_rows &&
+                   left.ReadRow(b->a.data() + static_cast<size_t>(b->nrows) * inner * 3))
+                ++b->nrows;
+            if (b->nrows < block_rows) done = true;
+            if (b->nrows == 0) return nullptr;
+            return b;
+        },
+        [&](Block &b) {
+            std::vector<float> res(static_cast<size_t>(b.nrows) * ncols * 3);
+            MultiplyRows(b.a.data(), b.nrows, inner, right, 0, ncols, res.data());
+            std::vector<float>().swap(b.a);
+            for (int r = 0; r < b.nrows; ++r)
+                fmt.Append(res.data() + static_cast<size_t>(r) * ncols * 3, &b.text);
+        },
+        [&](Block &b) {
+            out.Write(b.text);
+            total += b.nrows;
+        });
     left.Finish();
     return total;
 }

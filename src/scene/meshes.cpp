@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "scene/binary.h"
 #include "util/files.h"
 
 namespace dayflux {
@@ -12,58 +13,6 @@ namespace {
 constexpr int kMeshMagic = 1 * 8 + 311;  // RADIANCE's MESHMAGIC: plus sizeof(OBJECT)
 enum { kHasVertices = 1, kHasNormals = 2, kHasUV = 4 };
 
-class MeshInput {
-  public:
-    explicit MeshInput(InputSource &in) : in_(in) {}
-    [[noreturn]] void Fail(const std::string &msg) const {
-        FileLoc loc{in_.Name(), 0};
-        ErrorExit(&loc, msg);
-    }
-    int Byte() {
-        const int c = in_.Get();
-        if (c < 0) Fail("truncated mesh file");
-        return c;
-    }
-    long Int(int n) {  // big-endian, sign-extended (RADIANCE's getint())
-        long r = Byte();
-        if (r & 0x80) r |= -256L;
-        while (--n > 0) r = (r << 8) | Byte();
-        return r;
-    }
-    std::string String() {
-        std::string s;
-        for (int c; (c = Byte()) != 0;) s.push_back(static_cast<char>(c));
-        return s;
-    }
-    double Real() {
-        const long l = Int(4);
-        if (l == 0) {
-            Byte();
-            return 0.0;
-        }
-        return std::ldexp((l + .5 - (l < 0)) * (1. / 0x7fffffff), static_cast<int>(Int(1)));
-    }
-    void SkipTree(int objsize) {
-        switch (Byte()) {
-            case 0:
-                return;
-            case 1: {
-                const long n = Int(objsize);
-                for (long i = 0; i < n * objsize; ++i) Byte();
-                return;
-            }
-            case 2:
-                for (int i = 0; i < 8; ++i) SkipTree(objsize);
-                return;
-            default:
-                Fail("damaged mesh octree");
-        }
-    }
-
-  private:
-    InputSource &in_;
-};
-
 struct Patch {
     std::vector<std::array<uint32_t, 3>> xyz;
 };
@@ -72,16 +21,8 @@ struct Patch {
 
 std::vector<MeshTriangle> ReadMesh(const std::string &path, Scene *scene) {
     auto in = InputSource::Open(path);
-    {
-        std::string line;
-        bool mesh = false;
-        FileLoc loc = in->LocNoLine();
-        if (!in->ReadLine(&line) || line.rfind("#?", 0) != 0)
-            ErrorExit(&loc, "not a mesh file (no header)");
-        while (in->ReadLine(&line) && !line.empty()) mesh |= line == "FORMAT=Radiance_tmesh";
-        if (!mesh) ErrorExit(&loc, "not a RADIANCE mesh (no FORMAT=Radiance_tmesh in header)");
-    }
-    MeshInput m(*in);
+    RadianceBinaryInput m(*in, "mesh file");
+    m.Header("Radiance_tmesh");
     const long objsize = m.Int(2) - kMeshMagic;
     if (objsize <= 0 || objsize > 8) m.Fail("incompatible mesh format");
     double origin[3], size;
@@ -91,25 +32,7 @@ std::vector<MeshTriangle> ReadMesh(const std::string &path, Scene *scene) {
     m.SkipTree(static_cast<int>(objsize));
     // The mesh's materials, stored as a frozen octree stores objects.
     const int mat0 = static_cast<int>(scene->objects.size());
-    std::vector<const PrimitiveType *> types;
-    for (std::string t; !(t = m.String()).empty();) types.push_back(FindPrimitiveType(t));
-    for (;;) {
-        const long ti = m.Int(1);
-        if (ti == -1) break;
-        if (ti < 0 || ti >= static_cast<long>(types.size()) || !types[ti])
-            m.Fail("reference to unknown type");
-        Primitive p;
-        p.info = types[ti];
-        p.type = p.info->name;
-        const long mod = m.Int(static_cast<int>(objsize));
-        p.modifier = mod == -1 ? -1 : static_cast<int>(mat0 + mod);
-        p.modifier_name = p.modifier < 0 ? "void" : scene->objects[p.modifier].name;
-        p.name = m.String();
-        for (long n = m.Int(2); n > 0; --n) p.sargs.push_back(m.String());
-        for (long n = m.Int(2); n > 0; --n) p.fargs.push_back(m.Real());
-        p.loc = FileLoc{in->Name(), 0};
-        scene->objects.push_back(std::move(p));
-    }
+    m.Objects(static_cast<int>(objsize), scene);
     const long npatches = m.Int(4);
     if (npatches < 0) m.Fail("bad patch count");
     std::vector<Patch> patches(npatches);

@@ -90,7 +90,7 @@ TEST(Octree, BadOctreesGetMessages) {
     EXPECT_EQ(ErrorOf((tmp.path() / "short.oct").string()), "short.oct: truncated octree");
     test::WriteFile(tmp.path() / "text.oct", "#?RADIANCE\nFORMAT=ascii\n\n");
     EXPECT_EQ(ErrorOf((tmp.path() / "text.oct").string()),
-              "text.oct: not an octree (no FORMAT=Radiance_octree in header)");
+              "text.oct: not a RADIANCE octree (no FORMAT=Radiance_octree in header)");
     EXPECT_EQ(ErrorOf((tmp.path() / "none.oct").string()), "none.oct': No such file or directory");
 }
 

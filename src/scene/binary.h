@@ -1,0 +1,35 @@
+// RADIANCE's portable binary encoding, shared by octrees (.oct) and meshes (.rtm): big-endian
+// sign-extended integers, null-terminated strings, reals with a 31-bit mantissa, pre-order trees,
+// and objects stored after a table of type names.
+#pragma once
+
+#include <string>
+
+#include "scene/primitives.h"
+#include "util/files.h"
+
+namespace dayflux {
+
+class RadianceBinaryInput {
+  public:
+    // what names the data in messages ("octree", "mesh file").
+    RadianceBinaryInput(InputSource &in, std::string what) : in_(in), what_(std::move(what)) {}
+    [[noreturn]] void Fail(const std::string &msg) const;
+    // Reads the text header and checks its FORMAT= line; returns the other header lines.
+    std::string Header(const std::string &format);
+    int Byte();
+    long Int(int nbytes);
+    std::string String();
+    double Real();
+    // Skips a pre-order octree whose leaves hold sets of objsize-byte numbers.
+    void SkipTree(int objsize);
+    // Reads the type table and the objects that follow it into scene (modifiers relative to the
+    // first object read); returns the number read.
+    long Objects(int objsize, Scene *scene);
+
+  private:
+    InputSource &in_;
+    std::string what_;
+};
+
+}  // namespace dayflux
