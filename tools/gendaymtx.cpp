@@ -1,5 +1,6 @@
 // gendaymtx: sky matrices (one row per patch, ground first; one column per time step) from
 // weather files, with RADIANCE's Perez sky, sun spreading, options and output layout.
+#include <malloc.h>
 #include <tbb/parallel_for.h>
 
 #include <cmath>
@@ -276,6 +277,9 @@ int Main(int argc, char **argv) {
         int p0, p1;
         std::string text;
     };
+    std::vector<const SkyStep *> step_ptrs(nsteps);
+    for (int i = 0; i < nsteps; ++i) step_ptrs[i] = steps[i].dark ? nullptr : &steps[i].sky;
+    const SkyModel::StepArrays step_arrays = model.Arrays(step_ptrs);
     int next = 0;
     OrderedPipeline<Block>(
         [&]() -> std::unique_ptr<Block> {
@@ -285,8 +289,11 @@ int Main(int argc, char **argv) {
             return b;
         },
         [&](Block &b) {
+            // Reserve the block's output at once: growing it would copy it over and over.
+            const size_t bytes_per_value = o.format == 'a' ? 10 : o.format == 'f' ? 4 : 8;
+            b.text.reserve(static_cast<size_t>(b.p1 - b.p0) * (3 * ncols + 1) * bytes_per_value);
             std::vector<float> v(3 * static_cast<size_t>(nsteps));
-            std::vector<double> row_factor(nsteps);
+            SkyModel::StepArrays arrays = step_arrays;  // this block's row factors
             int cached_row = -1;
             for (int p = b.p0; p < b.p1; ++p) {
                 if (p == 0) {
@@ -296,15 +303,9 @@ int Main(int argc, char **argv) {
                 } else {
                     if (model.RowOf(p) != cached_row) {
                         cached_row = model.RowOf(p);
-                        for (int i = 0; i < nsteps; ++i)
-                            row_factor[i] = steps[i].dark ? 0 : model.RowFactor(steps[i].sky, p);
+                        model.RowFactors(step_ptrs, p, &arrays);
                     }
-                    for (int i = 0; i < nsteps; ++i) {
-                        if (steps[i].dark)
-                            v[3 * i] = v[3 * i + 1] = v[3 * i + 2] = 0.f;
-                        else
-                            model.SkyValue(steps[i].sky, p, row_factor[i], &v[3 * i]);
-                    }
+                    model.PatchValues(arrays, p, v.data());
                     for (const auto &[i, val] : sun_at[p])
                         for (int k = 0; k < 3; ++k) v[3 * i + k] += val * o.sky.sun_color[k];
                 }
@@ -349,4 +350,10 @@ int Main(int argc, char **argv) {
 }  // namespace
 }  // namespace dayflux
 
-int main(int argc, char **argv) { return dayflux::RunTool(argc, argv, dayflux::Main); }
+int main(int argc, char **argv) {
+    // Keep freed blocks in the heap: blocks of output are allocated again and again, and fresh
+    // pages from the kernel cost more than the work done in them.
+    mallopt(M_MMAP_THRESHOLD, 256 << 20);
+    mallopt(M_TRIM_THRESHOLD, 512 << 20);
+    return dayflux::RunTool(argc, argv, dayflux::Main);
+}

@@ -293,4 +293,59 @@ void SkyModel::SkyValue(const SkyStep &s, int p, double row_factor, float rgb[3]
     for (int k = 0; k < 3; ++k) rgb[k] = static_cast<float>(l * s.scale) * options_.sky_color[k];
 }
 
+SkyModel::StepArrays SkyModel::Arrays(const std::vector<const SkyStep *> &steps) const {
+    StepArrays a;
+    const size_t n = steps.size();
+    for (auto *v :
+         {&a.cos_sz, &a.sin_sz, &a.cos_az, &a.sin_az, &a.c, &a.d, &a.e, &a.scale, &a.row_factor})
+        v->assign(n, 0.0);
+    a.mode.assign(n, 0);
+    a.uniform.assign(n, 0.0);
+    for (size_t i = 0; i < n; ++i) {
+        const SkyStep *s = steps[i];
+        if (!s || !s->sky_in_use) continue;
+        a.mode[i] = s->uniform ? 2 : 1;
+        a.uniform[i] = s->uniform ? 1.0 : 0.0;
+        a.cos_sz[i] = s->cos_sun_zenith, a.sin_sz[i] = s->sin_sun_zenith;
+        a.cos_az[i] = s->cos_azimuth, a.sin_az[i] = s->sin_azimuth;
+        a.c[i] = s->perez[2], a.d[i] = s->perez[3], a.e[i] = s->perez[4];
+        a.scale[i] = s->scale;
+    }
+    return a;
+}
+
+void SkyModel::RowFactors(const std::vector<const SkyStep *> &steps, int p, StepArrays *a) const {
+    for (size_t i = 0; i < steps.size(); ++i)
+        a->row_factor[i] = a->mode[i] == 1 ? RowFactor(*steps[i], p) : 0;
+}
+
+namespace {
+// One patch at every step, from arrays of the steps' quantities.
+void PatchLoop(size_t n, const double *cos_sz, const double *sin_sz, const double *cos_az,
+               const double *sin_az, const double *c, const double *d, const double *e,
+               const double *scale, const double *row_factor, const double *uniform, double czp,
+               double szp, double cap, double sap, float r, float g, float b, float *rgb) {
+    for (size_t i = 0; i < n; ++i) {
+        double cg = cos_sz[i] * czp + sin_sz[i] * szp * (cap * cos_az[i] + sap * sin_az[i]);
+        cg = std::fmin(std::fmax(cg, -1.0), 1.0);
+        const double gamma = std::acos(cg);
+        const double lum = row_factor[i] * (1.0 + c[i] * std::exp(d[i] * gamma) + e[i] * cg * cg);
+        float l = static_cast<float>(lum);
+        l = l < 0 ? 0.f : l;
+        l = uniform[i] > 0.5 ? 1.f : l;
+        const float v = static_cast<float>(l * scale[i]);  // scale is 0 for black steps
+        rgb[3 * i] = v * r;
+        rgb[3 * i + 1] = v * g;
+        rgb[3 * i + 2] = v * b;
+    }
+}
+}  // namespace
+
+void SkyModel::PatchValues(const StepArrays &a, int p, float *rgb) const {
+    PatchLoop(a.mode.size(), a.cos_sz.data(), a.sin_sz.data(), a.cos_az.data(), a.sin_az.data(),
+              a.c.data(), a.d.data(), a.e.data(), a.scale.data(), a.row_factor.data(),
+              a.uniform.data(), cos_zenith_[p], sin_zenith_[p], cos_azi_[p], sin_azi_[p],
+              options_.sky_color[0], options_.sky_color[1], options_.sky_color[2], rgb);
+}
+
 }  // namespace dayflux

@@ -40,7 +40,7 @@ struct SkyStep {
     double cos_sun_zenith = 0, sin_sun_zenith = 0;
     double azimuth = 0;  // sun azimuth in gendaymtx's frame (from north, east positive)
     double cos_azimuth = 0, sin_azimuth = 0;
-    double scale = 0;    // luminance normalisation x 1/179
+    double scale = 0;  // luminance normalisation x 1/179
     float ground[3] = {};
     std::vector<SunPatch> sun;
     double dir_illum = 0;  // direct illuminance (for sun descriptions)
@@ -64,6 +64,18 @@ class SkyModel {
     void SkyValue(const SkyStep &s, int p, double row_factor, float rgb[3]) const;
     double RowFactor(const SkyStep &s, int p) const;
     int RowOf(int p) const { return row_of_[p]; }
+
+    // The time steps of a run as arrays, for computing one patch at every step in one loop.
+    struct StepArrays {
+        std::vector<double> cos_sz, sin_sz, cos_az, sin_az, c, d, e, scale, row_factor;
+        std::vector<unsigned char> mode;  // 0: black, 1: Perez sky, 2: uniform sky
+        std::vector<double> uniform;      // 1 for a uniform sky (mode 2), else 0
+    };
+    StepArrays Arrays(const std::vector<const SkyStep *> &steps) const;
+    // Sky values of patch p at every step (3 floats each), given a.row_factor for p's row.
+    void PatchValues(const StepArrays &a, int p, float *rgb) const;
+    // Fills a.row_factor for the row of patch p.
+    void RowFactors(const std::vector<const SkyStep *> &steps, int p, StepArrays *a) const;
 
   private:
     float RelativeLuminance(const SkyStep &s, int p, double row_factor) const;
