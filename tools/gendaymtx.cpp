@@ -322,11 +322,7 @@ int Main(int argc, char **argv) {
                 if (o.format == 'a') {
                     for (int j = 0; j < ncols; ++j) {
                         for (int k = 0; k < 3; ++k) {
-                            char buf[32];
-                            auto r = std::to_chars(buf, buf + sizeof buf,
-                                                   static_cast<double>(row[3 * j + k]),
-                                                   std::chars_format::general, 3);
-                            b.text.append(buf, r.ptr);
+                            AppendGeneral(&b.text, row[3 * j + k], 3);
                             b.text += k < 2 ? ' ' : '\n';
                         }
                     }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "sky/perez_kernel.h"
+
 namespace dayflux {
 
 namespace {
@@ -168,16 +170,20 @@ double SkyModel::RowFactor(const SkyStep &s, int p) const {
     return 1.0 + s.perez[0] * std::exp(s.perez[1] * inv_cos_zenith_[p]);
 }
 
-float SkyModel::RelativeLuminance(const SkyStep &s, int p, double row_factor) const {
-    // Angle between the sun and the patch centre (RADIANCE's Eqn. 8-20), kept inside acos's domain.
+double SkyModel::CosToSun(const SkyStep &s, int p) const {
+    // Cosine of the angle between the sun and the patch centre (RADIANCE's Eqn. 8-20), kept
+    // inside acos's domain.
     const double cos_azi_diff = cos_azi_[p] * s.cos_azimuth + sin_azi_[p] * s.sin_azimuth;
-    double cg =
+    const double cg =
         s.cos_sun_zenith * cos_zenith_[p] + s.sin_sun_zenith * sin_zenith_[p] * cos_azi_diff;
-    cg = std::clamp(cg, -1.0, 1.0);
-    const double gamma = std::acos(cg);
-    float l = static_cast<float>(
-        row_factor * (1.0 + s.perez[2] * std::exp(s.perez[3] * gamma) + s.perez[4] * cg * cg));
-    return l < 0 ? 0.f : l;
+    return std::clamp(cg, -1.0, 1.0);
+}
+
+float SkyModel::RelativeLuminance(const SkyStep &s, int p, double row_factor) const {
+    const double x = CosToSun(s, p);
+    float l;
+    PerezRelativeLuminance(1, &x, &row_factor, &s.perez[2], &s.perez[3], &s.perez[4], &l);
+    return l;
 }
 
 SkyStep SkyModel::Prepare(double dir, double dif, WeatherUnits units, double altitude,
@@ -231,13 +237,22 @@ SkyStep SkyModel::Prepare(double dir, double dif, WeatherUnits units, double alt
         s.cos_sun_zenith = std::cos(a.sun_zenith);
         s.sin_sun_zenith = std::sin(a.sun_zenith);
         double norm = 0;  // relative horizontal illuminance of the sky patches
-        const int n = patches_.Size();
-        double row_factor = 0;
-        int row = -1;
-        for (int p = 1; p < n; ++p) {
-            if (row_of_[p] != row) row = row_of_[p], row_factor = RowFactor(s, p);
-            norm += static_cast<double>(RelativeLuminance(s, p, row_factor)) *
-                    horizontal_weight_[p] * patches_.SolidAngle(p);
+        // Row by row: the luminances of a row at once, then summed in patch order as RADIANCE does.
+        std::vector<double> x, rf, c, d, e;
+        std::vector<float> l;
+        for (int r = 0; r < patches_.Rows(); ++r) {
+            const int p0 = patches_.FirstPatchOfRow(r), m = patches_.PatchesInRow(r);
+            x.resize(m);
+            l.resize(m);
+            rf.assign(m, RowFactor(s, p0));
+            c.assign(m, s.perez[2]);
+            d.assign(m, s.perez[3]);
+            e.assign(m, s.perez[4]);
+            for (int k = 0; k < m; ++k) x[k] = CosToSun(s, p0 + k);
+            PerezRelativeLuminance(m, x.data(), rf.data(), c.data(), d.data(), e.data(), l.data());
+            for (int k = 0; k < m; ++k)
+                norm += static_cast<double>(l[k]) * horizontal_weight_[p0 + k] *
+                        patches_.SolidAngle(p0 + k);
         }
         if (norm <= kTiny) {  // zero sky: make it uniform
             s.uniform = true;
@@ -300,12 +315,10 @@ SkyModel::StepArrays SkyModel::Arrays(const std::vector<const SkyStep *> &steps)
          {&a.cos_sz, &a.sin_sz, &a.cos_az, &a.sin_az, &a.c, &a.d, &a.e, &a.scale, &a.row_factor})
         v->assign(n, 0.0);
     a.mode.assign(n, 0);
-    a.uniform.assign(n, 0.0);
     for (size_t i = 0; i < n; ++i) {
         const SkyStep *s = steps[i];
         if (!s || !s->sky_in_use) continue;
         a.mode[i] = s->uniform ? 2 : 1;
-        a.uniform[i] = s->uniform ? 1.0 : 0.0;
         a.cos_sz[i] = s->cos_sun_zenith, a.sin_sz[i] = s->sin_sun_zenith;
         a.cos_az[i] = s->cos_azimuth, a.sin_az[i] = s->sin_azimuth;
         a.c[i] = s->perez[2], a.d[i] = s->perez[3], a.e[i] = s->perez[4];
@@ -319,33 +332,26 @@ void SkyModel::RowFactors(const std::vector<const SkyStep *> &steps, int p, Step
         a->row_factor[i] = a->mode[i] == 1 ? RowFactor(*steps[i], p) : 0;
 }
 
-namespace {
-// One patch at every step, from arrays of the steps' quantities.
-void PatchLoop(size_t n, const double *cos_sz, const double *sin_sz, const double *cos_az,
-               const double *sin_az, const double *c, const double *d, const double *e,
-               const double *scale, const double *row_factor, const double *uniform, double czp,
-               double szp, double cap, double sap, float r, float g, float b, float *rgb) {
-    for (size_t i = 0; i < n; ++i) {
-        double cg = cos_sz[i] * czp + sin_sz[i] * szp * (cap * cos_az[i] + sap * sin_az[i]);
-        cg = std::fmin(std::fmax(cg, -1.0), 1.0);
-        const double gamma = std::acos(cg);
-        const double lum = row_factor[i] * (1.0 + c[i] * std::exp(d[i] * gamma) + e[i] * cg * cg);
-        float l = static_cast<float>(lum);
-        l = l < 0 ? 0.f : l;
-        l = uniform[i] > 0.5 ? 1.f : l;
-        const float v = static_cast<float>(l * scale[i]);  // scale is 0 for black steps
-        rgb[3 * i] = v * r;
-        rgb[3 * i + 1] = v * g;
-        rgb[3 * i + 2] = v * b;
-    }
-}
-}  // namespace
-
 void SkyModel::PatchValues(const StepArrays &a, int p, float *rgb) const {
-    PatchLoop(a.mode.size(), a.cos_sz.data(), a.sin_sz.data(), a.cos_az.data(), a.sin_az.data(),
-              a.c.data(), a.d.data(), a.e.data(), a.scale.data(), a.row_factor.data(),
-              a.uniform.data(), cos_zenith_[p], sin_zenith_[p], cos_azi_[p], sin_azi_[p],
-              options_.sky_color[0], options_.sky_color[1], options_.sky_color[2], rgb);
+    const size_t n = a.mode.size();
+    std::vector<double> x(n);
+    std::vector<float> l(n);
+    const double czp = cos_zenith_[p], szp = sin_zenith_[p], cap = cos_azi_[p], sap = sin_azi_[p];
+    for (size_t i = 0; i < n; ++i) {
+        const double cg =
+            a.cos_sz[i] * czp + a.sin_sz[i] * szp * (cap * a.cos_az[i] + sap * a.sin_az[i]);
+        x[i] = std::clamp(cg, -1.0, 1.0);
+    }
+    PerezRelativeLuminance(n, x.data(), a.row_factor.data(), a.c.data(), a.d.data(), a.e.data(),
+                           l.data());
+    const float *col = options_.sky_color;
+    for (size_t i = 0; i < n; ++i) {
+        const float li = a.mode[i] == 2 ? 1.f : l[i];
+        const float v = a.mode[i] == 0 ? 0.f : static_cast<float>(li * a.scale[i]);
+        rgb[3 * i] = v * col[0];
+        rgb[3 * i + 1] = v * col[1];
+        rgb[3 * i + 2] = v * col[2];
+    }
 }
 
 }  // namespace dayflux

@@ -69,7 +69,6 @@ class SkyModel {
     struct StepArrays {
         std::vector<double> cos_sz, sin_sz, cos_az, sin_az, c, d, e, scale, row_factor;
         std::vector<unsigned char> mode;  // 0: black, 1: Perez sky, 2: uniform sky
-        std::vector<double> uniform;      // 1 for a uniform sky (mode 2), else 0
     };
     StepArrays Arrays(const std::vector<const SkyStep *> &steps) const;
     // Sky values of patch p at every step (3 floats each), given a.row_factor for p's row.
@@ -78,6 +77,7 @@ class SkyModel {
     void RowFactors(const std::vector<const SkyStep *> &steps, int p, StepArrays *a) const;
 
   private:
+    double CosToSun(const SkyStep &s, int p) const;
     float RelativeLuminance(const SkyStep &s, int p, double row_factor) const;
 
     SkyOptions options_;

@@ -24,4 +24,8 @@ inline void AppendScientific(std::string *out, double value, int precision) {
     out->append(buf, res.ptr);
 }
 
+// Appends value as printf("%.*g", precision, value) would print it (precision 1..15). A fast path
+// handles the usual case; values close to a rounding tie go through std::to_chars.
+void AppendGeneral(std::string *out, double value, int precision);
+
 }  // namespace dayflux
