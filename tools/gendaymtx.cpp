@@ -293,6 +293,7 @@ int Main(int argc, char **argv) {
             const size_t bytes_per_value = o.format == 'a' ? 10 : o.format == 'f' ? 4 : 8;
             b.text.reserve(static_cast<size_t>(b.p1 - b.p0) * (3 * ncols + 1) * bytes_per_value);
             std::vector<float> v(3 * static_cast<size_t>(nsteps));
+            std::vector<char> line;
             SkyModel::StepArrays arrays = step_arrays;  // this block's row factors
             int cached_row = -1;
             for (int p = b.p0; p < b.p1; ++p) {
@@ -320,13 +321,17 @@ int Main(int argc, char **argv) {
                     row = avg;
                 }
                 if (o.format == 'a') {
+                    // Into a buffer of a row's worst case, then onto the block's text at once.
+                    line.resize(static_cast<size_t>(ncols) * 3 * 32 + 2);
+                    char *q = line.data();
                     for (int j = 0; j < ncols; ++j) {
                         for (int k = 0; k < 3; ++k) {
-                            AppendGeneral(&b.text, row[3 * j + k], 3);
-                            b.text += k < 2 ? ' ' : '\n';
+                            q = FormatGeneral(q, row[3 * j + k], 3);
+                            *q++ = k < 2 ? ' ' : '\n';
                         }
                     }
-                    if (ncols > 1) b.text += '\n';
+                    if (ncols > 1) *q++ = '\n';
+                    b.text.append(line.data(), q);
                 } else if (o.format == 'f') {
                     b.text.append(reinterpret_cast<const char *>(row), sizeof(float) * 3 * ncols);
                 } else {

@@ -59,35 +59,38 @@ namespace {
 constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
                              1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
-void Slow(std::string *out, double value, int precision) {
-    char buf[64];
-    auto r = std::to_chars(buf, buf + sizeof buf, value, std::chars_format::general, precision);
-    out->append(buf, r.ptr);
+char *Slow(char *p, double value, int precision) {
+    return std::to_chars(p, p + 32, value, std::chars_format::general, precision).ptr;
 }
 }  // namespace
 
 void AppendGeneral(std::string *out, double value, int precision) {
+    char buf[48];
+    out->append(buf, FormatGeneral(buf, value, precision));
+}
+
+char *FormatGeneral(char *buf, double value, int precision) {
     if (value == 0 && !std::signbit(value)) {
-        out->push_back('0');
-        return;
+        *buf = '0';
+        return buf + 1;
     }
     const double a = std::fabs(value);
     if (!(a >= 1e-300 && a < 1e300) || precision < 1 || precision > 15)
-        return Slow(out, value, precision);
+        return Slow(buf, value, precision);
     // Decimal exponent from the binary one; off by at most one, which the scaling below corrects.
     uint64_t bits;
     std::memcpy(&bits, &a, sizeof bits);
     const int e2 = static_cast<int>(bits >> 52) - 1023;  // a is normal here
     int e10 = (e2 * 78913) >> 18;  // floor(e2 log10(2)) without a call to floor()
     const int shift = precision - 1 - e10;
-    if (shift > 22 || shift < -22) return Slow(out, value, precision);
+    if (shift > 22 || shift < -22) return Slow(buf, value, precision);
     double m = shift >= 0 ? a * kPow10[shift] : a / kPow10[-shift];
     if (m < kPow10[precision - 1]) m *= 10, --e10;
     if (m >= kPow10[precision]) m /= 10, ++e10;
     const double fl = static_cast<double>(static_cast<long long>(m)), frac = m - fl;
     // Near a tie (or an exact integer, where the scaling may have rounded) let to_chars decide.
     if (std::fabs(frac - 0.5) < 1e-6 || frac < 1e-9 || frac > 1 - 1e-9)
-        return Slow(out, value, precision);
+        return Slow(buf, value, precision);
     long long digits = static_cast<long long>(frac > 0.5 ? fl + 1 : fl);
     if (digits >= static_cast<long long>(kPow10[precision]))
         digits /= 10, ++e10;  // 9.99.. rounded up
@@ -96,7 +99,6 @@ void AppendGeneral(std::string *out, double value, int precision) {
         d[k] = static_cast<char>('0' + digits % 10);
     int last = precision;  // %g drops trailing zeros
     while (last > 1 && d[last - 1] == '0') --last;
-    char buf[48];
     int n = 0;
     if (value < 0) buf[n++] = '-';
     if (e10 < -4 || e10 >= precision) {
@@ -123,7 +125,7 @@ void AppendGeneral(std::string *out, double value, int precision) {
         for (int k = 0; k < -e10 - 1; ++k) buf[n++] = '0';
         for (int k = 0; k < last; ++k) buf[n++] = d[k];
     }
-    out->append(buf, n);
+    return buf + n;
 }
 
 }  // namespace dayflux

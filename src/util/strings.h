@@ -27,5 +27,7 @@ inline void AppendScientific(std::string *out, double value, int precision) {
 // Appends value as printf("%.*g", precision, value) would print it (precision 1..15). A fast path
 // handles the usual case; values close to a rounding tie go through std::to_chars.
 void AppendGeneral(std::string *out, double value, int precision);
+// The same into a buffer with room for 32 characters; returns the end of what was written.
+char *FormatGeneral(char *p, double value, int precision);
 
 }  // namespace dayflux
