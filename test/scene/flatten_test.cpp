@@ -73,6 +73,20 @@ TEST(Polygons, HoleJoinedByASeamAsOconvSeesIt) {
     ExpectCoversPolygon(v, 3);
 }
 
+// The same hole written running the same way as its outline (as the tutorial room's south wall
+// is): RADIANCE's even-odd rule still makes it a hole. Two holes in one outline too.
+TEST(Polygons, HolesEitherWayAndSeveral) {
+    const std::vector<Vec3> same = {{-1, -1, .5}, {1, -1, .5},   {1, 0, .5},     {.5, 0, .5},
+                                    {.5, .5, .5}, {-.5, .5, .5}, {-.5, -.5, .5}, {.5, -.5, .5},
+                                    {.5, 0, .5},  {1, 0, .5},    {1, 1, .5},     {-1, 1, .5}};
+    ExpectCoversPolygon(same, 3);
+    const std::vector<Vec3> two = {{-1, -1, .5},  {-.8, -.8, .5}, {-.2, -.8, .5}, {-.2, .8, .5},
+                                   {-.8, .8, .5}, {-.8, -.8, .5}, {-1, -1, .5},   {1, -1, .5},
+                                   {.8, -.8, .5}, {.8, .8, .5},   {.2, .8, .5},   {.2, -.8, .5},
+                                   {.8, -.8, .5}, {1, -1, .5},    {1, 1, .5},     {-1, 1, .5}};
+    ExpectCoversPolygon(two, 4 - 2 * 0.6 * 1.6);
+}
+
 TEST(Polygons, DegeneratePolygonsGiveNoTriangles) {
     EXPECT_TRUE(TriangulatePolygon({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}).empty());
     EXPECT_TRUE(TriangulatePolygon({{0, 0, 0}, {1, 0, 0}}).empty());

@@ -1,0 +1,42 @@
+// What the integrators need from a ray tracer, and nothing more: build once from a flattened
+// scene, then closest-hit and any-hit queries on batches of rays. Embree implements it on the CPU
+// (embree/), Vulkan ray queries on the GPU (vulkan/, to come). Like Embree's own API: an opaque
+// object, an explicit commit, one error path.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "scene/flatten.h"
+
+namespace dayflux {
+
+struct TraceRay {
+    double org[3];
+    double dir[3];  // unit length
+    double tmax;    // infinity for unbounded rays
+};
+
+struct TraceHit {
+    bool hit = false;
+    double t = 0;
+    uint32_t triangle = 0;         // index into FlatScene::triangles
+    double normal[3] = {0, 0, 0};  // unit geometric normal, in the triangle's winding
+};
+
+class Backend {
+  public:
+    virtual ~Backend() = default;
+    virtual std::string Name() const = 0;
+    // Builds the acceleration structure; the scene must outlive the backend.
+    virtual void Commit(const FlatScene &scene) = 0;
+    virtual void Closest(const TraceRay *rays, TraceHit *hits, size_t n) const = 0;
+    // true where something lies between the origin and tmax.
+    virtual void Occluded(const TraceRay *rays, bool *occluded, size_t n) const = 0;
+};
+
+// "embree" (the default) or "vulkan"; DAYFLUX_BACKEND chooses when name is empty.
+std::unique_ptr<Backend> CreateBackend(const std::string &name);
+
+}  // namespace dayflux

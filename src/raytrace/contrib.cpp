@@ -1,0 +1,502 @@
+#include "raytrace/contrib.h"
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace dayflux {
+
+namespace {
+
+constexpr double kTiny = 1e-6;  // RADIANCE's FTINY
+
+using RGB = std::array<double, 3>;
+
+double Max3(const RGB &c) { return std::max({c[0], c[1], c[2]}); }
+// RADIANCE's bright(): luminance weights of its standard primaries.
+double Bright(const RGB &c) { return 0.2651058 * c[0] + 0.6701058 * c[1] + 0.0647884 * c[2]; }
+
+// Ray types, as RADIANCE's ray.h numbers them; a ray's "crtype" is the union over its ancestry.
+enum : int {
+    kPrimary = 1,
+    kShadow = 2,
+    kReflected = 4,
+    kTrans = 16,
+    kAmbient = 32,
+    kSpecular = 64
+};
+constexpr int kReflectionTypes = kShadow | kReflected | kAmbient | kSpecular;
+
+// A counter-based generator: the stream of one input ray depends only on the seed and the ray.
+class Random {
+  public:
+    Random(uint64_t seed, uint64_t ray) : state_(Mix(seed ^ Mix(ray + 0x9e3779b97f4a7c15ULL))) {}
+    double Uniform() { return static_cast<double>(Next() >> 11) * (1.0 / 9007199254740992.0); }
+
+  private:
+    static uint64_t Mix(uint64_t z) {
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+        return z ^ (z >> 31);
+    }
+    uint64_t Next() { return Mix(state_ += 0x9e3779b97f4a7c15ULL); }
+    uint64_t state_;
+};
+
+// Shirley-Chiu: unit square to unit disk, area-preserving (RADIANCE's square2disk()).
+void SquareToDisk(double sx, double sy, double *dx, double *dy) {
+    const double a = 2 * sx - 1, b = 2 * sy - 1;
+    double r, phi;
+    if (a > -b) {
+        if (a > b)
+            r = a, phi = M_PI / 4 * (b / a);
+        else
+            r = b, phi = M_PI / 4 * (2 - a / b);
+    } else {
+        if (a < b)
+            r = -a, phi = M_PI / 4 * (4 + b / a);
+        else
+            r = -b, phi = b != 0 ? M_PI / 4 * (6 - a / b) : 0;
+    }
+    *dx = r * std::cos(phi);
+    *dy = r * std::sin(phi);
+}
+
+// Two unit vectors perpendicular to n and to each other.
+void Tangents(const double n[3], double u[3], double v[3]) {
+    const int ax = std::fabs(n[0]) < 0.6 ? 0 : (std::fabs(n[1]) < 0.6 ? 1 : 2);
+    double e[3] = {0, 0, 0};
+    e[ax] = 1;
+    u[0] = e[1] * n[2] - e[2] * n[1];
+    u[1] = e[2] * n[0] - e[0] * n[2];
+    u[2] = e[0] * n[1] - e[1] * n[0];
+    const double l = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (int k = 0; k < 3; ++k) u[k] /= l;
+    v[0] = n[1] * u[2] - n[2] * u[1];
+    v[1] = n[2] * u[0] - n[0] * u[2];
+    v[2] = n[0] * u[1] - n[1] * u[0];
+}
+
+struct Material {
+    enum Kind { kBlack, kDiffuse, kGlass, kMirror, kGlow, kLight } kind = kBlack;
+    RGB color{0, 0, 0};
+    double spec = 0;  // plastic/metal specularity
+    bool metal = false;
+    double rindex = 1.52;
+    const PatternFunction *pattern = nullptr;  // brightfunc/colorfunc modifying the colour
+};
+
+struct Source {
+    double dir[3];
+    double solid_angle;  // RADIANCE's ss2 = 2 pi (1 - cos(half angle))
+    int object;
+    bool skip;  // glow: reached only by rays that find nothing else
+};
+
+struct RayState {
+    double org[3], dir[3];
+    RGB coef;       // product of the coefficients from the input ray down to this one
+    double weight;  // RADIANCE's rweight
+    int rlvl;       // reflections so far (for -lr)
+    int crtype;     // union of the ray types of the ancestry
+    int ambient_depth;
+};
+
+}  // namespace
+
+struct ContribIntegrator::Impl {
+    const FlatScene &scene;
+    const Backend &backend;
+    ContribOptions o;
+    std::vector<TrackedModifier> tracked;
+    std::function<std::unique_ptr<cal::Context>(int)> make_context;
+    std::vector<Material> materials;     // per scene object (surfaces: their material)
+    std::vector<int> tracked_of_object;  // tracked modifier whose name is the object's modifier
+    std::vector<std::unique_ptr<PatternFunction>> patterns;
+    std::vector<Source> sources;
+
+    struct ThreadState {
+        std::vector<std::unique_ptr<cal::Context>> contexts;
+        std::vector<cal::Expression> bins;
+    };
+    mutable tbb::enumerable_thread_specific<ThreadState> threads;
+
+    ThreadState &State() const {
+        ThreadState &t = threads.local();
+        if (t.contexts.empty())
+            for (size_t k = 0; k < tracked.size(); ++k) {
+                t.contexts.push_back(make_context(static_cast<int>(k)));
+                t.bins.push_back(
+                    t.contexts.back()->Compile(tracked[k].bin_expression, FileLoc{"-b", 0}));
+            }
+        return t;
+    }
+
+    Impl(const FlatScene &s, const Backend &b, const ContribOptions &opt,
+         std::vector<TrackedModifier> t, std::function<std::unique_ptr<cal::Context>(int)> mc)
+        : scene(s), backend(b), o(opt), tracked(std::move(t)), make_context(std::move(mc)) {
+        const auto &objs = scene.scene.objects;
+        materials.resize(objs.size());
+        tracked_of_object.assign(objs.size(), -1);
+        std::vector<int> pattern_of(objs.size(), -1);
+        for (size_t i = 0; i < objs.size(); ++i) {
+            const Primitive &p = objs[i];
+            if (p.info->kind == PrimitiveKind::kSurface || p.info->kind == PrimitiveKind::kVolume) {
+                for (size_t k = 0; k < tracked.size(); ++k)
+                    if (p.modifier_name == tracked[k].name)
+                        tracked_of_object[i] = static_cast<int>(k);
+                materials[i] = Resolve(p.modifier, pattern_of);
+            }
+        }
+        for (const AnalyticShape &sh : scene.shapes) {
+            if (sh.kind != AnalyticShape::kSource) continue;
+            const double l =
+                std::sqrt(sh.p0[0] * sh.p0[0] + sh.p0[1] * sh.p0[1] + sh.p0[2] * sh.p0[2]);
+            Source s;
+            for (int k = 0; k < 3; ++k) s.dir[k] = sh.p0[k] / l;
+            s.solid_angle = 2. * M_PI * (1. - std::cos(sh.r0 * (M_PI / 360.)));
+            s.object = sh.object;
+            s.skip = materials[sh.object].kind == Material::kGlow;
+            sources.push_back(s);
+        }
+    }
+
+    // The material a surface's modifier stands for, with the patterns that modify it.
+    Material Resolve(int mod, std::vector<int> &pattern_of) {
+        const auto &objs = scene.scene.objects;
+        Material m;
+        while (mod >= 0 && objs[mod].type == "alias")
+            mod = objs[mod].modifier >= 0 ? objs[mod].modifier : -1;
+        if (mod < 0) return m;  // void: absorbs
+        const Primitive &p = objs[mod];
+        const auto &f = p.fargs;
+        const std::string &t = p.type;
+        if (t == "plastic" || t == "metal") {
+            m.kind = Material::kDiffuse;
+            m.color = {f[0], f[1], f[2]};
+            m.spec = f[3];
+            m.metal = t == "metal";
+            if (m.spec > kTiny && f[4] * f[4] > kTiny)
+                ErrorExit(&p.loc,
+                          t + " '" + p.name + "': rough specular reflection is not traced yet");
+        } else if (t == "glass") {
+            m.kind = Material::kGlass;
+            m.color = {f[0], f[1], f[2]};
+            if (f.size() == 4) m.rindex = f[3];
+        } else if (t == "mirror") {
+            m.kind = Material::kMirror;
+            m.color = {f[0], f[1], f[2]};
+        } else if (t == "glow") {
+            m.kind = Material::kGlow;
+            m.color = {f[0], f[1], f[2]};
+        } else if (t == "light") {
+            m.kind = Material::kLight;
+            m.color = {f[0], f[1], f[2]};
+        } else {
+            ErrorExit(&p.loc, "material type " + t + " ('" + p.name + "') is not traced yet");
+        }
+        // A pattern modifying the material (brightfunc, colorfunc).
+        int pm = p.modifier;
+        while (pm >= 0 && objs[pm].type == "alias") pm = objs[pm].modifier;
+        if (pm >= 0) {
+            const Primitive &pp = objs[pm];
+            if (pp.type != "brightfunc" && pp.type != "colorfunc")
+                ErrorExit(&pp.loc,
+                          pp.type + " '" + pp.name + "' as a material modifier is not traced yet");
+            if (pattern_of[pm] < 0) {
+                pattern_of[pm] = static_cast<int>(patterns.size());
+                patterns.push_back(std::make_unique<PatternFunction>(pp));
+            }
+            m.pattern = patterns[pattern_of[pm]].get();
+            if (pp.modifier >= 0) ErrorExit(&pp.loc, "chains of patterns are not traced yet");
+        }
+        return m;
+    }
+
+    // rayorigin(): the child's coefficient and weight, Russian roulette. False if the ray dies.
+    bool Spawn(const RayState &parent, int type, const RGB &rc, Random &rng,
+               RayState *child) const {
+        double rw = std::min(1.0, Max3(rc));
+        child->rlvl = parent.rlvl + ((type & kReflectionTypes) ? 1 : 0);
+        child->crtype = parent.crtype | type;
+        child->weight = parent.weight * rw;
+        child->ambient_depth = parent.ambient_depth;
+        for (int k = 0; k < 3; ++k) child->coef[k] = parent.coef[k] * rc[k];
+        if (child->weight <= 0) return false;
+        const int lr = o.limit_reflections;
+        if (lr <= 0) {
+            if (lr < 0 && child->rlvl > -lr) return false;
+            if (child->weight >= o.limit_weight) return true;
+            if (rng.Uniform() > child->weight / o.limit_weight) return false;
+            const double promote = o.limit_weight / child->weight;
+            for (double &c : child->coef) c *= promote;
+            child->weight = o.limit_weight;
+            return true;
+        }
+        return child->weight >= o.limit_weight && child->rlvl <= lr;
+    }
+
+    void Contribute(int k, const RayState &r, const double point[3], const double normal[3],
+                    double t, const RGB &radiance, ThreadState &ts, double *record) const {
+        std::vector<double> ch(27, 0.0);
+        for (int i = 0; i < 3; ++i) ch[i] = r.dir[i], ch[3 + i] = normal[i], ch[6 + i] = point[i];
+        ch[9] = t;
+        ch[10] = -(r.dir[0] * normal[0] + r.dir[1] * normal[1] + r.dir[2] * normal[2]);
+        ch[11] = 1;
+        ch[15] = 1, ch[19] = 1, ch[23] = 1;  // identity transform axes
+        cal::ChannelArray channels(std::move(ch));
+        const double b = ts.bins[k].Evaluate(*ts.contexts[k], &channels);
+        const int bin = static_cast<int>(std::floor(b + .5));
+        if (b < -.5) return;  // negative bins are ignored
+        if (bin >= tracked[k].nbins) {
+            static bool warned = false;
+            if (!warned)
+                Warning("bad bin number (" + std::to_string(bin) + " for modifier " +
+                        tracked[k].name + ")");
+            warned = true;
+            return;
+        }
+        double *dst = record + 3 * static_cast<size_t>(tracked[k].first_column + bin);
+        for (int c = 0; c < 3; ++c) dst[c] += r.coef[c] * (o.contributions ? radiance[c] : 1.0);
+    }
+
+    RGB PatternColour(const Material &m, const RayState &r, const double point[3],
+                      const double normal[3]) const {
+        RGB c = m.color;
+        if (m.pattern) {
+            std::vector<double> ch(27, 0.0);
+            for (int i = 0; i < 3; ++i)
+                ch[i] = r.dir[i], ch[3 + i] = normal[i], ch[6 + i] = point[i];
+            double f[3];
+            m.pattern->Evaluate(ch, f);
+            for (int k = 0; k < 3; ++k) c[k] *= f[k];
+        }
+        return c;
+    }
+
+    // n x n cosine-weighted, stratified samples of the hemisphere about normal, each carrying
+    // colour / n^2 (samp_hemi() with -aa 0).
+    void Ambient(const RayState &r, const RGB &colour, const double point[3],
+                 const double normal[3], Random &rng, ThreadState &ts, double *record,
+                 int depth) const {
+        if (r.ambient_depth >= o.ambient_bounces || o.ambient_divisions <= 0) return;
+        if (Bright(colour) <= kTiny) return;
+        double wt = r.weight;
+        const double d = 0.8 * Max3(colour) * r.weight / (o.ambient_divisions * o.limit_weight);
+        if (wt > d) wt = d;
+        int n = static_cast<int>(std::sqrt(o.ambient_divisions * wt) + 0.5);
+        if (n < 1) n = 1;
+        RGB acoef = colour;
+        for (double &c : acoef) c /= static_cast<double>(n) * n;
+        double ux[3], uy[3];
+        Tangents(normal, ux, uy);
+        for (int i = n; i--;)
+            for (int j = n; j--;) {
+                RayState child;
+                if (!Spawn(r, kAmbient, acoef, rng, &child)) continue;
+                child.ambient_depth = r.ambient_depth + 1;
+                double x, y;
+                SquareToDisk((j + rng.Uniform()) / n, (i + rng.Uniform()) / n, &x, &y);
+                const double z = std::sqrt(std::max(0.0, 1. - x * x - y * y));
+                for (int k = 0; k < 3; ++k) {
+                    child.org[k] = point[k];
+                    child.dir[k] = x * ux[k] + y * uy[k] + z * normal[k];
+                }
+                Normalize(child.dir);
+                Trace(child, rng, ts, record, depth + 1);
+            }
+    }
+
+    static void Normalize(double v[3]) {
+        const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        for (int k = 0; k < 3; ++k) v[k] /= l;
+    }
+
+    // Follows one ray: its contribution if it reaches a tracked modifier, then its material.
+    void Trace(const RayState &r, Random &rng, ThreadState &ts, double *record, int depth) const {
+        if (depth > 200) return;  // guards against pathological specular loops (-lr 0)
+        TraceRay tr;
+        std::copy(r.org, r.org + 3, tr.org);
+        std::copy(r.dir, r.dir + 3, tr.dir);
+        tr.tmax = std::numeric_limits<double>::infinity();
+        TraceHit hit;
+        backend.Closest(&tr, &hit, 1);
+        if (!hit.hit) {
+            Escape(r, rng, ts, record);
+            return;
+        }
+        const int object = scene.triangle_object[hit.triangle];
+        double point[3], normal[3];
+        for (int k = 0; k < 3; ++k)
+            point[k] = r.org[k] + hit.t * r.dir[k], normal[k] = hit.normal[k];
+        const int mat_obj = scene.triangle_material[hit.triangle];
+        const Material &m = mat_obj >= 0 ? MaterialOfModifier(mat_obj) : materials[object];
+        Shade(r, object, m, point, normal, hit.t, rng, ts, record, depth);
+    }
+
+    const Material &MaterialOfModifier(int) const {
+        ErrorExit("materials inside RADIANCE meshes are not traced yet");
+    }
+
+    void Escape(const RayState &r, Random &rng, ThreadState &ts, double *record) const {
+        int glow = -1, chosen = -1;
+        for (size_t i = 0; i < sources.size(); ++i) {
+            const Source &s = sources[i];
+            const double c = s.dir[0] * r.dir[0] + s.dir[1] * r.dir[1] + s.dir[2] * r.dir[2];
+            if (2. * M_PI * (1. - c) > s.solid_angle) continue;
+            if (s.skip) {
+                if (glow < 0) glow = static_cast<int>(i);
+                continue;
+            }
+            chosen = static_cast<int>(i);
+            break;
+        }
+        if (chosen < 0) chosen = glow;
+        if (chosen < 0) return;
+        const int object = sources[chosen].object;
+        double point[3], normal[3];
+        for (int k = 0; k < 3; ++k) point[k] = r.dir[k] * 1e30, normal[k] = -r.dir[k];
+        Shade(r, object, materials[object], point, normal, std::numeric_limits<double>::infinity(),
+              rng, ts, record, 0);
+    }
+
+    void Shade(const RayState &r, int object, const Material &m, const double point[3],
+               const double geo_normal[3], double t, Random &rng, ThreadState &ts, double *record,
+               int depth) const {
+        // Face the normal toward where the ray came from (RADIANCE flips surfaces seen from
+        // behind).
+        double normal[3];
+        double rod =
+            -(r.dir[0] * geo_normal[0] + r.dir[1] * geo_normal[1] + r.dir[2] * geo_normal[2]);
+        const double sign = rod < 0 ? -1 : 1;
+        for (int k = 0; k < 3; ++k) normal[k] = sign * geo_normal[k];
+        rod *= sign;
+        const int k = tracked_of_object[object];
+        const bool light = m.kind == Material::kLight;
+        // A light reached by an ambient or specular ray counts nothing (it is sampled directly).
+        const bool bad = light && (r.crtype & (kAmbient | kSpecular)) && !(r.crtype & kShadow);
+        if (k >= 0 && !bad) {
+            RGB radiance{1, 1, 1};
+            if (o.contributions) radiance = PatternColour(m, r, point, normal);
+            Contribute(k, r, point, normal, t, radiance, ts, record);
+        }
+        switch (m.kind) {
+            case Material::kBlack:
+            case Material::kGlow:
+            case Material::kLight:
+                return;
+            case Material::kDiffuse: {
+                const RGB c = PatternColour(m, r, point, normal);
+                double rspec = m.spec;
+                if (rspec >
+                    kTiny) {  // pure specular reflection (rough specular is refused earlier)
+                    RGB sc{rspec, rspec, rspec};
+                    if (m.metal)
+                        for (int i = 0; i < 3; ++i) sc[i] = c[i] * rspec;
+                    Reflect(r, sc, point, normal, rod, rng, ts, record, depth);
+                }
+                const double rdiff = 1.0 - rspec;
+                if (rdiff > kTiny) {
+                    RGB amb = c;
+                    for (double &v : amb) v *= rdiff;
+                    Ambient(r, amb, point, normal, rng, ts, record, depth);
+                }
+                return;
+            }
+            case Material::kMirror: {
+                Reflect(r, PatternColour(m, r, point, normal), point, normal, rod, rng, ts, record,
+                        depth);
+                return;
+            }
+            case Material::kGlass: {
+                RGB mc = PatternColour(m, r, point, normal);
+                const bool hastrans = Max3(mc) > 1e-15;
+                for (double &v : mc) v = std::max(v, 1e-15);
+                const double n = m.rindex, pdot = rod;
+                const double cos2 = std::sqrt((1.0 - 1.0 / (n * n)) + pdot * pdot / (n * n));
+                if (hastrans)
+                    for (double &v : mc) v = std::pow(v, 1.0 / cos2);
+                double r1e = (pdot - n * cos2) / (pdot + n * cos2);
+                r1e *= r1e;
+                double r1m = (1.0 / pdot - n / cos2) / (1.0 / pdot + n / cos2);
+                r1m *= r1m;
+                if (hastrans) {
+                    RGB trans;
+                    for (int i = 0; i < 3; ++i) {
+                        const double dd = mc[i];
+                        trans[i] =
+                            .5 * (1.0 - r1e) * (1.0 - r1e) * dd / (1.0 - r1e * r1e * dd * dd) +
+                            .5 * (1.0 - r1m) * (1.0 - r1m) * dd / (1.0 - r1m * r1m * dd * dd);
+                    }
+                    RayState child;
+                    if (Spawn(r, kTrans, trans, rng, &child)) {
+                        std::copy(point, point + 3, child.org);
+                        std::copy(r.dir, r.dir + 3, child.dir);
+                        Trace(child, rng, ts, record, depth + 1);
+                    }
+                }
+                RGB refl;
+                for (int i = 0; i < 3; ++i) {
+                    const double dd = mc[i] * mc[i];
+                    refl[i] = .5 * r1e * (1.0 + (1.0 - 2.0 * r1e) * dd) / (1.0 - r1e * r1e * dd) +
+                              .5 * r1m * (1.0 + (1.0 - 2.0 * r1m) * dd) / (1.0 - r1m * r1m * dd);
+                }
+                Reflect(r, refl, point, normal, pdot, rng, ts, record, depth);
+                return;
+            }
+        }
+    }
+
+    void Reflect(const RayState &r, const RGB &coef, const double point[3], const double normal[3],
+                 double pdot, Random &rng, ThreadState &ts, double *record, int depth) const {
+        RayState child;
+        if (!Spawn(r, kReflected, coef, rng, &child)) return;
+        for (int k = 0; k < 3; ++k) {
+            child.org[k] = point[k];
+            child.dir[k] = r.dir[k] + 2. * pdot * normal[k];
+        }
+        Normalize(child.dir);
+        Trace(child, rng, ts, record, depth + 1);
+    }
+};
+
+ContribIntegrator::ContribIntegrator(
+    const FlatScene &scene, const Backend &backend, const ContribOptions &options,
+    std::vector<TrackedModifier> tracked,
+    std::function<std::unique_ptr<cal::Context>(int)> make_context) {
+    for (auto &t : tracked) columns_ = std::max(columns_, t.first_column + t.nbins);
+    impl_ = std::make_unique<Impl>(scene, backend, options, std::move(tracked),
+                                   std::move(make_context));
+}
+
+ContribIntegrator::~ContribIntegrator() = default;
+
+void ContribIntegrator::Trace(const double org[3], const double dir[3], uint64_t ray_index,
+                              double *record) const {
+    Impl &d = *impl_;
+    Impl::ThreadState &ts = d.State();
+    Random rng(d.o.seed, ray_index);
+    RayState r;
+    r.coef = {1, 1, 1};
+    r.weight = 1;
+    r.rlvl = 0;
+    r.crtype = kPrimary;
+    r.ambient_depth = 0;
+    std::copy(org, org + 3, r.org);
+    std::copy(dir, dir + 3, r.dir);
+    Impl::Normalize(r.dir);
+    if (d.o.irradiance) {
+        // -I: a Lambertian surface of reflectance pi at the origin, facing the ray direction, so
+        // the ambient value is irradiance (RADIANCE offsets it by 1e-4 along the normal).
+        double point[3];
+        for (int k = 0; k < 3; ++k) point[k] = org[k] + 1e-4 * r.dir[k];
+        d.Ambient(r, RGB{M_PI, M_PI, M_PI}, point, r.dir, rng, ts, record, 0);
+        return;
+    }
+    d.Trace(r, rng, ts, record, 0);
+}
+
+}  // namespace dayflux

@@ -1,0 +1,62 @@
+// rcontrib's estimator: the ray tree RADIANCE traces from each input ray, with every ray carrying
+// the product of the coefficients above it; where a ray reaches an object whose modifier is
+// tracked (-m), that coefficient (times the object's radiance with -V+) is added to the bin the
+// modifier's bin expression gives. Ambient hemispheres are n x n cosine-stratified with
+// n = sqrt(ad * min(weight, 0.8 rho weight / (ad lw))) as RADIANCE computes them with -aa 0;
+// Russian roulette follows -lr and -lw. Random numbers come from a counter-based generator keyed
+// by (seed, input ray), so results do not depend on the number of threads.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cal/calcomp.h"
+#include "raytrace/backend.h"
+#include "scene/flatten.h"
+#include "scene/patterns.h"
+
+namespace dayflux {
+
+struct ContribOptions {
+    int ambient_bounces = 1;            // -ab
+    int ambient_divisions = 350;        // -ad
+    double limit_weight = 2e-3;         // -lw
+    int limit_reflections = -10;        // -lr
+    bool irradiance = false;            // -I: input rays are points and normals of sensors
+    bool first_hit_irradiance = false;  // -i
+    bool contributions = false;         // -V+
+    uint64_t seed = 0;
+};
+
+// One -m: its name, bin expression, bin count and the calcomp context it is evaluated in.
+struct TrackedModifier {
+    std::string name;
+    std::string bin_expression = "0";
+    int nbins = 1;
+    int first_column = 0;  // its first bin's position in an output record
+};
+
+class ContribIntegrator {
+  public:
+    // make_context builds, for tracked modifier k, a context with every -e/-f and k's -p applied;
+    // it is called once per thread, since evaluation caches constants.
+    ContribIntegrator(const FlatScene &scene, const Backend &backend, const ContribOptions &options,
+                      std::vector<TrackedModifier> tracked,
+                      std::function<std::unique_ptr<cal::Context>(int)> make_context);
+    ~ContribIntegrator();
+
+    int Columns() const { return columns_; }
+    // Adds the contributions of one input ray to record (Columns() x 3 values). ray_index keys
+    // the random numbers.
+    void Trace(const double org[3], const double dir[3], uint64_t ray_index, double *record) const;
+
+    struct Impl;
+
+  private:
+    std::unique_ptr<Impl> impl_;
+    int columns_ = 0;
+};
+
+}  // namespace dayflux

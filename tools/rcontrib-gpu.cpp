@@ -1,0 +1,364 @@
+// rcontrib-gpu: RADIANCE's rcontrib (contribution coefficients of modifiers to input rays), on
+// dayflux's ray tracing backends. This version traces on the CPU with Embree and covers the
+// daylight-coefficient case: glow sources (skies, windows), diffuse plastic and metal, pure
+// specular, glass and mirror, -I/-V and the ambient and limit options. Options it does not know
+// are errors, as in RADIANCE; options that RADIANCE forces in rcontrib (-aa 0 -as 0 -dt 0) are
+// accepted and ignored.
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cal/calcomp.h"
+#include "matrix/header.h"
+#include "matrix/reader.h"
+#include "matrix/writer.h"
+#include "raytrace/backend.h"
+#include "raytrace/contrib.h"
+#include "scene/flatten.h"
+#include "scene/octree.h"
+#include "scene/reader.h"
+#include "util/errors.h"
+#include "util/files.h"
+#include "util/pipeline.h"
+#include "util/raypath.h"
+#include "util/strings.h"
+
+namespace dayflux {
+namespace {
+
+struct CalCommand {
+    bool file;  // -f file, else -e expression
+    std::string text;
+};
+
+struct ModifierSpec {
+    TrackedModifier tracked;
+    std::string params;  // -p in force
+};
+
+struct Options {
+    ContribOptions contrib;
+    std::vector<CalCommand> cal;
+    std::vector<ModifierSpec> modifiers;
+    DataFormat in = DataFormat::Ascii, out = DataFormat::Ascii;
+    bool header = true;
+    int accumulate = 1;  // -c
+    int xres = 0, yres = 0;
+    int threads = 0;
+    std::string backend;
+    std::vector<std::string> scene;
+};
+
+[[noreturn]] void Usage(const char *prog) {
+    ErrorExit(std::string("Usage: ") + prog +
+              " [-n nprocs][-V][-c count][-fo][-r][-e expr][-f source][-o ospec][-p "
+              "p1=V1,p2=V2][-b binv][-bn N]"
+              " {-m mod | -M file} [rtrace options] octree");
+}
+
+// Applies "a=1,b=2" (separators , : ;) to a context, as RADIANCE's set_eparams().
+void ApplyParams(cal::Context &cx, const std::string &params) {
+    std::string p = params;
+    for (char &c : p)
+        if (c == ',' || c == ':' || c == ';') c = ';';
+    if (!p.empty()) cx.Load(p, FileLoc{"-p", 0});
+}
+
+std::unique_ptr<cal::Context> MakeContext(const Options &o, const std::string &params) {
+    auto cx = std::make_unique<cal::Context>();
+    cx->LoadFile(FindOnRaypath("rayinit.cal"));
+    for (const CalCommand &c : o.cal) {
+        if (c.file)
+            cx->LoadFile(FindOnRaypath(c.text));
+        else
+            cx->Load(c.text, FileLoc{"-e", 0});
+    }
+    ApplyParams(*cx, params);
+    return cx;
+}
+
+bool Flag(const std::string &a, bool current) {
+    if (a.size() == 2) return !current;
+    return a[2] == '+' || a[2] == '1' || a[2] == 'y' || a[2] == 't';
+}
+
+Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) {
+    Options o;
+    std::string binv = "0", bn = "1", params;
+    std::vector<std::string> expanded;
+    for (int i = 1; i < argc; ++i) {
+        std::string a = argv[i];
+        if (a.size() > 1 && a[0] == '@') {  // options from a file
+            std::ifstream f(a.substr(1));
+            if (!f) ErrorExit("cannot open option file '" + a.substr(1) + "'");
+            std::string w;
+            while (f >> w) expanded.push_back(w);
+        } else {
+            expanded.push_back(a);
+        }
+    }
+    size_t i = 0;
+    auto value = [&](const std::string &opt) -> std::string {
+        if (i + 1 >= expanded.size()) ErrorExit(opt + ": missing argument");
+        return expanded[++i];
+    };
+    auto number = [&](const std::string &opt) {
+        double v;
+        std::string w = value(opt);
+        if (!ParseNumber(w, &v)) ErrorExit(opt + ": bad number '" + w + "'");
+        return v;
+    };
+    for (; i < expanded.size(); ++i) {
+        const std::string a = expanded[i];
+        if (a.empty() || a[0] != '-' || a.size() == 1) break;
+        const size_t start = i;
+        if (a == "-m") {
+            ModifierSpec m;
+            m.tracked.name = value(a);
+            m.tracked.bin_expression = binv;
+            m.params = params;
+            // -bn is evaluated now, with what is defined so far.
+            auto cx = MakeContext(o, params);
+            const double n = cx->Compile(bn, FileLoc{"-bn", 0}).Evaluate(*cx);
+            m.tracked.nbins = static_cast<int>(n + .5);
+            if (m.tracked.nbins < 1)
+                ErrorExit("-bn " + bn + ": bin count " + std::to_string(m.tracked.nbins) +
+                          " is below 1");
+            for (const ModifierSpec &other : o.modifiers)
+                if (other.tracked.name == m.tracked.name)
+                    ErrorExit("duplicate modifier '" + m.tracked.name + "'");
+            o.modifiers.push_back(m);
+        } else if (a == "-M") {
+            std::ifstream f(FindOnRaypath(value(a)));
+            std::string w;
+            while (f >> w) {
+                ModifierSpec m;
+                m.tracked.name = w;
+                m.tracked.bin_expression = binv;
+                m.params = params;
+                auto cx = MakeContext(o, params);
+                m.tracked.nbins =
+                    static_cast<int>(cx->Compile(bn, FileLoc{"-bn", 0}).Evaluate(*cx) + .5);
+                o.modifiers.push_back(m);
+            }
+        } else if (a == "-b") {
+            binv = value(a);
+        } else if (a == "-bn") {
+            bn = value(a);
+        } else if (a == "-p") {
+            params = value(a);
+        } else if (a == "-e") {
+            o.cal.push_back({false, value(a)});
+        } else if (a == "-f") {
+            o.cal.push_back({true, value(a)});
+        } else if (a[1] == 'f' && a.size() >= 3) {  // -f[adf][adfc], -fo
+            if (a == "-fo") continue;
+            auto fmt = [&](char c, bool output) {
+                switch (c) {
+                    case 'a':
+                        return DataFormat::Ascii;
+                    case 'f':
+                        return DataFormat::Float;
+                    case 'd':
+                        return DataFormat::Double;
+                    case 'c':
+                        if (output) return DataFormat::RGBE;
+                        [[fallthrough]];
+                    default:
+                        ErrorExit("bad format option '" + a + "'");
+                }
+            };
+            o.in = fmt(a[2], false);
+            o.out = a.size() > 3 ? fmt(a[3], true) : o.in;
+            if (o.out == DataFormat::RGBE) ErrorExit("picture output (-f?c) is not supported yet");
+        } else if (a == "-o") {
+            ErrorExit("-o is not supported yet: results go to the standard output");
+        } else if (a == "-r") {
+            ErrorExit("-r (recover) is not supported");
+        } else if (a == "-c") {
+            o.accumulate = static_cast<int>(number(a));
+        } else if (a == "-x") {
+            o.xres = static_cast<int>(number(a));
+        } else if (a == "-y") {
+            o.yres = static_cast<int>(number(a));
+        } else if (a == "-n") {
+            o.threads = static_cast<int>(number(a));
+        } else if (a == "-ab") {
+            o.contrib.ambient_bounces = static_cast<int>(number(a));
+        } else if (a == "-ad") {
+            o.contrib.ambient_divisions = static_cast<int>(number(a));
+        } else if (a == "-lw") {
+            o.contrib.limit_weight = number(a);
+        } else if (a == "-lr") {
+            o.contrib.limit_reflections = static_cast<int>(number(a));
+        } else if (a == "-seed") {
+            o.contrib.seed = static_cast<uint64_t>(number(a));
+        } else if (a == "-backend") {
+            o.backend = value(a);
+        } else if (a.rfind("-V", 0) == 0) {
+            o.contrib.contributions = Flag(a, o.contrib.contributions);
+        } else if (a.rfind("-I", 0) == 0) {
+            o.contrib.irradiance = Flag(a, o.contrib.irradiance);
+        } else if (a.rfind("-i", 0) == 0) {
+            o.contrib.first_hit_irradiance = Flag(a, o.contrib.first_hit_irradiance);
+            if (o.contrib.first_hit_irradiance) ErrorExit("-i is not supported yet");
+        } else if (a.rfind("-h", 0) == 0) {
+            o.header = Flag(a, o.header);
+        } else if (a.rfind("-u", 0) == 0 || a.rfind("-bv", 0) == 0) {
+            // random/back-face flags: our sampling is always repeatable for a given -seed
+        } else if (a == "-aa" || a == "-as" || a == "-dt" || a == "-ar" || a == "-aw" ||
+                   a == "-dj" || a == "-dc" || a == "-ds" || a == "-dr" || a == "-dp" ||
+                   a == "-st" || a == "-ss" || a == "-t") {
+            value(a);  // forced by rcontrib, or about direct sources, which this version does not
+                       // sample
+        } else if (a == "-av") {
+            value(a), value(a), value(a);
+        } else {
+            std::fprintf(stderr, "%s: unknown option '%s'\n", argv[0], a.c_str());
+            Usage(argv[0]);
+        }
+        for (size_t k = start; k <= i; ++k) args_for_header->push_back(expanded[k]);
+    }
+    for (; i < expanded.size(); ++i) o.scene.push_back(expanded[i]);
+    if (o.scene.empty()) Usage(argv[0]);
+    if (o.modifiers.empty()) ErrorExit("no modifiers given (-m or -M)");
+    if (o.accumulate < 0) ErrorExit("-c must not be negative");
+    int col = 0;
+    for (ModifierSpec &m : o.modifiers) m.tracked.first_column = col, col += m.tracked.nbins;
+    return o;
+}
+
+int Main(int argc, char **argv) {
+    std::vector<std::string> header_args = {argv[0]};
+    Options o = Parse(argc, argv, &header_args);
+    std::unique_ptr<tbb::global_control> threads;
+    if (o.threads > 0)
+        threads = std::make_unique<tbb::global_control>(
+            tbb::global_control::max_allowed_parallelism, o.threads);
+    std::string octree_header;
+    Scene scene;
+    {
+        SceneReader reader(&scene);
+        for (const std::string &s : o.scene) {
+            if (IsOctreeFile(s))
+                octree_header += ReadOctree(s, &scene).header;
+            else
+                reader.ReadFile(s);
+        }
+    }
+    FlatScene flat = Flatten(std::move(scene));
+    std::unique_ptr<Backend> backend = CreateBackend(o.backend);
+    backend->Commit(flat);
+    std::vector<TrackedModifier> tracked;
+    for (const ModifierSpec &m : o.modifiers) tracked.push_back(m.tracked);
+    ContribIntegrator integrator(flat, *backend, o.contrib, tracked,
+                                 [&o](int k) { return MakeContext(o, o.modifiers[k].params); });
+    const int ncols = integrator.Columns();
+
+    OutputFile out("-");
+    if (o.header) {
+        std::vector<char *> av;
+        for (std::string &s : header_args) av.push_back(s.data());
+        std::string h = HeaderStart(static_cast<int>(av.size()), av.data());
+        h.insert(h.find('\n') + 1, octree_header);
+        h += "SOFTWARE= dayflux rcontrib-gpu (" + backend->Name() + ")\n" + DateLines() +
+             "NCOMP=3\n";
+        if (o.yres > 0) h += "NROWS=" + std::to_string(o.yres * std::max(o.xres, 1)) + "\n";
+        h += "NCOLS=" + std::to_string(ncols) + "\n";
+        if (o.out == DataFormat::Float || o.out == DataFormat::Double)
+            h += NativeBigEndian() ? "BigEndian=1\n" : "BigEndian=0\n";
+        h += FormatLine(o.out) + "\n";
+        out.Write(h);
+    }
+    // Input rays: origin and direction, in blocks; each block traced in parallel, written in order.
+    ReadSpec rs;
+    rs.header = false;
+    rs.format = o.in;
+    rs.ncols = 1;
+    rs.ncomp = 6;
+    MatrixReader in(InputSource::Open("-"), rs);
+    const int per_record = std::max(o.accumulate, 1);
+    // Small blocks: one input ray can cost thousands of traced rays.
+    const int block_records = 4;
+    RowFormatter fmt(o.out == DataFormat::Ascii ? DataFormat::Ascii : o.out, ncols, 3);
+    struct Block {
+        std::vector<double> rays;  // 6 per ray
+        uint64_t first_ray = 0;
+        int nrecords = 0;
+        std::string text;
+    };
+    uint64_t next_ray = 0;
+    bool done = false;
+    const long wanted = o.yres > 0 ? static_cast<long>(o.yres) * std::max(o.xres, 1) : -1;
+    long written = 0;
+    OrderedPipeline<Block>(
+        [&]() -> std::unique_ptr<Block> {
+            if (done) return nullptr;
+            auto b = std::make_unique<Block>();
+            b->first_ray = next_ray;
+            double ray[6];
+            while (b->nrecords < block_records && (wanted < 0 || written + b->nrecords < wanted)) {
+                int got = 0;
+                for (; got < per_record; ++got) {
+                    if (!in.ReadRow(ray)) break;
+                    b->rays.insert(b->rays.end(), ray, ray + 6);
+                }
+                if (got < per_record) {
+                    if (got > 0) {
+                        Warning("partial record of " + std::to_string(got) +
+                                " rays at the end of input");
+                        b->rays.resize(b->rays.size() - 6 * got);
+                    }
+                    done = true;
+                    break;
+                }
+                ++b->nrecords;
+            }
+            if (b->nrecords == 0) return nullptr;
+            next_ray += b->rays.size() / 6;
+            return b;
+        },
+        [&](Block &b) {
+            std::vector<double> record(3 * static_cast<size_t>(ncols));
+            for (int r = 0; r < b.nrecords; ++r) {
+                std::fill(record.begin(), record.end(), 0.0);
+                for (int k = 0; k < per_record; ++k) {
+                    const size_t ray = static_cast<size_t>(r) * per_record + k;
+                    integrator.Trace(&b.rays[6 * ray], &b.rays[6 * ray + 3], b.first_ray + ray,
+                                     record.data());
+                }
+                if (per_record > 1)
+                    for (double &v : record) v /= per_record;
+                if (o.out == DataFormat::Ascii) {
+                    for (double v : record) {
+                        AppendScientific(&b.text, v, 6);
+                        b.text += '\t';
+                    }
+                    b.text += '\n';
+                } else {
+                    fmt.Append(record.data(), &b.text);
+                }
+            }
+        },
+        [&](Block &b) {
+            out.Write(b.text);
+            written += b.nrecords;
+        });
+    if (wanted > 0 && written < wanted)
+        ErrorExit("unexpected end of input: " + std::to_string(written) + " of " +
+                  std::to_string(wanted) + " records");
+    out.Commit();
+    return 0;
+}
+
+}  // namespace
+}  // namespace dayflux
+
+int main(int argc, char **argv) { return dayflux::RunTool(argc, argv, dayflux::Main); }
