@@ -1,7 +1,8 @@
 // rcontrib-gpu: RADIANCE's rcontrib (contribution coefficients of modifiers to input rays), on
 // dayflux's ray tracing backends. This version traces on the CPU with Embree and covers the
-// daylight-coefficient case: glow sources (skies, windows), diffuse plastic and metal, pure
-// specular, glass and mirror, -I/-V and the ambient and limit options. Options it does not know
+// daylight-coefficient case: glow sources (skies, windows), distant light sources (suns) sampled
+// directly, diffuse plastic and metal, pure specular, glass and mirror, -I/-V and the ambient and
+// limit options. Options it does not know
 // are errors, as in RADIANCE; options that RADIANCE forces in rcontrib (-aa 0 -as 0 -dt 0) are
 // accepted and ignored.
 #include <tbb/global_control.h>
@@ -213,11 +214,14 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
             o.header = Flag(a, o.header);
         } else if (a.rfind("-u", 0) == 0 || a.rfind("-bv", 0) == 0) {
             // random/back-face flags: our sampling is always repeatable for a given -seed
+        } else if (a == "-dj") {
+            o.contrib.source_jitter = number(a);
         } else if (a == "-aa" || a == "-as" || a == "-dt" || a == "-ar" || a == "-aw" ||
-                   a == "-dj" || a == "-dc" || a == "-ds" || a == "-dr" || a == "-dp" ||
-                   a == "-st" || a == "-ss" || a == "-t") {
-            value(a);  // forced by rcontrib, or about direct sources, which this version does not
-                       // sample
+                   a == "-dc" || a == "-ds" || a == "-dr" || a == "-dp" || a == "-st" ||
+                   a == "-ss" || a == "-t") {
+            // forced by rcontrib (-aa 0 -as 0 -dt 0, making -dc moot), about local or virtual
+            // sources (-ds -dr -dp), which this version does not sample, or reporting (-t)
+            value(a);
         } else if (a == "-av") {
             value(a), value(a), value(a);
         } else {

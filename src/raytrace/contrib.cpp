@@ -94,7 +94,15 @@ struct Source {
     double solid_angle;  // RADIANCE's ss2 = 2 pi (1 - cos(half angle))
     int object;
     bool skip;  // glow: reached only by rays that find nothing else
+    RGB colour;
+    double u[3], v[3];  // half-sides of the square of area ss2 that -dj jitters over (setflatss)
 };
+
+// RADIANCE's Fresnel estimate for pure specular plastic and metal (normal.c).
+double FresnelEstimate(double cos_incidence) {
+    return std::exp(-5.85 * cos_incidence) - 0.00287989916;
+}
+constexpr double kFresnelThreshold = 0.017999;
 
 struct RayState {
     double org[3], dir[3];
@@ -103,6 +111,7 @@ struct RayState {
     int rlvl;       // reflections so far (for -lr)
     int crtype;     // union of the ray types of the ancestry
     int ambient_depth;
+    int aimed = -1;  // for shadow rays and rays they spawn: the source aimed at (RADIANCE's rsrc)
 };
 
 }  // namespace
@@ -160,8 +169,22 @@ struct ContribIntegrator::Impl {
             s.solid_angle = 2. * M_PI * (1. - std::cos(sh.r0 * (M_PI / 360.)));
             s.object = sh.object;
             s.skip = materials[sh.object].kind == Material::kGlow;
+            s.colour = materials[sh.object].color;
+            Tangents(s.dir, s.u, s.v);
+            const double half_side = .5 * std::sqrt(s.solid_angle);
+            for (int k = 0; k < 3; ++k) s.u[k] *= half_side, s.v[k] *= half_side;
             sources.push_back(s);
         }
+        // Light on a local surface would have to be sampled as an area source.
+        std::vector<bool> is_source(objs.size(), false);
+        for (const AnalyticShape &sh : scene.shapes)
+            if (sh.kind == AnalyticShape::kSource) is_source[sh.object] = true;
+        for (size_t i = 0; i < objs.size(); ++i)
+            if (!is_source[i] && materials[i].kind == Material::kLight &&
+                objs[i].info->kind == PrimitiveKind::kSurface)
+                ErrorExit(&objs[i].loc, "'" + objs[i].name +
+                                            "': local light sources are not sampled yet (only "
+                                            "distant ones, made with 'source')");
     }
 
     // The material a surface's modifier stands for, with the patterns that modify it.
@@ -225,7 +248,9 @@ struct ContribIntegrator::Impl {
         child->weight = parent.weight * rw;
         child->ambient_depth = parent.ambient_depth;
         for (int k = 0; k < 3; ++k) child->coef[k] = parent.coef[k] * rc[k];
+        child->aimed = (type & kReflectionTypes) ? -1 : parent.aimed;
         if (child->weight <= 0) return false;
+        if (child->crtype & kShadow) return true;  // shadow rays are never cut short
         const int lr = o.limit_reflections;
         if (lr <= 0) {
             if (lr < 0 && child->rlvl > -lr) return false;
@@ -343,11 +368,14 @@ struct ContribIntegrator::Impl {
 
     void Escape(const RayState &r, Random &rng, ThreadState &ts, double *record) const {
         int glow = -1, chosen = -1;
-        for (size_t i = 0; i < sources.size(); ++i) {
+        // A ray aimed at a source can reach only that one (sourcehit()).
+        const size_t first = r.aimed >= 0 ? r.aimed : 0;
+        const size_t last = r.aimed >= 0 ? r.aimed + 1 : sources.size();
+        for (size_t i = first; i < last; ++i) {
             const Source &s = sources[i];
             const double c = s.dir[0] * r.dir[0] + s.dir[1] * r.dir[1] + s.dir[2] * r.dir[2];
             if (2. * M_PI * (1. - c) > s.solid_angle) continue;
-            if (s.skip) {
+            if (s.skip && r.aimed < 0) {
                 if (glow < 0) glow = static_cast<int>(i);
                 continue;
             }
@@ -374,7 +402,9 @@ struct ContribIntegrator::Impl {
         const double sign = rod < 0 ? -1 : 1;
         for (int k = 0; k < 3; ++k) normal[k] = sign * geo_normal[k];
         rod *= sign;
-        const int k = tracked_of_object[object];
+        int k = tracked_of_object[object];
+        // A ray aimed at a source counts only there (trace_contrib()).
+        if (r.aimed >= 0 && object != sources[r.aimed].object) k = -1;
         const bool light = m.kind == Material::kLight;
         // A light reached by an ambient or specular ray counts nothing (it is sampled directly).
         const bool bad = light && (r.crtype & (kAmbient | kSpecular)) && !(r.crtype & kShadow);
@@ -389,24 +419,35 @@ struct ContribIntegrator::Impl {
             case Material::kLight:
                 return;
             case Material::kDiffuse: {
+                if (r.crtype & kShadow) return;  // opaque: the shadow ray is blocked
                 const RGB c = PatternColour(m, r, point, normal);
-                double rspec = m.spec;
-                if (rspec >
-                    kTiny) {  // pure specular reflection (rough specular is refused earlier)
+                // m_normal(): pure specular (rough specular is refused earlier) with RADIANCE's
+                // Fresnel estimate raising the specularity at grazing angles.
+                double rspec = m.spec, fest = 0;
+                const double pdot = std::max(rod, .001);
+                if (rspec >= kFresnelThreshold) {
+                    fest = FresnelEstimate(pdot);
+                    rspec += fest * (1. - rspec);
+                }
+                if (rspec > kTiny) {
                     RGB sc{rspec, rspec, rspec};
                     if (m.metal)
-                        for (int i = 0; i < 3; ++i) sc[i] = c[i] * rspec;
-                    Reflect(r, sc, point, normal, rod, rng, ts, record, depth);
+                        for (int i = 0; i < 3; ++i)
+                            sc[i] =
+                                fest > kTiny ? fest + c[i] * m.spec * (1. - fest) : c[i] * rspec;
+                    Reflect(r, sc, point, normal, pdot, rng, ts, record, depth);
                 }
                 const double rdiff = 1.0 - rspec;
-                if (rdiff > kTiny) {
-                    RGB amb = c;
-                    for (double &v : amb) v *= rdiff;
-                    Ambient(r, amb, point, normal, rng, ts, record, depth);
-                }
+                if (rdiff <= kTiny) return;
+                RGB amb = c;
+                for (double &v : amb) v *= rdiff;
+                Ambient(r, amb, point, normal, rng, ts, record, depth);
+                Direct(r, c, rdiff, m.spec >= kFresnelThreshold, point, normal, rng, ts, record,
+                       depth);
                 return;
             }
             case Material::kMirror: {
+                if (r.crtype & kShadow) return;
                 Reflect(r, PatternColour(m, r, point, normal), point, normal, rod, rng, ts, record,
                         depth);
                 return;
@@ -438,6 +479,7 @@ struct ContribIntegrator::Impl {
                         Trace(child, rng, ts, record, depth + 1);
                     }
                 }
+                if (r.crtype & kShadow) return;  // shadow rays only pass through
                 RGB refl;
                 for (int i = 0; i < 3; ++i) {
                     const double dd = mc[i] * mc[i];
@@ -447,6 +489,54 @@ struct ContribIntegrator::Impl {
                 Reflect(r, refl, point, normal, pdot, rng, ts, record, depth);
                 return;
             }
+        }
+    }
+
+    // direct() with dirnorm() for an opaque diffuse surface of colour mcolor: one shadow ray per
+    // distant light source in front of it. fresnel: the diffuse part is reduced by the Fresnel
+    // estimate at the source's angle (pure specular surfaces).
+    void Direct(const RayState &r, const RGB &mcolor, double rdiff, bool fresnel,
+                const double point[3], const double normal[3], Random &rng, ThreadState &ts,
+                double *record, int depth) const {
+        for (size_t i = 0; i < sources.size(); ++i) {
+            const Source &s = sources[i];
+            if (s.skip) continue;
+            double dir[3];
+            std::copy(s.dir, s.dir + 3, dir);
+            const double dj = o.source_jitter;
+            if (dj > kTiny) {
+                double pu = dj * (1. - 2. * rng.Uniform()), pv = dj * (1. - 2. * rng.Uniform());
+                if (dj > 0.7) {  // nextssamp(): trim the square toward the disc
+                    const double c = 1.12837917;
+                    const double tu = c * std::sqrt(1. - .5 * pv * pv);
+                    const double tv = c * std::sqrt(1. - .5 * pu * pu);
+                    pu *= tu, pv *= tv;
+                }
+                for (int k = 0; k < 3; ++k) dir[k] += pu * s.u[k] + pv * s.v[k];
+                Normalize(dir);
+            }
+            const double ldot = normal[0] * dir[0] + normal[1] * dir[1] + normal[2] * dir[2];
+            if (ldot <= kTiny) continue;
+            double lrdiff = rdiff;
+            if (fresnel) lrdiff *= 1. - FresnelEstimate(std::fabs(ldot));
+            if (lrdiff <= kTiny) continue;
+            RGB coef = mcolor;
+            for (double &c : coef) c *= ldot * s.solid_angle * lrdiff / M_PI;
+            RGB potential;
+            for (int k = 0; k < 3; ++k) potential[k] = coef[k] * s.colour[k];
+            if (Max3(coef) <= 0 || Bright(potential) <= 0) continue;
+            RayState child;
+            child.rlvl = r.rlvl + 1;
+            child.crtype = r.crtype | kShadow;
+            child.weight = r.weight;
+            child.ambient_depth = r.ambient_depth;
+            child.aimed = static_cast<int>(i);
+            for (int k = 0; k < 3; ++k) {
+                child.coef[k] = r.coef[k] * coef[k];
+                child.org[k] = point[k];
+                child.dir[k] = dir[k];
+            }
+            Trace(child, rng, ts, record, depth + 1);
         }
     }
 
@@ -493,7 +583,9 @@ void ContribIntegrator::Trace(const double org[3], const double dir[3], uint64_t
         // the ambient value is irradiance (RADIANCE offsets it by 1e-4 along the normal).
         double point[3];
         for (int k = 0; k < 3; ++k) point[k] = org[k] + 1e-4 * r.dir[k];
-        d.Ambient(r, RGB{M_PI, M_PI, M_PI}, point, r.dir, rng, ts, record, 0);
+        const RGB lambertian{M_PI, M_PI, M_PI};
+        d.Ambient(r, lambertian, point, r.dir, rng, ts, record, 0);
+        d.Direct(r, lambertian, 1.0, false, point, r.dir, rng, ts, record, 0);
         return;
     }
     d.Trace(r, rng, ts, record, 0);

@@ -3,8 +3,11 @@
 // tracked (-m), that coefficient (times the object's radiance with -V+) is added to the bin the
 // modifier's bin expression gives. Ambient hemispheres are n x n cosine-stratified with
 // n = sqrt(ad * min(weight, 0.8 rho weight / (ad lw))) as RADIANCE computes them with -aa 0;
-// Russian roulette follows -lr and -lw. Random numbers come from a counter-based generator keyed
-// by (seed, input ray), so results do not depend on the number of threads.
+// Russian roulette follows -lr and -lw. Diffuse surfaces sample distant `light` sources directly,
+// as RADIANCE's direct() does with rcontrib's forced -dt 0: one shadow ray per source in front of
+// the surface, carrying dirnorm()'s coefficient, passing through glass. Random numbers come from a
+// counter-based generator keyed by (seed, input ray), so results do not depend on the number of
+// threads.
 #pragma once
 
 #include <functional>
@@ -27,6 +30,7 @@ struct ContribOptions {
     bool irradiance = false;            // -I: input rays are points and normals of sensors
     bool first_hit_irradiance = false;  // -i
     bool contributions = false;         // -V+
+    double source_jitter = 0.9;  // -dj (rcontrib's default): shadow rays spread over a source
     uint64_t seed = 0;
 };
 

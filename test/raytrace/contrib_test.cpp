@@ -175,6 +175,78 @@ TEST_F(RoomAgainstRadiance, ViewMatrix) {
            "v_conv.fmx", 145, 0.10, 0.015);
 }
 
+// Direct sun coefficients C_ds: one deterministic shadow ray per sun (-dj 0), so RADIANCE's own
+// matrix is matched to float rounding; a ray grazing a window edge may go either way.
+TEST(RcontribGpu, SunCoefficientsMatchRadiance) {
+    const fs::path oct = DataDir() / "rcontrib/cds.oct";
+    CommandResult r = RunCommand(
+        "rcontrib-gpu -I+ -ab 1 -ad 256 -lw 1e-3 -dc 1 -dt 0 -dj 0 -faf -e MF:6 -f reinhart.cal "
+        "-b rbin -bn Nrbins -m solar '" +
+            oct.string() + "' < '" + (DataDir() / "rcontrib/points.txt").string() + "'",
+        DataDir());
+    ASSERT_EQ(r.status, 0) << r.err;
+    CommandResult ref =
+        RunCommand("xzcat '" + (DataDir() / "matrix/cds_test.fmx.xz").string() + "'", DataDir());
+    ASSERT_EQ(ref.status, 0);
+    const std::vector<double> ours = Values(r.out, true), theirs = Values(ref.out, true);
+    ASSERT_EQ(ours.size(), theirs.size());
+    ASSERT_EQ(ours.size(), 100u * 5186 * 3);
+    size_t lit = 0, differ = 0;
+    for (size_t i = 0; i < ours.size(); ++i) {
+        lit += theirs[i] > 0;
+        if (std::fabs(ours[i] - theirs[i]) > 1e-6 * std::fabs(theirs[i]) + 1e-30) ++differ;
+    }
+    EXPECT_GT(lit, 10000u);  // the suns do reach the sensors
+    EXPECT_LE(differ, 3u);
+}
+
+// One sun of radiance 1 and no geometry: a sensor sees ldot times the sun's solid angle;
+// behind a pane of glass, that times the pane's transmittance; behind an opaque one, nothing.
+TEST(RcontribGpu, DirectSunIsAnalytic) {
+    TempDir tmp;
+    const double alt = 40 * M_PI / 180, half = 0.533 / 2 * M_PI / 180;
+    std::ostringstream sun;
+    sun.precision(17);
+    sun << "void light solar 0 0 3 1 1 1\nsolar source sun 0 0 4 0 " << std::cos(alt) << " "
+        << std::sin(alt) << " 0.533\n";
+    WriteFile(tmp.path() / "sun.rad", sun.str());
+    const std::string pane = "p polygon pane 0 0 12 -5 -5 1 5 -5 1 5 5 1 -5 5 1\n";
+    WriteFile(tmp.path() / "glass.rad", "void glass p 0 0 3 .96 .96 .96\n" + pane);
+    WriteFile(tmp.path() / "black.rad", "void plastic p 0 0 5 0 0 0 0 0\n" + pane);
+    const std::string run =
+        "echo '0 0 0 0 0 1' | rcontrib-gpu -I+ -ab 0 -dj 0 -faa -h -m solar sun.rad ";
+    const double omega = 2 * M_PI * (1 - std::cos(half));
+    CommandResult r = RunCommand(run, tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::vector<double> v = Values("\n\n" + r.out, false);
+    ASSERT_EQ(v.size(), 3u);
+    EXPECT_NEAR(v[0], std::sin(alt) * omega, 1e-6 * v[0]);
+    // Glass: RADIANCE's transmittance for transmissivity .96 at incidence 50 degrees, n = 1.52.
+    const double ci = std::sin(alt), n = 1.52;
+    const double ct = std::sqrt(1 - (1 - ci * ci) / (n * n));
+    const double tn = std::pow(.96, 1 / ct);
+    const double re = std::pow((ci - n * ct) / (ci + n * ct), 2);
+    const double rm = std::pow((1 / ci - n / ct) / (1 / ci + n / ct), 2);
+    const double trans = .5 * (1 - re) * (1 - re) * tn / (1 - re * re * tn * tn) +
+                         .5 * (1 - rm) * (1 - rm) * tn / (1 - rm * rm * tn * tn);
+    r = RunCommand(run + "glass.rad", tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    v = Values("\n\n" + r.out, false);
+    EXPECT_NEAR(v[0], std::sin(alt) * omega * trans, 1e-6 * v[0]);
+    r = RunCommand(run + "black.rad", tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(Values("\n\n" + r.out, false)[0], 0);
+    // rcontrib's default -dj .9 aims anywhere within .9 x 1.13 x .886 = .9 sun radii of the
+    // centre along each side of a square, so at most 1.27 radii off: ldot moves by less than
+    // cos(alt) x 1.5 angular radii.
+    r = RunCommand("echo '0 0 0 0 0 1' | rcontrib-gpu -I+ -ab 0 -faa -h -m solar sun.rad",
+                   tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    v = Values("\n\n" + r.out, false);
+    EXPECT_NE(v[0], std::sin(alt) * omega);
+    EXPECT_NEAR(v[0], std::sin(alt) * omega, std::cos(alt) * 1.5 * half * omega);
+}
+
 // A seed gives the same numbers whatever the number of threads.
 TEST(RcontribGpu, ThreadCountDoesNotChangeResults) {
     const std::string cmd =
