@@ -7,9 +7,11 @@
 // accepted and ignored.
 #include <tbb/global_control.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -34,6 +36,8 @@
 namespace dayflux {
 namespace {
 
+namespace fs = std::filesystem;
+
 struct CalCommand {
     bool file;  // -f file, else -e expression
     std::string text;
@@ -53,6 +57,8 @@ struct Options {
     int accumulate = 1;  // -c
     int xres = 0, yres = 0;
     int threads = 0;
+    std::string ospec;        // -o: empty for the standard output
+    bool force_open = false;  // -fo: overwrite existing output files
     std::string backend;
     std::vector<std::string> scene;
 };
@@ -74,7 +80,7 @@ void ApplyParams(cal::Context &cx, const std::string &params) {
 
 std::unique_ptr<cal::Context> MakeContext(const Options &o, const std::string &params) {
     auto cx = std::make_unique<cal::Context>();
-    cx->LoadFile(FindOnRaypath("rayinit.cal"));
+    cx->LoadRayInit();
     for (const CalCommand &c : o.cal) {
         if (c.file)
             cx->LoadFile(FindOnRaypath(c.text));
@@ -84,6 +90,56 @@ std::unique_ptr<cal::Context> MakeContext(const Options &o, const std::string &p
     ApplyParams(*cx, params);
     return cx;
 }
+
+// ofname(): the output name for modifier mod and bin, from a spec with at most one %s (the
+// modifier) and one integer conversion (the bin). flags: kByModifier, kByBin.
+constexpr int kByModifier = 1, kByBin = 2;
+std::string OutputName(const std::string &spec, const std::string &mod, int bin, int *flags) {
+    size_t mpos = std::string::npos, bpos = std::string::npos;
+    for (size_t i = 0; i < spec.size(); ++i) {
+        if (spec[i] != '%') continue;
+        do ++i;
+        while (i < spec.size() && std::isdigit(static_cast<unsigned char>(spec[i])));
+        const char c = i < spec.size() ? spec[i] : '\0';
+        if (c == '%') continue;
+        if (c == 's' && mpos == std::string::npos)
+            mpos = i;
+        else if (std::strchr("dioxX", c) && c && bpos == std::string::npos)
+            bpos = i;
+        else
+            ErrorExit("bad output format '" + spec + "'");
+    }
+    *flags =
+        (mpos != std::string::npos ? kByModifier : 0) | (bpos != std::string::npos ? kByBin : 0);
+    // The spec was checked above: only digits between % and the conversion.
+    std::vector<char> buf(spec.size() + mod.size() + 64);
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wformat-nonliteral"
+#pragma GCC diagnostic ignored "-Wformat-security"
+    if (*flags == (kByModifier | kByBin) && mpos < bpos)
+        std::snprintf(buf.data(), buf.size(), spec.c_str(), mod.c_str(), bin);
+    else if (*flags == (kByModifier | kByBin))
+        std::snprintf(buf.data(), buf.size(), spec.c_str(), bin, mod.c_str());
+    else if (*flags == kByModifier)
+        std::snprintf(buf.data(), buf.size(), spec.c_str(), mod.c_str());
+    else if (*flags == kByBin)
+        std::snprintf(buf.data(), buf.size(), spec.c_str(), bin);
+    else if (*flags == 0)
+        std::snprintf(buf.data(), buf.size(), "%s", spec.c_str());
+#pragma GCC diagnostic pop
+    return buf.data();
+}
+
+// One output: the standard output or a file (command) that -o names, with the columns (bins)
+// that go there in order.
+struct OutputStream {
+    std::string name;
+    std::string modifier;
+    int bin = 0;
+    int flags = 0;
+    std::vector<int> columns;
+    std::unique_ptr<OutputFile> file;
+};
 
 bool Flag(const std::string &a, bool current) {
     if (a.size() == 2) return !current;
@@ -160,7 +216,11 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
         } else if (a == "-f") {
             o.cal.push_back({true, value(a)});
         } else if (a[1] == 'f' && a.size() >= 3) {  // -f[adf][adfc], -fo
-            if (a == "-fo") continue;
+            if (a.rfind("-fo", 0) == 0) {
+                o.force_open = Flag(a.substr(0, 1) + a.substr(2), o.force_open);
+                for (size_t k = start; k <= i; ++k) args_for_header->push_back(expanded[k]);
+                continue;
+            }
             auto fmt = [&](char c, bool output) {
                 switch (c) {
                     case 'a':
@@ -180,7 +240,9 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
             o.out = a.size() > 3 ? fmt(a[3], true) : o.in;
             if (o.out == DataFormat::RGBE) ErrorExit("picture output (-f?c) is not supported yet");
         } else if (a == "-o") {
-            ErrorExit("-o is not supported yet: results go to the standard output");
+            o.ospec = value(a);
+        } else if (a.rfind("-w", 0) == 0) {
+            // warnings on or off: ours are few and always shown
         } else if (a == "-r") {
             ErrorExit("-r (recover) is not supported");
         } else if (a == "-c") {
@@ -266,20 +328,49 @@ int Main(int argc, char **argv) {
                                  [&o](int k) { return MakeContext(o, o.modifiers[k].params); });
     const int ncols = integrator.Columns();
 
-    OutputFile out("-");
-    if (o.header) {
-        std::vector<char *> av;
-        for (std::string &s : header_args) av.push_back(s.data());
-        std::string h = HeaderStart(static_cast<int>(av.size()), av.data());
-        h.insert(h.find('\n') + 1, octree_header);
-        h += "SOFTWARE= dayflux rcontrib-gpu (" + backend->Name() + ")\n" + DateLines() +
-             "NCOMP=3\n";
-        if (o.yres > 0) h += "NROWS=" + std::to_string(o.yres * std::max(o.xres, 1)) + "\n";
-        h += "NCOLS=" + std::to_string(ncols) + "\n";
-        if (o.out == DataFormat::Float || o.out == DataFormat::Double)
-            h += NativeBigEndian() ? "BigEndian=1\n" : "BigEndian=0\n";
-        h += FormatLine(o.out) + "\n";
-        out.Write(h);
+    // Outputs, in the order RADIANCE opens them: by modifier, then bin.
+    std::vector<OutputStream> outputs;
+    if (o.ospec.empty()) {
+        outputs.emplace_back().name = "-";
+        for (int c = 0; c < ncols; ++c) outputs[0].columns.push_back(c);
+    } else {
+        for (const ModifierSpec &m : o.modifiers)
+            for (int b = 0; b < m.tracked.nbins; ++b) {
+                int flags = 0;
+                const std::string name = OutputName(o.ospec, m.tracked.name, b, &flags);
+                size_t k = 0;
+                while (k < outputs.size() && outputs[k].name != name) ++k;
+                if (k == outputs.size()) {
+                    OutputStream &s = outputs.emplace_back();
+                    s.name = name, s.modifier = m.tracked.name, s.bin = b, s.flags = flags;
+                }
+                outputs[k].columns.push_back(m.tracked.first_column + b);
+            }
+    }
+    for (OutputStream &s : outputs) {
+        if (s.name != "-" && s.name[0] != '!' && !o.force_open && fs::exists(s.name))
+            ErrorExit("cannot open '" + s.name + "' for writing: file exists (use -fo+)");
+        s.file = std::make_unique<OutputFile>(s.name);
+        const int reclen = static_cast<int>(s.columns.size());
+        if (o.header) {
+            std::vector<char *> av;
+            for (std::string &a : header_args) av.push_back(a.data());
+            std::string h = HeaderStart(static_cast<int>(av.size()), av.data());
+            h.insert(h.find('\n') + 1, octree_header);
+            h += "SOFTWARE= dayflux rcontrib-gpu (" + backend->Name() + ")\n" + DateLines() +
+                 "NCOMP=3\n";
+            if (s.name != "-" && ((s.flags & kByModifier) || reclen == 1))
+                h += "MODIFIER=" + s.modifier + "\n";
+            if (s.flags & kByBin) h += "BIN=" + std::to_string(s.bin) + "\n";
+            if (o.yres > 0) h += "NROWS=" + std::to_string(o.yres * std::max(o.xres, 1)) + "\n";
+            if (o.xres <= 0 || reclen > 1) h += "NCOLS=" + std::to_string(reclen) + "\n";
+            if (o.out == DataFormat::Float || o.out == DataFormat::Double)
+                h += NativeBigEndian() ? "BigEndian=1\n" : "BigEndian=0\n";
+            h += FormatLine(o.out) + "\n";
+            s.file->Write(h);
+        }
+        if (reclen == 1 && o.xres > 0 && o.yres > 0)
+            s.file->Write("-Y " + std::to_string(o.yres) + " +X " + std::to_string(o.xres) + "\n");
     }
     // Input rays: origin and direction, in blocks; each block traced in parallel, written in order.
     ReadSpec rs;
@@ -291,12 +382,11 @@ int Main(int argc, char **argv) {
     const int per_record = std::max(o.accumulate, 1);
     // Small blocks: one input ray can cost thousands of traced rays.
     const int block_records = 4;
-    RowFormatter fmt(o.out == DataFormat::Ascii ? DataFormat::Ascii : o.out, ncols, 3);
     struct Block {
         std::vector<double> rays;  // 6 per ray
         uint64_t first_ray = 0;
         int nrecords = 0;
-        std::string text;
+        std::vector<std::string> text;  // per output
     };
     uint64_t next_ray = 0;
     bool done = false;
@@ -330,7 +420,8 @@ int Main(int argc, char **argv) {
             return b;
         },
         [&](Block &b) {
-            std::vector<double> record(3 * static_cast<size_t>(ncols));
+            b.text.resize(outputs.size());
+            std::vector<double> record(3 * static_cast<size_t>(ncols)), part;
             for (int r = 0; r < b.nrecords; ++r) {
                 std::fill(record.begin(), record.end(), 0.0);
                 for (int k = 0; k < per_record; ++k) {
@@ -340,25 +431,33 @@ int Main(int argc, char **argv) {
                 }
                 if (per_record > 1)
                     for (double &v : record) v /= per_record;
-                if (o.out == DataFormat::Ascii) {
-                    for (double v : record) {
-                        AppendScientific(&b.text, v, 6);
-                        b.text += '\t';
+                for (size_t s = 0; s < outputs.size(); ++s) {
+                    std::string &text = b.text[s];
+                    if (o.out == DataFormat::Ascii) {
+                        for (int c : outputs[s].columns)
+                            for (int k = 0; k < 3; ++k) {
+                                AppendScientific(&text, record[3 * c + k], 6);
+                                text += '\t';
+                            }
+                        text += '\n';
+                    } else {
+                        part.clear();
+                        for (int c : outputs[s].columns)
+                            part.insert(part.end(), &record[3 * c], &record[3 * c + 3]);
+                        RowFormatter(o.out, static_cast<int>(outputs[s].columns.size()), 3)
+                            .Append(part.data(), &text);
                     }
-                    b.text += '\n';
-                } else {
-                    fmt.Append(record.data(), &b.text);
                 }
             }
         },
         [&](Block &b) {
-            out.Write(b.text);
+            for (size_t s = 0; s < outputs.size(); ++s) outputs[s].file->Write(b.text[s]);
             written += b.nrecords;
         });
     if (wanted > 0 && written < wanted)
         ErrorExit("unexpected end of input: " + std::to_string(written) + " of " +
                   std::to_string(wanted) + " records");
-    out.Commit();
+    for (OutputStream &s : outputs) s.file->Commit();
     return 0;
 }
 

@@ -2,9 +2,12 @@
 
 #include <cerrno>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <unordered_map>
+
+#include "util/raypath.h"
 
 namespace dayflux::cal {
 
@@ -560,6 +563,25 @@ Context::~Context() = default;
 void Context::Load(std::string_view text, const FileLoc &loc) {
     Parser p(*impl_, text, loc);
     while (!p.AtEnd()) p.Statement();
+}
+
+void Context::DefineRayVariables() {
+    Load(
+        "Dx = $1; Dy = $2; Dz = $3; Nx = $4; Ny = $5; Nz = $6; Px = $7; Py = $8; Pz = $9;"
+        "T = $10; Rdot = $11; S = $12; Tx = $13; Ty = $14; Tz = $15; Ix = $16; Iy = $17;"
+        "Iz = $18; Jx = $19; Jy = $20; Jz = $21; Kx = $22; Ky = $23; Kz = $24; Ts = $25;"
+        "Lu = $26; Lv = $27;",
+        FileLoc{"ray variables", 0});
+}
+
+void Context::LoadRayInit() {
+    DefineRayVariables();
+    namespace fs = std::filesystem;
+    const fs::path ours = fs::path(DayfluxLibDirectory()) / "rayinit.cal";
+    std::error_code ec;
+    if (fs::exists(ours, ec)) LoadFile(ours.string());
+    const std::string found = FindOnRaypath("rayinit.cal");
+    if (!fs::exists(ours, ec) || !fs::equivalent(found, ours, ec)) LoadFile(found);
 }
 
 void Context::LoadFile(const std::string &path) {

@@ -84,6 +84,13 @@ class Context {
     void Load(std::string_view text, const FileLoc &loc);
     // Reads a .cal file (the caller has found it on RAYPATH).
     void LoadFile(const std::string &path);
+    // Defines the ray variables (Dx = $1 ... Lv = $27) that RADIANCE's ray tracers build in, so
+    // that any rayinit.cal (ours or RADIANCE's) can be loaded after them.
+    void DefineRayVariables();
+    // What a ray tracer's context starts with: the ray variables, dayflux's own rayinit.cal (our
+    // lib/*.cal files use its helpers), then the rayinit.cal RAYPATH finds if that is another
+    // one (a RADIANCE installation's, say), whose definitions win.
+    void LoadRayInit();
     // Sets or replaces a variable (as "name = value;" or with constant, "name : value;").
     void Set(const std::string &name, double value, bool constant = false);
     // Parses an expression (for example a -b bin expression).

@@ -15,7 +15,7 @@ PatternFunction::PatternFunction(const Primitive &p)
     if (p.sargs.size() > nfunc + 1)
         ErrorExit(&p.loc, p.type + " '" + p.name +
                               "': transforms of pattern coordinates are not supported yet");
-    cx_->LoadFile(FindOnRaypath("rayinit.cal"));
+    cx_->LoadRayInit();
     const std::string &file = p.sargs[nfunc];
     if (file != ".") cx_->LoadFile(FindOnRaypath(file));
     for (size_t k = 0; k < nfunc; ++k) functions_.push_back(cx_->Compile(p.sargs[k], p.loc));

@@ -26,6 +26,7 @@ std::vector<std::array<double, 3>> RandomDirections(int n, unsigned seed) {
 
 TEST(BinFunctions, TregenzaMatchesPatchGeometry) {
     Context cx;
+    cx.DefineRayVariables();
     cx.LoadFile(Lib("rayinit.cal"));
     cx.LoadFile(Lib("tregenza.cal"));
     EXPECT_EQ(cx.Value("Ntbins"), 146);
@@ -42,6 +43,7 @@ TEST(BinFunctions, TregenzaMatchesPatchGeometry) {
 TEST(BinFunctions, ReinhartMatchesPatchGeometryForMF1To6) {
     for (int mf = 1; mf <= 6; ++mf) {
         Context cx;
+        cx.DefineRayVariables();
         cx.LoadFile(Lib("rayinit.cal"));
         cx.Set("MF", mf, true);
         cx.LoadFile(Lib("reinhart.cal"));
@@ -66,6 +68,7 @@ TEST(BinFunctions, ReinhartMatchesPatchGeometryForMF1To6) {
 // reinhartb.cal with its defaults (rN = -Z, U = +Y) is reinhart.cal counted from 0, ground -1.
 TEST(BinFunctions, ReinhartbDefaultsAgreeWithReinhart) {
     Context cx;
+    cx.DefineRayVariables();
     cx.LoadFile(Lib("rayinit.cal"));
     cx.LoadFile(Lib("reinhartb.cal"));
     cx.Set("MF", 2);
@@ -87,6 +90,7 @@ TEST(BinFunctions, KlemsMatchTheAngleBases) {
     const char *count[] = {"Nkbins", "Nkhbins", "Nkqbins"};
     for (int b = 0; b < 3; ++b) {
         Context cx;
+        cx.DefineRayVariables();
         cx.LoadFile(Lib("rayinit.cal"));
         cx.LoadFile(Lib(files[b]));
         const AngleBasis &basis = KlemsBases()[b];

@@ -21,6 +21,7 @@ double At(const Context &cx, const std::string &f, double dx, double dy, double 
 
 TEST(SkyFunctions, GenskySkies) {
     Context cx;
+    cx.DefineRayVariables();
     cx.LoadFile(Lib("rayinit.cal"));
     cx.LoadFile(Lib("skybright.cal"));
     const double w = std::pow(2.01, 10), g = std::pow(2.01, -10);
@@ -38,6 +39,7 @@ TEST(SkyFunctions, GenskySkies) {
 
 TEST(SkyFunctions, PerezSkyAtTheZenith) {
     Context cx;
+    cx.DefineRayVariables();
     cx.LoadFile(Lib("rayinit.cal"));
     cx.LoadFile(Lib("perezlum.cal"));
     // Sun at the zenith: gamma = 0 there, so L = A1 (1 + a e^b)(1 + c + e).
@@ -49,6 +51,7 @@ TEST(SkyFunctions, PerezSkyAtTheZenith) {
 
 TEST(SkyFunctions, ShirleyChiuMapRoundTripsAndBins) {
     Context cx;
+    cx.DefineRayVariables();
     cx.LoadFile(Lib("rayinit.cal"));
     cx.LoadFile(Lib("disk2square.cal"));
     std::mt19937 rng(2);
@@ -68,6 +71,7 @@ TEST(SkyFunctions, ShirleyChiuMapRoundTripsAndBins) {
 
 TEST(SkyFunctions, ScbinCoversTheHemisphere) {
     Context cx;
+    cx.DefineRayVariables();
     cx.LoadFile(Lib("rayinit.cal"));
     cx.LoadFile(Lib("disk2square.cal"));
     cx.Load("SCdim = 4; rNx = 0; rNy = 0; rNz = -1; Ux = 0; Uy = 1; Uz = 0;", FileLoc{"-p", 0});

@@ -296,6 +296,72 @@ TEST(RcontribGpu, ThreadCountDoesNotChangeResults) {
     EXPECT_EQ(Values(one.out, true), Values(two.out, true));
 }
 
+// -o as rcontrib's: %s names the modifier and %d the bin; each file gets RADIANCE's header lines
+// (MODIFIER=, BIN=, NCOLS= or a resolution line) and its columns of the full record.
+TEST(RcontribGpu, OutputFilesPerModifierAndBin) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "sky.rad", std::string(kSky) +
+                                          "void glow ground 0 0 4 1 1 1 0\n"
+                                          "ground source floor 0 0 4 0 0 -1 180\n");
+    WriteFile(tmp.path() / "pts", "0 0 0 0 0 1\n0 0 0 1 0 0\n");
+    const std::string opts =
+        " -I+ -ab 1 -ad 100 -y 2 -f tregenza.cal -b tbin -bn Ntbins -m skyglow -b 0 -bn 1 "
+        "-m ground sky.rad < pts";
+    CommandResult all = RunCommand("rcontrib-gpu -h" + opts, tmp.path());
+    ASSERT_EQ(all.status, 0) << all.err;
+    CommandResult r = RunCommand("rcontrib-gpu -o 'b_%s_%03d.txt'" + opts, tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    int files = 0;
+    for (const auto &e : fs::directory_iterator(tmp.path()))
+        files += e.path().filename().string().rfind("b_", 0) == 0;
+    EXPECT_EQ(files, 146 + 1);
+    const std::string bin7 = ReadFile(tmp.path() / "b_skyglow_007.txt");
+    for (const char *line : {"MODIFIER=skyglow\n", "BIN=7\n", "NROWS=2\n", "NCOLS=1\n"})
+        EXPECT_NE(bin7.find(line), std::string::npos) << line << bin7;
+    // The same numbers as columns 7 (skyglow bin 7) and 146 (ground) of the combined record.
+    const std::vector<double> v = Values("\n\n" + all.out, false);
+    ASSERT_EQ(v.size(), 2u * 147 * 3);
+    const std::vector<double> f7 = Values(bin7, false);
+    const std::vector<double> fg = Values(ReadFile(tmp.path() / "b_ground_000.txt"), false);
+    ASSERT_EQ(f7.size(), 6u);
+    ASSERT_EQ(fg.size(), 6u);
+    for (int row = 0; row < 2; ++row) {
+        EXPECT_EQ(f7[3 * row], v[row * 147 * 3 + 7 * 3]);
+        EXPECT_EQ(fg[3 * row], v[row * 147 * 3 + 146 * 3]);
+    }
+    EXPECT_GT(fg[3], 0);  // the sideways sensor sees the ground
+    // Existing files are kept unless -fo.
+    r = RunCommand("rcontrib-gpu -o 'b_%s_%03d.txt'" + opts, tmp.path());
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.err.find("b_skyglow_000.txt' for writing: file exists"), std::string::npos)
+        << r.err;
+    r = RunCommand("rcontrib-gpu -fo+ -o 'one_%s.txt'" + opts, tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(ReadFile(tmp.path() / "one_skyglow.txt").find("NCOLS=146\n"), std::string::npos);
+    r = RunCommand("rcontrib-gpu -o 'x_%f.txt'" + opts, tmp.path());
+    EXPECT_NE(r.err.find("bad output format 'x_%f.txt'"), std::string::npos) << r.err;
+}
+
+// The ray variables are built in, as in RADIANCE, so a RADIANCE rayinit.cal earlier on RAYPATH
+// (which does not define Dx, Dy, Dz) works too.
+TEST(RcontribGpu, RadianceRayinitOnRaypath) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "sky.rad", kSky);
+    WriteFile(tmp.path() / "rayinit.cal",
+              "{ like RADIANCE's: constants, no ray variables }\n"
+              "PI : 3.14159265358979323846;\nDEGREE : PI/180;\nFTINY : 1e-7;\n");
+    CommandResult r = RunCommand(
+        "echo '0 0 0 0 0 1' | RAYPATH=. rcontrib-gpu -I+ -ab 1 -ad 100 -h -f tregenza.cal -b tbin "
+        "-bn Ntbins -m skyglow sky.rad",
+        tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::vector<double> v = Values("\n\n" + r.out, false);
+    ASSERT_EQ(v.size(), 146u * 3);
+    double total = 0;
+    for (size_t i = 0; i < v.size(); i += 3) total += v[i];
+    EXPECT_NEAR(total, M_PI, 1e-5);
+}
+
 TEST(RcontribGpu, BadInput) {
     TempDir tmp;
     WriteFile(tmp.path() / "sky.rad", kSky);
