@@ -379,80 +379,126 @@ int Main(int argc, char **argv) {
     rs.ncols = 1;
     rs.ncomp = 6;
     MatrixReader in(InputSource::Open("-"), rs);
-    const int per_record = std::max(o.accumulate, 1);
-    // Small blocks: one input ray can cost thousands of traced rays.
-    const int block_records = 4;
+    // Rays go through in chunks traced in parallel; a chunk holds the pieces (segments) of the
+    // records it touches, so -c 0 or -c 10000 still uses every thread. Records end after -c rays
+    // or, partial, at the end of input.
+    const int accumulate = o.accumulate;
+    constexpr size_t kChunkRays = 8;
+    struct Segment {
+        size_t first = 0, count = 0;  // rays of the chunk
+        bool ends_record = false;
+        double scale = 1;  // 1/-c, applied when the record ends
+    };
     struct Block {
-        std::vector<double> rays;  // 6 per ray
+        std::vector<double> rays;  // 6 per ray; a zero direction is a flush, not traced
         uint64_t first_ray = 0;
-        int nrecords = 0;
-        std::vector<std::string> text;  // per output
+        std::vector<Segment> segments;
+        std::vector<std::vector<double>> sums;  // per segment
+        bool flush = false;                     // a zero ray: flush the outputs after
     };
     uint64_t next_ray = 0;
-    bool done = false;
+    bool done = false, warned_dummy = false;
     const long wanted = o.yres > 0 ? static_cast<long>(o.yres) * std::max(o.xres, 1) : -1;
-    long written = 0;
+    long ended = 0, written = 0;  // records ended by the reader, records written
+    long in_record = 0;           // rays in the record being read
+    std::vector<double> pending(3 * static_cast<size_t>(ncols), 0.0);
+    std::vector<double> part;
+    std::vector<std::string> text(outputs.size());
     OrderedPipeline<Block>(
         [&]() -> std::unique_ptr<Block> {
             if (done) return nullptr;
             auto b = std::make_unique<Block>();
             b->first_ray = next_ray;
+            auto add_ray = [&](const double *ray) {
+                const size_t n = b->rays.size() / 6;
+                b->rays.insert(b->rays.end(), ray, ray + 6);
+                if (b->segments.empty() || b->segments.back().ends_record)
+                    b->segments.push_back(Segment{n, 0, false, 1});
+                ++b->segments.back().count;
+            };
+            auto end_record = [&](double scale) {
+                if (b->segments.empty() || b->segments.back().ends_record)
+                    b->segments.push_back(Segment{b->rays.size() / 6, 0, false, 1});
+                b->segments.back().ends_record = true;
+                b->segments.back().scale = scale;
+                in_record = 0;
+                ++ended;
+            };
             double ray[6];
-            while (b->nrecords < block_records && (wanted < 0 || written + b->nrecords < wanted)) {
-                int got = 0;
-                for (; got < per_record; ++got) {
-                    if (!in.ReadRow(ray)) break;
-                    b->rays.insert(b->rays.end(), ray, ray + 6);
+            while (b->rays.size() / 6 < kChunkRays) {
+                if (wanted >= 0 && ended >= wanted) {
+                    done = true;
+                    break;
                 }
-                if (got < per_record) {
-                    if (got > 0) {
-                        Warning("partial record of " + std::to_string(got) +
-                                " rays at the end of input");
-                        b->rays.resize(b->rays.size() - 6 * got);
+                if (!in.ReadRow(ray)) {
+                    if (accumulate <= 0) {
+                        end_record(1);  // -c 0: one record of every ray
+                    } else if (in_record > 0) {
+                        Warning("partial accumulation in final record");
+                        end_record(accumulate > 1 ? 1.0 / static_cast<double>(in_record) : 1);
                     }
                     done = true;
                     break;
                 }
-                ++b->nrecords;
+                const bool zero = ray[3] == 0 && ray[4] == 0 && ray[5] == 0;
+                if (zero && accumulate <= 0) {
+                    if (!warned_dummy) Warning("dummy ray(s) ignored during accumulation");
+                    warned_dummy = true;
+                    continue;
+                }
+                // A zero ray counts as a ray that contributes nothing and flushes the output (a
+                // caller feeding rays through a pipe uses it to get results so far).
+                add_ray(ray);
+                b->flush = b->flush || zero;
+                ++in_record;
+                if (accumulate > 0 && in_record == accumulate)
+                    end_record(accumulate > 1 ? 1.0 / accumulate : 1);
             }
-            if (b->nrecords == 0) return nullptr;
+            if (b->segments.empty()) return nullptr;
             next_ray += b->rays.size() / 6;
             return b;
         },
         [&](Block &b) {
-            b.text.resize(outputs.size());
-            std::vector<double> record(3 * static_cast<size_t>(ncols)), part;
-            for (int r = 0; r < b.nrecords; ++r) {
-                std::fill(record.begin(), record.end(), 0.0);
-                for (int k = 0; k < per_record; ++k) {
-                    const size_t ray = static_cast<size_t>(r) * per_record + k;
-                    integrator.Trace(&b.rays[6 * ray], &b.rays[6 * ray + 3], b.first_ray + ray,
-                                     record.data());
-                }
-                if (per_record > 1)
-                    for (double &v : record) v /= per_record;
-                for (size_t s = 0; s < outputs.size(); ++s) {
-                    std::string &text = b.text[s];
-                    if (o.out == DataFormat::Ascii) {
-                        for (int c : outputs[s].columns)
-                            for (int k = 0; k < 3; ++k) {
-                                AppendScientific(&text, record[3 * c + k], 6);
-                                text += '\t';
-                            }
-                        text += '\n';
-                    } else {
-                        part.clear();
-                        for (int c : outputs[s].columns)
-                            part.insert(part.end(), &record[3 * c], &record[3 * c + 3]);
-                        RowFormatter(o.out, static_cast<int>(outputs[s].columns.size()), 3)
-                            .Append(part.data(), &text);
-                    }
+            b.sums.resize(b.segments.size());
+            for (size_t i = 0; i < b.segments.size(); ++i) {
+                const Segment &seg = b.segments[i];
+                b.sums[i].assign(3 * static_cast<size_t>(ncols), 0.0);
+                for (size_t ray = seg.first; ray < seg.first + seg.count; ++ray) {
+                    const double *r = &b.rays[6 * ray];
+                    if (r[3] == 0 && r[4] == 0 && r[5] == 0) continue;
+                    integrator.Trace(r, r + 3, b.first_ray + ray, b.sums[i].data());
                 }
             }
         },
         [&](Block &b) {
-            for (size_t s = 0; s < outputs.size(); ++s) outputs[s].file->Write(b.text[s]);
-            written += b.nrecords;
+            for (size_t i = 0; i < b.segments.size(); ++i) {
+                for (size_t k = 0; k < pending.size(); ++k) pending[k] += b.sums[i][k];
+                if (!b.segments[i].ends_record) continue;
+                if (b.segments[i].scale != 1)
+                    for (double &v : pending) v *= b.segments[i].scale;
+                for (size_t s = 0; s < outputs.size(); ++s) {
+                    text[s].clear();
+                    if (o.out == DataFormat::Ascii) {
+                        for (int c : outputs[s].columns)
+                            for (int k = 0; k < 3; ++k) {
+                                AppendScientific(&text[s], pending[3 * c + k], 6);
+                                text[s] += '\t';
+                            }
+                        text[s] += '\n';
+                    } else {
+                        part.clear();
+                        for (int c : outputs[s].columns)
+                            part.insert(part.end(), &pending[3 * c], &pending[3 * c + 3]);
+                        RowFormatter(o.out, static_cast<int>(outputs[s].columns.size()), 3)
+                            .Append(part.data(), &text[s]);
+                    }
+                    outputs[s].file->Write(text[s]);
+                }
+                std::fill(pending.begin(), pending.end(), 0.0);
+                ++written;
+            }
+            if (b.flush)
+                for (OutputStream &s : outputs) std::fflush(s.file->Stream());
         });
     if (wanted > 0 && written < wanted)
         ErrorExit("unexpected end of input: " + std::to_string(written) + " of " +

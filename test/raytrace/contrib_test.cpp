@@ -284,6 +284,50 @@ TEST(RcontribGpu, FarFromTheOriginTracesTheSame) {
     EXPECT_LT(RelRms(b, a), 0.05);
 }
 
+// -c as rcontrib's: records average -c rays (a zero-direction ray counts as one that adds
+// nothing), a partial final record averages the rays it got, -c 0 sums every ray into one record
+// and ignores zero rays. One sun at 40 degrees, -dj 0: each sensor gets exactly cos x omega.
+TEST(RcontribGpu, AccumulationAsRcontrib) {
+    TempDir tmp;
+    const double alt = 40 * M_PI / 180;
+    const double omega = 2 * M_PI * (1 - std::cos(0.533 / 2 * M_PI / 180));
+    std::ostringstream sun;
+    sun.precision(17);
+    sun << "void light solar 0 0 3 1 1 1\nsolar source sun 0 0 4 0 " << std::cos(alt) << " "
+        << std::sin(alt) << " 0.533\n";
+    WriteFile(tmp.path() / "sun.rad", sun.str());
+    const double normals[7][3] = {{0, 0, 1}, {0, 0, 0}, {0, 1, 0}, {0, .5, 1},
+                                  {1, 0, 1}, {0, 1, 1}, {0, 0, 1}};
+    std::string rays;
+    double e[7];
+    for (int i = 0; i < 7; ++i) {
+        const double *n = normals[i];
+        const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        e[i] = len == 0 ? 0 : (n[1] * std::cos(alt) + n[2] * std::sin(alt)) / len * omega;
+        rays += "0 0 0 " + std::to_string(n[0]) + " " + std::to_string(n[1]) + " " +
+                std::to_string(n[2]) + "\n";
+    }
+    WriteFile(tmp.path() / "rays", rays);
+    auto run = [&](const std::string &c) {
+        CommandResult r = RunCommand(
+            "rcontrib-gpu -c " + c + " -I+ -ab 0 -dj 0 -h -m solar sun.rad < rays", tmp.path());
+        EXPECT_EQ(r.status, 0) << r.err;
+        std::vector<double> v = Values("\n\n" + r.out, false), first;
+        for (size_t i = 0; i < v.size(); i += 3) first.push_back(v[i]);
+        return first;
+    };
+    std::vector<double> v = run("3");
+    ASSERT_EQ(v.size(), 3u);
+    EXPECT_NEAR(v[0], (e[0] + e[1] + e[2]) / 3, 1e-6 * v[0]);
+    EXPECT_NEAR(v[1], (e[3] + e[4] + e[5]) / 3, 1e-6 * v[1]);
+    EXPECT_NEAR(v[2], e[6], 1e-6 * v[2]);  // partial: one ray
+    v = run("0");
+    ASSERT_EQ(v.size(), 1u);
+    double total = 0;
+    for (double x : e) total += x;
+    EXPECT_NEAR(v[0], total, 1e-6 * total);
+}
+
 // A seed gives the same numbers whatever the number of threads.
 TEST(RcontribGpu, ThreadCountDoesNotChangeResults) {
     const std::string cmd =
