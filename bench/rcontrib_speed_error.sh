@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# rcontrib-gpu speed against error, beside RADIANCE's rcontrib, on the side-lit tutorial room
+# (100 sensors). Each case runs at several -ad; the error is the relative RMS over all entries
+# against RADIANCE's converged reference (mean of ten runs at -ad 65536 -lw 1e-6).
+#   V    -I+ -ab 4 -ad N -lw 2e-4 -faf -f klems_full.cal -b 'kbin(0,1,0,0,0,1)' -bn Nkbins -m Glazing
+#   DC   -I+ -ab 4 -ad N -lw 1e-4 -faf -e MF:1 -f reinhart.cal -b rbin -bn Nrbins -m skyglow -m groundglow
+#   Cds  -I+ -ab 1 -ad 256 -lw 1e-3 -dc 1 -dt 0 -dj 0 -faf -e MF:6 ... -m solar (deterministic)
+# RADIANCE reads the frozen octrees of shared/data/references/rcontrib, ours the same scene's
+# .rad files from test/data (C_ds: the same octree). Times are wall seconds of one run each
+# (/usr/bin/time), both programs on all cores of the machine (RADIANCE with -n nproc).
+# usage: bench/rcontrib_speed_error.sh   environment: OURS, RADIANCE_BIN (/opt/radiance/bin),
+#        REFS (../shared/data/references/rcontrib), ADS ("1024 4096 16384")
+# writes bench/results/rcontrib_speed_error.csv and .svg
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(realpath "$here/..")
+OURS=${OURS:-$root/build/bin/rcontrib-gpu}
+RADIANCE_BIN=${RADIANCE_BIN:-/opt/radiance/bin}
+REFS=${REFS:-$(realpath -m "$root/../shared/data/references/rcontrib")}
+ADS=${ADS:-"1024 4096 16384"}
+ROOM=$root/test/data/scene/models/room
+PTS=$root/test/data/rcontrib/points.txt
+NPROC=$(nproc)
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+mkdir -p "$here/results"
+csv=$here/results/rcontrib_speed_error.csv
+echo "case,program,ad,wall_s,rel_rms" > "$csv"
+V_ARGS="-f klems_full.cal -b kbin(0,1,0,0,0,1) -bn Nkbins -m Glazing"
+DC_ARGS="-e MF:1 -f reinhart.cal -b rbin -bn Nrbins -m skyglow -m groundglow"
+CDS_ARGS="-I+ -ab 1 -ad 256 -lw 1e-3 -dc 1 -dt 0 -dj 0 -faf -e MF:6 -f reinhart.cal -b rbin -bn Nrbins -m solar"
+timed() {  # out_file command... ; prints wall seconds
+    /usr/bin/time -f "%e" -o "$tmp/time" "${@:2}" < "$PTS" > "$1"
+    cat "$tmp/time"
+}
+record() {  # case program ad seconds output reference
+    err=$(python3 "$here/rcontrib_error.py" "$5" "$6")
+    echo "$1,$2,$3,$4,$err" | tee -a "$csv"
+}
+for ad in $ADS; do
+    t=$(cd "$ROOM" && timed "$tmp/v_ours" "$OURS" -I+ -ab 4 -ad "$ad" -lw 2e-4 -faf $V_ARGS \
+        materials.rad room.rad objects/GlazingVmtx.rad)
+    record V dayflux "$ad" "$t" "$tmp/v_ours" "$REFS/v_conv.fmx"
+    t=$(cd "$REFS" && RAYPATH=.:$RADIANCE_BIN/../lib timed "$tmp/v_rad" "$RADIANCE_BIN/rcontrib" \
+        -n "$NPROC" -I+ -ab 4 -ad "$ad" -lw 2e-4 -faf $V_ARGS roomV.oct)
+    record V radiance "$ad" "$t" "$tmp/v_rad" "$REFS/v_conv.fmx"
+    t=$(cd "$ROOM" && timed "$tmp/dc_ours" "$OURS" -I+ -ab 4 -ad "$ad" -lw 1e-4 -faf $DC_ARGS \
+        materials.rad room.rad objects/Glazing.rad skyDomes/skyglow.rad)
+    record DC dayflux "$ad" "$t" "$tmp/dc_ours" "$REFS/dc_conv.fmx"
+    t=$(cd "$REFS" && RAYPATH=.:$RADIANCE_BIN/../lib timed "$tmp/dc_rad" "$RADIANCE_BIN/rcontrib" \
+        -n "$NPROC" -I+ -ab 4 -ad "$ad" -lw 1e-4 -faf $DC_ARGS room2ph.oct)
+    record DC radiance "$ad" "$t" "$tmp/dc_rad" "$REFS/dc_conv.fmx"
+done
+xz -dc "$REFS/cds_test.fmx.xz" > "$tmp/cds_ref"
+t=$(cd "$REFS" && timed "$tmp/cds_ours" "$OURS" $CDS_ARGS cds.oct)
+record Cds dayflux 256 "$t" "$tmp/cds_ours" "$tmp/cds_ref"
+t=$(cd "$REFS" && RAYPATH=.:$RADIANCE_BIN/../lib timed "$tmp/cds_rad" "$RADIANCE_BIN/rcontrib" \
+    -n "$NPROC" $CDS_ARGS cds.oct)
+record Cds radiance 256 "$t" "$tmp/cds_rad" "$tmp/cds_ref"
+python3 "$here/rcontrib_error.py" --plot "$csv" "$here/results/rcontrib_speed_error.svg"
