@@ -8,6 +8,7 @@
 #include <tbb/global_control.h>
 
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -57,8 +58,10 @@ struct Options {
     int accumulate = 1;  // -c
     int xres = 0, yres = 0;
     int threads = 0;
-    std::string ospec;        // -o: empty for the standard output
-    bool force_open = false;  // -fo: overwrite existing output files
+    double report_seconds = 0;  // -t: RADIANCE's progress report every so many seconds
+    bool progress = false;      // -progress: a progress line with the time left (ours)
+    std::string ospec;          // -o: empty for the standard output
+    bool force_open = false;    // -fo: overwrite existing output files
     std::string backend;
     std::vector<std::string> scene;
 };
@@ -67,7 +70,7 @@ struct Options {
     ErrorExit(std::string("Usage: ") + prog +
               " [-n nprocs][-V][-c count][-fo][-r][-e expr][-f source][-o ospec][-p "
               "p1=V1,p2=V2][-b binv][-bn N]"
-              " {-m mod | -M file} [rtrace options] octree");
+              " {-m mod | -M file} [rtrace options] [-seed N][-backend name][-progress] octree");
 }
 
 // Applies "a=1,b=2" (separators , : ;) to a context, as RADIANCE's set_eparams().
@@ -129,6 +132,50 @@ std::string OutputName(const std::string &spec, const std::string &mod, int bin,
 #pragma GCC diagnostic pop
     return buf.data();
 }
+
+// Progress on stderr: RADIANCE's -t line ("P% done after H hours", only when -y gives the
+// total) and our -progress line with the rate and the time left.
+class ProgressReport {
+  public:
+    ProgressReport(double radiance_interval, bool progress, long total)
+        : interval_(radiance_interval),
+          progress_(progress),
+          total_(total),
+          start_(Clock::now()),
+          last_radiance_(start_),
+          last_progress_(start_) {}
+
+    void Update(long done) {
+        if (interval_ <= 0 && !progress_) return;
+        const auto now = Clock::now();
+        const double elapsed = Seconds(now - start_);
+        if (interval_ > 0 && total_ > 0 && Seconds(now - last_radiance_) >= interval_) {
+            std::fprintf(stderr, "%.2f%% done after %.3f hours\n", 100.0 * done / total_,
+                         elapsed / 3600.0);
+            last_radiance_ = now;
+        }
+        if (progress_ && (Seconds(now - last_progress_) >= 1.0 || (total_ > 0 && done == total_))) {
+            const double rate = elapsed > 0 ? done / elapsed : 0;
+            if (total_ > 0 && rate > 0)
+                std::fprintf(
+                    stderr,
+                    "rcontrib-gpu: %ld of %ld records (%.1f%%), %.0f s, about %.0f s left\n", done,
+                    total_, 100.0 * done / total_, elapsed, (total_ - done) / rate);
+            else
+                std::fprintf(stderr, "rcontrib-gpu: %ld records, %.0f s, %.1f records/s\n", done,
+                             elapsed, rate);
+            last_progress_ = now;
+        }
+    }
+
+  private:
+    using Clock = std::chrono::steady_clock;
+    static double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+    double interval_;
+    bool progress_;
+    long total_;
+    Clock::time_point start_, last_radiance_, last_progress_;
+};
 
 // One output: the standard output or a file (command) that -o names, with the columns (bins)
 // that go there in order.
@@ -280,10 +327,14 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
             o.contrib.source_jitter = number(a);
         } else if (a == "-aa" || a == "-as" || a == "-dt" || a == "-ar" || a == "-aw" ||
                    a == "-dc" || a == "-ds" || a == "-dr" || a == "-dp" || a == "-st" ||
-                   a == "-ss" || a == "-t") {
-            // forced by rcontrib (-aa 0 -as 0 -dt 0, making -dc moot), about local or virtual
-            // sources (-ds -dr -dp), which this version does not sample, or reporting (-t)
+                   a == "-ss") {
+            // forced by rcontrib (-aa 0 -as 0 -dt 0, making -dc moot), or about local or
+            // virtual sources (-ds -dr -dp), which this version does not sample
             value(a);
+        } else if (a == "-t") {
+            o.report_seconds = number(a);
+        } else if (a.rfind("-progress", 0) == 0) {
+            o.progress = Flag(a.substr(0, 2) + a.substr(9), o.progress);
         } else if (a == "-av") {
             value(a), value(a), value(a);
         } else {
@@ -404,6 +455,7 @@ int Main(int argc, char **argv) {
     std::vector<double> pending(3 * static_cast<size_t>(ncols), 0.0);
     std::vector<double> part;
     std::vector<std::string> text(outputs.size());
+    ProgressReport progress(o.report_seconds, o.progress, wanted);
     OrderedPipeline<Block>(
         [&]() -> std::unique_ptr<Block> {
             if (done) return nullptr;
@@ -496,6 +548,7 @@ int Main(int argc, char **argv) {
                 }
                 std::fill(pending.begin(), pending.end(), 0.0);
                 ++written;
+                progress.Update(written);
             }
             if (b.flush)
                 for (OutputStream &s : outputs) std::fflush(s.file->Stream());

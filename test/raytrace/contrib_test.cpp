@@ -405,6 +405,11 @@ TEST(RcontribGpu, AccumulationAsRcontrib) {
     EXPECT_NEAR(v[0], (e[0] + e[1] + e[2]) / 3, 1e-6 * v[0]);
     EXPECT_NEAR(v[1], (e[3] + e[4] + e[5]) / 3, 1e-6 * v[1]);
     EXPECT_NEAR(v[2], e[6], 1e-6 * v[2]);  // partial: one ray
+    // -progress ends with the finished count when the total is known.
+    CommandResult r = RunCommand(
+        "rcontrib-gpu -progress -y 3 -c 2 -I+ -ab 0 -h -m solar sun.rad < rays", tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("3 of 3 records (100.0%)"), std::string::npos) << r.err;
     v = run("0");
     ASSERT_EQ(v.size(), 1u);
     double total = 0;
