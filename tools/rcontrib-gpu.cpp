@@ -1,7 +1,7 @@
 // rcontrib-gpu: RADIANCE's rcontrib (contribution coefficients of modifiers to input rays), on
 // dayflux's ray tracing backends. This version traces on the CPU with Embree and covers the
 // daylight-coefficient case: glow sources (skies, windows), distant light sources (suns) sampled
-// directly, diffuse plastic and metal, pure specular, glass and mirror, -I/-V and the ambient and
+// directly, plastic, metal and trans (pure specular), glass and mirror, -I/-V and the ambient and
 // limit options. Options it does not know
 // are errors, as in RADIANCE; options that RADIANCE forces in rcontrib (-aa 0 -as 0 -dt 0) are
 // accepted and ignored.

@@ -83,7 +83,8 @@ void Tangents(const double n[3], double u[3], double v[3]) {
 struct Material {
     enum Kind { kBlack, kDiffuse, kGlass, kMirror, kGlow, kLight } kind = kBlack;
     RGB color{0, 0, 0};
-    double spec = 0;  // plastic/metal specularity
+    double spec = 0;              // plastic/metal/trans specularity
+    double trans = 0, tspec = 0;  // trans: transmissivity and its specular fraction
     bool metal = false;
     double rindex = 1.52;
     const PatternFunction *pattern = nullptr;  // brightfunc/colorfunc modifying the colour
@@ -103,6 +104,14 @@ double FresnelEstimate(double cos_incidence) {
     return std::exp(-5.85 * cos_incidence) - 0.00287989916;
 }
 constexpr double kFresnelThreshold = 0.017999;
+
+// What dirnorm() needs of a surface: colour, diffuse reflection and transmission, total
+// transmission, and whether RADIANCE's Fresnel estimate reduces the diffuse parts.
+struct DiffuseSurface {
+    RGB colour;
+    double rdiff, tdiff, trans;
+    bool fresnel;
+};
 
 struct RayState {
     double org[3], dir[3];
@@ -205,6 +214,17 @@ struct ContribIntegrator::Impl {
             if (m.spec > kTiny && f[4] * f[4] > kTiny)
                 ErrorExit(&p.loc,
                           t + " '" + p.name + "': rough specular reflection is not traced yet");
+        } else if (t == "trans") {
+            if (f.size() != 7) ErrorExit(&p.loc, "trans '" + p.name + "': bad number of arguments");
+            m.kind = Material::kDiffuse;
+            m.color = {f[0], f[1], f[2]};
+            m.spec = f[3];
+            m.trans = f[5];
+            m.tspec = f[6];
+            if (f[4] * f[4] > kTiny && (m.spec > kTiny || m.trans * m.tspec > kTiny))
+                ErrorExit(&p.loc, "trans '" + p.name +
+                                      "': rough specular reflection or transmission is not "
+                                      "traced yet");
         } else if (t == "glass") {
             m.kind = Material::kGlass;
             m.color = {f[0], f[1], f[2]};
@@ -419,16 +439,29 @@ struct ContribIntegrator::Impl {
             case Material::kLight:
                 return;
             case Material::kDiffuse: {
-                if (r.crtype & kShadow) return;  // opaque: the shadow ray is blocked
-                const RGB c = PatternColour(m, r, point, normal);
                 // m_normal(): pure specular (rough specular is refused earlier) with RADIANCE's
-                // Fresnel estimate raising the specularity at grazing angles.
+                // Fresnel estimate raising the specularity at grazing angles; trans adds
+                // specular and diffuse transmission.
+                const RGB c = PatternColour(m, r, point, normal);
                 double rspec = m.spec, fest = 0;
                 const double pdot = std::max(rod, .001);
                 if (rspec >= kFresnelThreshold) {
                     fest = FresnelEstimate(pdot);
                     rspec += fest * (1. - rspec);
                 }
+                const double trans = m.trans * (1. - rspec), tspec = trans * m.tspec;
+                const double tdiff = trans - tspec;
+                if (tspec > kTiny) {  // straight through, for shadow rays as well
+                    RGB tc = c;
+                    for (double &v : tc) v *= tspec;
+                    RayState child;
+                    if (Spawn(r, kTrans, tc, rng, &child)) {
+                        std::copy(point, point + 3, child.org);
+                        std::copy(r.dir, r.dir + 3, child.dir);
+                        Trace(child, rng, ts, record, depth + 1);
+                    }
+                }
+                if (r.crtype & kShadow) return;  // the rest blocks shadow rays
                 if (rspec > kTiny) {
                     RGB sc{rspec, rspec, rspec};
                     if (m.metal)
@@ -437,13 +470,21 @@ struct ContribIntegrator::Impl {
                                 fest > kTiny ? fest + c[i] * m.spec * (1. - fest) : c[i] * rspec;
                     Reflect(r, sc, point, normal, pdot, rng, ts, record, depth);
                 }
-                const double rdiff = 1.0 - rspec;
-                if (rdiff <= kTiny) return;
-                RGB amb = c;
-                for (double &v : amb) v *= rdiff;
-                Ambient(r, amb, point, normal, rng, ts, record, depth);
-                Direct(r, c, rdiff, m.spec >= kFresnelThreshold, point, normal, rng, ts, record,
-                       depth);
+                const double rdiff = 1.0 - trans - rspec;
+                if (rdiff <= kTiny && tdiff <= kTiny) return;
+                if (rdiff > kTiny) {
+                    RGB amb = c;
+                    for (double &v : amb) v *= rdiff;
+                    Ambient(r, amb, point, normal, rng, ts, record, depth);
+                }
+                if (tdiff > kTiny) {  // the hemisphere behind
+                    RGB amb = c;
+                    for (double &v : amb) v *= tdiff;
+                    const double back[3] = {-normal[0], -normal[1], -normal[2]};
+                    Ambient(r, amb, point, back, rng, ts, record, depth);
+                }
+                DiffuseSurface ds{c, rdiff, tdiff, trans, m.spec >= kFresnelThreshold};
+                Direct(r, ds, point, normal, rng, ts, record, depth);
                 return;
             }
             case Material::kMirror: {
@@ -492,12 +533,12 @@ struct ContribIntegrator::Impl {
         }
     }
 
-    // direct() with dirnorm() for an opaque diffuse surface of colour mcolor: one shadow ray per
-    // distant light source in front of it. fresnel: the diffuse part is reduced by the Fresnel
-    // estimate at the source's angle (pure specular surfaces).
-    void Direct(const RayState &r, const RGB &mcolor, double rdiff, bool fresnel,
-                const double point[3], const double normal[3], Random &rng, ThreadState &ts,
-                double *record, int depth) const {
+    // direct() with dirnorm() for a diffuse surface: one shadow ray per distant light source in
+    // front of it (or behind, for diffuse transmission), carrying the diffuse coefficient.
+    void Direct(const RayState &r, const DiffuseSurface &surface, const double point[3],
+                const double normal[3], Random &rng, ThreadState &ts, double *record,
+                int depth) const {
+        const RGB &mcolor = surface.colour;
         for (size_t i = 0; i < sources.size(); ++i) {
             const Source &s = sources[i];
             if (s.skip) continue;
@@ -516,12 +557,19 @@ struct ContribIntegrator::Impl {
                 Normalize(dir);
             }
             const double ldot = normal[0] * dir[0] + normal[1] * dir[1] + normal[2] * dir[2];
-            if (ldot <= kTiny) continue;
-            double lrdiff = rdiff;
-            if (fresnel) lrdiff *= 1. - FresnelEstimate(std::fabs(ldot));
-            if (lrdiff <= kTiny) continue;
+            // dirnorm(): the wrong side of an opaque surface, or of a fully transmitting one
+            if (ldot < 0 ? surface.trans <= kTiny : surface.trans >= 1 - kTiny) continue;
+            double lrdiff = surface.rdiff, ltdiff = surface.tdiff;
+            if (surface.fresnel && (lrdiff > kTiny || ltdiff > kTiny)) {
+                const double f = 1. - FresnelEstimate(std::fabs(ldot));
+                lrdiff *= f, ltdiff *= f;
+            }
+            double k = 0;
+            if (ldot > kTiny && lrdiff > kTiny) k = ldot * s.solid_angle * lrdiff / M_PI;
+            if (ldot < -kTiny && ltdiff > kTiny) k = -ldot * s.solid_angle * ltdiff / M_PI;
+            if (k <= 0) continue;
             RGB coef = mcolor;
-            for (double &c : coef) c *= ldot * s.solid_angle * lrdiff / M_PI;
+            for (double &c : coef) c *= k;
             RGB potential;
             for (int k = 0; k < 3; ++k) potential[k] = coef[k] * s.colour[k];
             if (Max3(coef) <= 0 || Bright(potential) <= 0) continue;
@@ -585,7 +633,7 @@ void ContribIntegrator::Trace(const double org[3], const double dir[3], uint64_t
         for (int k = 0; k < 3; ++k) point[k] = org[k] + 1e-4 * r.dir[k];
         const RGB lambertian{M_PI, M_PI, M_PI};
         d.Ambient(r, lambertian, point, r.dir, rng, ts, record, 0);
-        d.Direct(r, lambertian, 1.0, false, point, r.dir, rng, ts, record, 0);
+        d.Direct(r, DiffuseSurface{lambertian, 1.0, 0, 0, false}, point, r.dir, rng, ts, record, 0);
         return;
     }
     d.Trace(r, rng, ts, record, 0);

@@ -320,6 +320,16 @@ TEST(RcontribGpu, DirectSunIsAnalytic) {
     r = RunCommand(run + "black.rad", tmp.path());
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(Values("\n\n" + r.out, false)[0], 0);
+    // trans: the shadow ray passes its specular transmission, colour x tspec, where RADIANCE's
+    // Fresnel estimate at the pane has raised the specularity and so lowered the transmission.
+    WriteFile(tmp.path() / "trans.rad", "void trans p 0 0 7 .6 .7 .8 .04 0 .5 .3\n" + pane);
+    r = RunCommand(run + "trans.rad", tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    v = Values("\n\n" + r.out, false);
+    const double rspec = .04 + (std::exp(-5.85 * ci) - 0.00287989916) * (1 - .04);
+    const double tspec = .5 * (1 - rspec) * .3;
+    for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(v[k], (.6 + .1 * k) * tspec * ci * omega, 1e-6 * v[k]) << k;
     // rcontrib's default -dj .9 aims anywhere within .9 x 1.13 x .886 = .9 sun radii of the
     // centre along each side of a square, so at most 1.27 radii off: ldot moves by less than
     // cos(alt) x 1.5 angular radii.
