@@ -2,9 +2,8 @@
 // dayflux's ray tracing backends. This version traces on the CPU with Embree and covers the
 // daylight-coefficient case: glow sources (skies, windows), distant light sources (suns) sampled
 // directly, plastic, metal and trans (pure specular), glass and mirror, -I/-V and the ambient and
-// limit options. Options it does not know
-// are errors, as in RADIANCE; options that RADIANCE forces in rcontrib (-aa 0 -as 0 -dt 0) are
-// accepted and ignored.
+// limit options. Options it does not know are errors, as in RADIANCE; options that RADIANCE
+// forces in rcontrib (-aa 0 -as 0 -dt 0) are accepted and ignored.
 #include <tbb/global_control.h>
 
 #include <cctype>
