@@ -317,7 +317,6 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
             o.contrib.irradiance = Flag(a, o.contrib.irradiance);
         } else if (a.rfind("-i", 0) == 0) {
             o.contrib.first_hit_irradiance = Flag(a, o.contrib.first_hit_irradiance);
-            if (o.contrib.first_hit_irradiance) ErrorExit("-i is not supported yet");
         } else if (a.rfind("-h", 0) == 0) {
             o.header = Flag(a, o.header);
         } else if (a.rfind("-u", 0) == 0 || a.rfind("-bv", 0) == 0) {

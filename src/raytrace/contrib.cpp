@@ -433,6 +433,26 @@ struct ContribIntegrator::Impl {
             if (o.contributions) radiance = PatternColour(m, r, point, normal);
             Contribute(k, r, point, normal, t, radiance, ts, record);
         }
+        // -i: primary rays (and rays straight through transparent things before them) find the
+        // first opaque surface and measure irradiance there, as off a Lambertian surface of
+        // reflectance pi (RADIANCE's raytirrad()); light sources stay what they are.
+        if (o.first_hit_irradiance && !(r.crtype & ~(kPrimary | kTrans)) && !light &&
+            m.kind != Material::kGlow) {
+            if (m.kind == Material::kGlass || m.trans > 0) {
+                RayState child;
+                if (Spawn(r, kTrans, RGB{1, 1, 1}, rng, &child)) {
+                    std::copy(point, point + 3, child.org);
+                    std::copy(r.dir, r.dir + 3, child.dir);
+                    Trace(child, rng, ts, record, depth + 1);
+                }
+                return;
+            }
+            const RGB lambertian{M_PI, M_PI, M_PI};
+            Ambient(r, lambertian, point, normal, rng, ts, record, depth);
+            Direct(r, DiffuseSurface{lambertian, 1.0, 0, 0, false}, point, normal, rng, ts, record,
+                   depth);
+            return;
+        }
         switch (m.kind) {
             case Material::kBlack:
             case Material::kGlow:
