@@ -58,6 +58,7 @@ struct Options {
     int xres = 0, yres = 0;
     int threads = 0;
     double report_seconds = 0;  // -t: RADIANCE's progress report every so many seconds
+    std::string stderr_file;    // -se (ours): standard errors of the entries, as a matrix
     bool progress = false;      // -progress: a progress line with the time left (ours)
     std::string ospec;          // -o: empty for the standard output
     bool force_open = false;    // -fo: overwrite existing output files
@@ -183,9 +184,14 @@ struct OutputStream {
     std::string modifier;
     int bin = 0;
     int flags = 0;
+    bool standard_error = false;  // the -se output
     std::vector<int> columns;
     std::unique_ptr<OutputFile> file;
 };
+
+// -se: every input ray is traced as this many independent replicas with -ad / replicas each;
+// their mean is the result and their spread gives its standard error.
+constexpr int kReplicas = 8;
 
 bool Flag(const std::string &a, bool current) {
     if (a.size() == 2) return !current;
@@ -329,6 +335,8 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
             // forced by rcontrib (-aa 0 -as 0 -dt 0, making -dc moot), or about local or
             // virtual sources (-ds -dr -dp), which this version does not sample
             value(a);
+        } else if (a == "-se") {
+            o.stderr_file = value(a);
         } else if (a == "-t") {
             o.report_seconds = number(a);
         } else if (a.rfind("-progress", 0) == 0) {
@@ -347,6 +355,8 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
     if (o.accumulate < 0) ErrorExit("-c must not be negative");
     int col = 0;
     for (ModifierSpec &m : o.modifiers) m.tracked.first_column = col, col += m.tracked.nbins;
+    if (!o.stderr_file.empty())
+        o.contrib.ambient_divisions = std::max(1, o.contrib.ambient_divisions / kReplicas);
     return o;
 }
 
@@ -396,6 +406,12 @@ int Main(int argc, char **argv) {
                 outputs[k].columns.push_back(m.tracked.first_column + b);
             }
     }
+    if (!o.stderr_file.empty()) {
+        OutputStream &se = outputs.emplace_back();
+        se.name = o.stderr_file;
+        se.standard_error = true;
+        for (int c = 0; c < ncols; ++c) se.columns.push_back(c);
+    }
     for (OutputStream &s : outputs) {
         if (s.name != "-" && s.name[0] != '!' && !o.force_open && fs::exists(s.name))
             ErrorExit("cannot open '" + s.name + "' for writing: file exists (use -fo+)");
@@ -443,6 +459,7 @@ int Main(int argc, char **argv) {
         uint64_t first_ray = 0;
         std::vector<Segment> segments;
         std::vector<std::vector<double>> sums;  // per segment
+        std::vector<std::vector<double>> vars;  // per segment, with -se: variance of the sums
         bool flush = false;                     // a zero ray: flush the outputs after
     };
     uint64_t next_ray = 0;
@@ -451,6 +468,8 @@ int Main(int argc, char **argv) {
     long ended = 0, written = 0;  // records ended by the reader, records written
     long in_record = 0;           // rays in the record being read
     std::vector<double> pending(3 * static_cast<size_t>(ncols), 0.0);
+    std::vector<double> pending_var(pending.size(), 0.0), standard_error(pending.size());
+    const bool replicate = !o.stderr_file.empty();
     std::vector<double> part;
     std::vector<std::string> text(outputs.size());
     ProgressReport progress(o.report_seconds, o.progress, wanted);
@@ -509,42 +528,72 @@ int Main(int argc, char **argv) {
             return b;
         },
         [&](Block &b) {
+            const size_t n = 3 * static_cast<size_t>(ncols);
             b.sums.resize(b.segments.size());
+            b.vars.resize(replicate ? b.segments.size() : 0);
+            std::vector<double> one, sq;
             for (size_t i = 0; i < b.segments.size(); ++i) {
                 const Segment &seg = b.segments[i];
-                b.sums[i].assign(3 * static_cast<size_t>(ncols), 0.0);
+                b.sums[i].assign(n, 0.0);
+                if (replicate) b.vars[i].assign(n, 0.0);
                 for (size_t ray = seg.first; ray < seg.first + seg.count; ++ray) {
                     const double *r = &b.rays[6 * ray];
                     if (r[3] == 0 && r[4] == 0 && r[5] == 0) continue;
-                    integrator.Trace(r, r + 3, b.first_ray + ray, b.sums[i].data());
+                    const uint64_t index = b.first_ray + ray;
+                    if (!replicate) {
+                        integrator.Trace(r, r + 3, index, b.sums[i].data());
+                        continue;
+                    }
+                    std::vector<double> mean(n, 0.0);
+                    sq.assign(n, 0.0);
+                    for (int k = 0; k < kReplicas; ++k) {
+                        one.assign(n, 0.0);
+                        integrator.Trace(r, r + 3, index * kReplicas + k, one.data());
+                        for (size_t j = 0; j < n; ++j) mean[j] += one[j], sq[j] += one[j] * one[j];
+                    }
+                    for (size_t j = 0; j < n; ++j) {
+                        const double m = mean[j] / kReplicas;
+                        b.sums[i][j] += m;
+                        // variance of the mean of the replicas
+                        b.vars[i][j] += std::max(
+                            0.0, (sq[j] - kReplicas * m * m) / (kReplicas - 1) / kReplicas);
+                    }
                 }
             }
         },
         [&](Block &b) {
             for (size_t i = 0; i < b.segments.size(); ++i) {
                 for (size_t k = 0; k < pending.size(); ++k) pending[k] += b.sums[i][k];
+                if (replicate)
+                    for (size_t k = 0; k < pending.size(); ++k) pending_var[k] += b.vars[i][k];
                 if (!b.segments[i].ends_record) continue;
-                if (b.segments[i].scale != 1)
-                    for (double &v : pending) v *= b.segments[i].scale;
+                const double scale = b.segments[i].scale;
+                if (scale != 1)
+                    for (double &v : pending) v *= scale;
+                for (size_t k = 0; k < pending.size(); ++k)
+                    standard_error[k] = std::sqrt(pending_var[k]) * scale;
                 for (size_t s = 0; s < outputs.size(); ++s) {
+                    const std::vector<double> &values =
+                        outputs[s].standard_error ? standard_error : pending;
                     text[s].clear();
                     if (o.out == DataFormat::Ascii) {
                         for (int c : outputs[s].columns)
                             for (int k = 0; k < 3; ++k) {
-                                AppendScientific(&text[s], pending[3 * c + k], 6);
+                                AppendScientific(&text[s], values[3 * c + k], 6);
                                 text[s] += '\t';
                             }
                         text[s] += '\n';
                     } else {
                         part.clear();
                         for (int c : outputs[s].columns)
-                            part.insert(part.end(), &pending[3 * c], &pending[3 * c + 3]);
+                            part.insert(part.end(), &values[3 * c], &values[3 * c + 3]);
                         RowFormatter(o.out, static_cast<int>(outputs[s].columns.size()), 3)
                             .Append(part.data(), &text[s]);
                     }
                     outputs[s].file->Write(text[s]);
                 }
                 std::fill(pending.begin(), pending.end(), 0.0);
+                std::fill(pending_var.begin(), pending_var.end(), 0.0);
                 ++written;
                 progress.Update(written);
             }

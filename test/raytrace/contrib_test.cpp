@@ -196,6 +196,39 @@ TEST(RcontribGpu, FurnaceSumsTheSeries) {
     EXPECT_NEAR(mean, M_PI * (1 - std::pow(rho, 6)) / (1 - rho), 4 * se);
 }
 
+// -se: the standard errors it reports match the spread of independent records. With 200
+// records the observed sd is known to ~5 % and the rms of the reported errors to a few %, so
+// their ratio must lie within 0.8-1.25.
+TEST(RcontribGpu, StandardErrorsMatchTheSpread) {
+    TempDir tmp;
+    std::string box = "void plastic wall 0 0 5 .5 .5 .5 0 0\n";
+    const char *faces[6] = {"-1 -1 -1  -1 1 -1  1 1 -1  1 -1 -1", "-1 -1 1  1 -1 1  1 1 1  -1 1 1",
+                            "-1 -1 -1  1 -1 -1  1 -1 1  -1 -1 1", "-1 1 -1  -1 1 1  1 1 1  1 1 -1",
+                            "-1 -1 -1  -1 -1 1  -1 1 1  -1 1 -1", "1 -1 -1  1 1 -1  1 1 1  1 -1 1"};
+    for (int f = 0; f < 6; ++f)
+        box += "wall polygon f" + std::to_string(f) + " 0 0 12 " + faces[f] + "\n";
+    WriteFile(tmp.path() / "box.rad", box);
+    const std::vector<double> results = RecordTotals(
+        tmp.path(), "-se se.txt -I+ -ab 3 -ad 64 -lw 0.05 -m wall box.rad", 200, "0 0 0 0 0 1");
+    ASSERT_EQ(results.size(), 200u);
+    const std::vector<double> se = Values(
+        "\n\n" +
+            [&] {
+                const std::string t = ReadFile(tmp.path() / "se.txt");
+                return t.substr(t.find("\n\n") + 2);
+            }(),
+        false);
+    ASSERT_EQ(se.size(), 200u * 3);
+    double mean, sem, ms = 0;
+    MeanAndStandardError(results, &mean, &sem);
+    const double sd = sem * std::sqrt(200.0);
+    for (size_t i = 0; i < se.size(); i += 3) ms += se[i] * se[i];
+    const double rms = std::sqrt(ms / 200);
+    EXPECT_GT(sd / rms, 0.8) << sd << " " << rms;
+    EXPECT_LT(sd / rms, 1.25) << sd << " " << rms;
+    EXPECT_NEAR(mean, M_PI * 1.75, 4 * sem);  // and the replicas' mean is unbiased
+}
+
 // A sensor under a rectangular glow window parallel to it: pi times the view factor.
 TEST(RcontribGpu, ViewFactorOfAWindow) {
     TempDir tmp;
