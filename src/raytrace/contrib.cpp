@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 
+#include "raytrace/sampling.h"
+
 namespace dayflux {
 
 namespace {
@@ -45,25 +47,6 @@ class Random {
     uint64_t Next() { return Mix(state_ += 0x9e3779b97f4a7c15ULL); }
     uint64_t state_;
 };
-
-// Shirley-Chiu: unit square to unit disk, area-preserving (RADIANCE's square2disk()).
-void SquareToDisk(double sx, double sy, double *dx, double *dy) {
-    const double a = 2 * sx - 1, b = 2 * sy - 1;
-    double r, phi;
-    if (a > -b) {
-        if (a > b)
-            r = a, phi = M_PI / 4 * (b / a);
-        else
-            r = b, phi = M_PI / 4 * (2 - a / b);
-    } else {
-        if (a < b)
-            r = -a, phi = M_PI / 4 * (4 + b / a);
-        else
-            r = -b, phi = b != 0 ? M_PI / 4 * (6 - a / b) : 0;
-    }
-    *dx = r * std::cos(phi);
-    *dy = r * std::sin(phi);
-}
 
 // Two unit vectors perpendicular to n and to each other.
 void Tangents(const double n[3], double u[3], double v[3]) {
@@ -439,12 +422,7 @@ struct ContribIntegrator::Impl {
         if (o.first_hit_irradiance && !(r.crtype & ~(kPrimary | kTrans)) && !light &&
             m.kind != Material::kGlow) {
             if (m.kind == Material::kGlass || m.trans > 0) {
-                RayState child;
-                if (Spawn(r, kTrans, RGB{1, 1, 1}, rng, &child)) {
-                    std::copy(point, point + 3, child.org);
-                    std::copy(r.dir, r.dir + 3, child.dir);
-                    Trace(child, rng, ts, record, depth + 1);
-                }
+                Transmit(r, RGB{1, 1, 1}, point, rng, ts, record, depth);
                 return;
             }
             const RGB lambertian{M_PI, M_PI, M_PI};
@@ -474,12 +452,7 @@ struct ContribIntegrator::Impl {
                 if (tspec > kTiny) {  // straight through, for shadow rays as well
                     RGB tc = c;
                     for (double &v : tc) v *= tspec;
-                    RayState child;
-                    if (Spawn(r, kTrans, tc, rng, &child)) {
-                        std::copy(point, point + 3, child.org);
-                        std::copy(r.dir, r.dir + 3, child.dir);
-                        Trace(child, rng, ts, record, depth + 1);
-                    }
+                    Transmit(r, tc, point, rng, ts, record, depth);
                 }
                 if (r.crtype & kShadow) return;  // the rest blocks shadow rays
                 if (rspec > kTiny) {
@@ -533,12 +506,7 @@ struct ContribIntegrator::Impl {
                             .5 * (1.0 - r1e) * (1.0 - r1e) * dd / (1.0 - r1e * r1e * dd * dd) +
                             .5 * (1.0 - r1m) * (1.0 - r1m) * dd / (1.0 - r1m * r1m * dd * dd);
                     }
-                    RayState child;
-                    if (Spawn(r, kTrans, trans, rng, &child)) {
-                        std::copy(point, point + 3, child.org);
-                        std::copy(r.dir, r.dir + 3, child.dir);
-                        Trace(child, rng, ts, record, depth + 1);
-                    }
+                    Transmit(r, trans, point, rng, ts, record, depth);
                 }
                 if (r.crtype & kShadow) return;  // shadow rays only pass through
                 RGB refl;
@@ -606,6 +574,16 @@ struct ContribIntegrator::Impl {
             }
             Trace(child, rng, ts, record, depth + 1);
         }
+    }
+
+    // A ray straight on through the surface (glass, specular transmission, -i's pass-through).
+    void Transmit(const RayState &r, const RGB &coef, const double point[3], Random &rng,
+                  ThreadState &ts, double *record, int depth) const {
+        RayState child;
+        if (!Spawn(r, kTrans, coef, rng, &child)) return;
+        std::copy(point, point + 3, child.org);
+        std::copy(r.dir, r.dir + 3, child.dir);
+        Trace(child, rng, ts, record, depth + 1);
     }
 
     void Reflect(const RayState &r, const RGB &coef, const double point[3], const double normal[3],

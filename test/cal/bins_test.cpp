@@ -26,8 +26,7 @@ std::vector<std::array<double, 3>> RandomDirections(int n, unsigned seed) {
 
 TEST(BinFunctions, TregenzaMatchesPatchGeometry) {
     Context cx;
-    cx.DefineRayVariables();
-    cx.LoadFile(Lib("rayinit.cal"));
+    cx.LoadRayInit();
     cx.LoadFile(Lib("tregenza.cal"));
     EXPECT_EQ(cx.Value("Ntbins"), 146);
     Expression bin = cx.Compile("tbin", FileLoc{"-b", 0});
@@ -43,8 +42,7 @@ TEST(BinFunctions, TregenzaMatchesPatchGeometry) {
 TEST(BinFunctions, ReinhartMatchesPatchGeometryForMF1To6) {
     for (int mf = 1; mf <= 6; ++mf) {
         Context cx;
-        cx.DefineRayVariables();
-        cx.LoadFile(Lib("rayinit.cal"));
+        cx.LoadRayInit();
         cx.Set("MF", mf, true);
         cx.LoadFile(Lib("reinhart.cal"));
         SkyPatchBasis sky(mf);
@@ -68,8 +66,7 @@ TEST(BinFunctions, ReinhartMatchesPatchGeometryForMF1To6) {
 // reinhartb.cal with its defaults (rN = -Z, U = +Y) is reinhart.cal counted from 0, ground -1.
 TEST(BinFunctions, ReinhartbDefaultsAgreeWithReinhart) {
     Context cx;
-    cx.DefineRayVariables();
-    cx.LoadFile(Lib("rayinit.cal"));
+    cx.LoadRayInit();
     cx.LoadFile(Lib("reinhartb.cal"));
     cx.Set("MF", 2);
     SkyPatchBasis sky(2);
@@ -90,8 +87,7 @@ TEST(BinFunctions, KlemsMatchTheAngleBases) {
     const char *count[] = {"Nkbins", "Nkhbins", "Nkqbins"};
     for (int b = 0; b < 3; ++b) {
         Context cx;
-        cx.DefineRayVariables();
-        cx.LoadFile(Lib("rayinit.cal"));
+        cx.LoadRayInit();
         cx.LoadFile(Lib(files[b]));
         const AngleBasis &basis = KlemsBases()[b];
         EXPECT_EQ(cx.Value(count[b]), basis.Size());

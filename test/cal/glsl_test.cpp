@@ -101,8 +101,7 @@ std::string GlslAgainstInterpreter::skip_reason_;
 // The test: a million random directions through every standard bin function.
 TEST_F(GlslAgainstInterpreter, StandardBinFunctionsGiveIdenticalBins) {
     Context cx;
-    cx.DefineRayVariables();
-    cx.LoadFile(Lib("rayinit.cal"));
+    cx.LoadRayInit();
     cx.LoadFile(Lib("tregenza.cal"));
     cx.Set("MF", 4, true);
     cx.LoadFile(Lib("reinhart.cal"));
@@ -112,14 +111,12 @@ TEST_F(GlslAgainstInterpreter, StandardBinFunctionsGiveIdenticalBins) {
 
 TEST_F(GlslAgainstInterpreter, ReinhartbAndSmallerKlemsBases) {
     Context cx;
-    cx.DefineRayVariables();
-    cx.LoadFile(Lib("rayinit.cal"));
+    cx.LoadRayInit();
     cx.LoadFile(Lib("reinhartb.cal"));
     cx.Set("MF", 6);
     cx.LoadFile(Lib("klems_half.cal"));
     Context cq;
-    cq.DefineRayVariables();
-    cq.LoadFile(Lib("rayinit.cal"));
+    cq.LoadRayInit();
     cq.LoadFile(Lib("klems_quarter.cal"));
     Compare(cx, {"rbin", "khbin(0,0,-1, 0,1,0)"}, 200000, 8);
     Compare(cq, {"kqbin(1,0,0, 0,0,1)"}, 200000, 9);
@@ -128,8 +125,7 @@ TEST_F(GlslAgainstInterpreter, ReinhartbAndSmallerKlemsBases) {
 // The double-precision math library agrees with the C library to ~1e-14.
 TEST_F(GlslAgainstInterpreter, MathFunctionsMatchTheCLibrary) {
     Context cx;
-    cx.DefineRayVariables();
-    cx.LoadFile(Lib("rayinit.cal"));
+    cx.LoadRayInit();
     Compare(cx,
             {"sin(7*Dx)", "cos(40*Dy)", "tan(Dz)", "asin(Dx)", "acos(Dy)", "atan(9*Dz)",
              "atan2(Dy, Dx)", "exp(20*Dx)", "log(Dx*Dx + 1e-3)", "log10(Dy*Dy + 2)", "(Dz + 2)^3.7",
@@ -142,11 +138,9 @@ TEST_F(GlslAgainstInterpreter, MathFunctionsMatchTheCLibrary) {
 TEST_F(GlslAgainstInterpreter, SkyPatternWithObjectArguments) {
     // Each pattern has a context of its own (the two files use the same names, as RADIANCE's do).
     Context gensky, gendaylit;
-    gensky.DefineRayVariables();
-    gensky.LoadFile(Lib("rayinit.cal"));
+    gensky.LoadRayInit();
     gensky.LoadFile(Lib("skybright.cal"));
-    gendaylit.DefineRayVariables();
-    gendaylit.LoadFile(Lib("rayinit.cal"));
+    gendaylit.LoadRayInit();
     gendaylit.LoadFile(Lib("perezlum.cal"));
     Compare(gensky, {"skybr"}, 20000, 11, 2e-14, {1, 21.8, 3.9, 2.2, -0.42, -0.43, 0.80});
     Compare(gendaylit, {"skybright"}, 20000, 12, 2e-14,

@@ -21,8 +21,7 @@ double At(const Context &cx, const std::string &f, double dx, double dy, double 
 
 TEST(SkyFunctions, GenskySkies) {
     Context cx;
-    cx.DefineRayVariables();
-    cx.LoadFile(Lib("rayinit.cal"));
+    cx.LoadRayInit();
     cx.LoadFile(Lib("skybright.cal"));
     const double w = std::pow(2.01, 10), g = std::pow(2.01, -10);
     // Uniform sky: the zenith brightness, blended a little with the ground at the zenith.
@@ -39,8 +38,7 @@ TEST(SkyFunctions, GenskySkies) {
 
 TEST(SkyFunctions, PerezSkyAtTheZenith) {
     Context cx;
-    cx.DefineRayVariables();
-    cx.LoadFile(Lib("rayinit.cal"));
+    cx.LoadRayInit();
     cx.LoadFile(Lib("perezlum.cal"));
     // Sun at the zenith: gamma = 0 there, so L = A1 (1 + a e^b)(1 + c + e).
     const std::vector<double> a = {2, 0.1, -1, -0.3, 3, -2, 0.5, 0, 0, 1};
@@ -51,8 +49,7 @@ TEST(SkyFunctions, PerezSkyAtTheZenith) {
 
 TEST(SkyFunctions, ShirleyChiuMapRoundTripsAndBins) {
     Context cx;
-    cx.DefineRayVariables();
-    cx.LoadFile(Lib("rayinit.cal"));
+    cx.LoadRayInit();
     cx.LoadFile(Lib("disk2square.cal"));
     std::mt19937 rng(2);
     std::uniform_real_distribution<double> u(0.001, 0.999);
@@ -71,8 +68,7 @@ TEST(SkyFunctions, ShirleyChiuMapRoundTripsAndBins) {
 
 TEST(SkyFunctions, ScbinCoversTheHemisphere) {
     Context cx;
-    cx.DefineRayVariables();
-    cx.LoadFile(Lib("rayinit.cal"));
+    cx.LoadRayInit();
     cx.LoadFile(Lib("disk2square.cal"));
     cx.Load("SCdim = 4; rNx = 0; rNy = 0; rNz = -1; Ux = 0; Uy = 1; Uz = 0;", FileLoc{"-p", 0});
     Expression bin = cx.Compile("scbin", FileLoc{"-b", 0});

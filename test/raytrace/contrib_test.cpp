@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include "raytrace/sampling.h"
 #include "test_util.h"
 
 namespace dayflux::test {
@@ -31,6 +32,13 @@ std::vector<double> Values(const std::string &text, bool binary) {
     return v;
 }
 
+// Runs a command whose output is an ascii matrix without header; its values (none on failure).
+std::vector<double> RunForValues(const std::string &command, const fs::path &dir) {
+    CommandResult r = RunCommand(command, dir);
+    EXPECT_EQ(r.status, 0) << command << "\n" << r.err;
+    return r.status == 0 ? Values("\n\n" + r.out, false) : std::vector<double>{};
+}
+
 double RelRms(const std::vector<double> &a, const std::vector<double> &b) {
     double num = 0, den = 0;
     for (size_t i = 0; i < a.size(); ++i) num += (a[i] - b[i]) * (a[i] - b[i]), den += b[i] * b[i];
@@ -45,24 +53,6 @@ std::vector<double> RowSums(const std::vector<double> &a, int rows, int cols) {
 }
 
 const char *kSky = "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 180\n";
-
-// Shirley-Chiu square to disk, as the integrator samples the hemisphere.
-void SquareToDisk(double sx, double sy, double *dx, double *dy) {
-    const double a = 2 * sx - 1, b = 2 * sy - 1;
-    double r, phi;
-    if (a > -b) {
-        if (a > b)
-            r = a, phi = M_PI / 4 * (b / a);
-        else
-            r = b, phi = M_PI / 4 * (2 - a / b);
-    } else {
-        if (a < b)
-            r = -a, phi = M_PI / 4 * (4 + b / a);
-        else
-            r = -b, phi = b != 0 ? M_PI / 4 * (6 - a / b) : 0;
-    }
-    *dx = r * std::cos(phi), *dy = r * std::sin(phi);
-}
 
 int TregenzaBin(double x, double y, double z) {
     const double alt = std::asin(z) * 180 / M_PI;
@@ -87,12 +77,10 @@ TEST(RcontribGpu, UniformSkyGivesPiAndExactBins) {
     TempDir tmp;
     WriteFile(tmp.path() / "sky.rad", kSky);
     // -ad 4096 -lw 1e-6: n = 64 for a sensor (0.8 pi / (4096 1e-6) caps nothing).
-    CommandResult r = RunCommand(
+    std::vector<double> v = RunForValues(
         "echo '0 0 0 0 0 1' | rcontrib-gpu -h -I+ -ab 1 -ad 4096 -lw 1e-6 -f tregenza.cal "
         "-b tbin -bn Ntbins -m skyglow sky.rad",
         tmp.path());
-    ASSERT_EQ(r.status, 0) << r.err;
-    std::vector<double> v = Values("\n\n" + r.out, false);
     ASSERT_EQ(v.size(), 146u * 3);
     double total = 0;
     for (size_t b = 0; b < 146; ++b) {
@@ -159,6 +147,18 @@ std::vector<double> RecordTotals(const fs::path &dir, const std::string &args, i
     return totals;
 }
 
+// A closed 2 m cube of reflectance .5 around the origin, modifier 'wall' (written out rather than
+// made with genbox, so the tests need only dayflux).
+void WriteFurnace(const fs::path &file) {
+    std::string box = "void plastic wall 0 0 5 .5 .5 .5 0 0\n";
+    const char *faces[6] = {"-1 -1 -1  -1 1 -1  1 1 -1  1 -1 -1", "-1 -1 1  1 -1 1  1 1 1  -1 1 1",
+                            "-1 -1 -1  1 -1 -1  1 -1 1  -1 -1 1", "-1 1 -1  -1 1 1  1 1 1  1 1 -1",
+                            "-1 -1 -1  -1 -1 1  -1 1 1  -1 1 -1", "1 -1 -1  1 1 -1  1 1 1  1 -1 1"};
+    for (int f = 0; f < 6; ++f)
+        box += "wall polygon f" + std::to_string(f) + " 0 0 12 " + faces[f] + "\n";
+    WriteFile(file, box);
+}
+
 void MeanAndStandardError(const std::vector<double> &x, double *mean, double *se) {
     double s = 0, ss = 0;
     for (double v : x) s += v;
@@ -174,14 +174,7 @@ void MeanAndStandardError(const std::vector<double> &x, double *mean, double *se
 // the same on average with it (within 4 standard errors of the mean of 400 sensors).
 TEST(RcontribGpu, FurnaceSumsTheSeries) {
     TempDir tmp;
-    // genbox is RADIANCE's; write the box out instead so the test needs only dayflux.
-    std::string box = "void plastic wall 0 0 5 .5 .5 .5 0 0\n";
-    const char *faces[6] = {"-1 -1 -1  -1 1 -1  1 1 -1  1 -1 -1", "-1 -1 1  1 -1 1  1 1 1  -1 1 1",
-                            "-1 -1 -1  1 -1 -1  1 -1 1  -1 -1 1", "-1 1 -1  -1 1 1  1 1 1  1 1 -1",
-                            "-1 -1 -1  -1 -1 1  -1 1 1  -1 1 -1", "1 -1 -1  1 1 -1  1 1 1  1 -1 1"};
-    for (int f = 0; f < 6; ++f)
-        box += "wall polygon f" + std::to_string(f) + " 0 0 12 " + faces[f] + "\n";
-    WriteFile(tmp.path() / "box.rad", box);
+    WriteFurnace(tmp.path() / "box.rad");
     const double rho = .5;
     const std::vector<double> exact_runs =
         RecordTotals(tmp.path(), "-I+ -ab 3 -ad 64 -lw 1e-9 -m wall box.rad", 4, "0 0 0 0 0 1");
@@ -201,13 +194,7 @@ TEST(RcontribGpu, FurnaceSumsTheSeries) {
 // their ratio must lie within 0.8-1.25.
 TEST(RcontribGpu, StandardErrorsMatchTheSpread) {
     TempDir tmp;
-    std::string box = "void plastic wall 0 0 5 .5 .5 .5 0 0\n";
-    const char *faces[6] = {"-1 -1 -1  -1 1 -1  1 1 -1  1 -1 -1", "-1 -1 1  1 -1 1  1 1 1  -1 1 1",
-                            "-1 -1 -1  1 -1 -1  1 -1 1  -1 -1 1", "-1 1 -1  -1 1 1  1 1 1  1 1 -1",
-                            "-1 -1 -1  -1 -1 1  -1 1 1  -1 1 -1", "1 -1 -1  1 1 -1  1 1 1  1 -1 1"};
-    for (int f = 0; f < 6; ++f)
-        box += "wall polygon f" + std::to_string(f) + " 0 0 12 " + faces[f] + "\n";
-    WriteFile(tmp.path() / "box.rad", box);
+    WriteFurnace(tmp.path() / "box.rad");
     const std::vector<double> results = RecordTotals(
         tmp.path(), "-se se.txt -I+ -ab 3 -ad 64 -lw 0.05 -m wall box.rad", 200, "0 0 0 0 0 1");
     ASSERT_EQ(results.size(), 200u);
@@ -333,9 +320,7 @@ TEST(RcontribGpu, DirectSunIsAnalytic) {
     const std::string run =
         "echo '0 0 0 0 0 1' | rcontrib-gpu -I+ -ab 0 -dj 0 -faa -h -m solar sun.rad ";
     const double omega = 2 * M_PI * (1 - std::cos(half));
-    CommandResult r = RunCommand(run, tmp.path());
-    ASSERT_EQ(r.status, 0) << r.err;
-    std::vector<double> v = Values("\n\n" + r.out, false);
+    std::vector<double> v = RunForValues(run, tmp.path());
     ASSERT_EQ(v.size(), 3u);
     EXPECT_NEAR(v[0], std::sin(alt) * omega, 1e-6 * v[0]);
     // Glass: RADIANCE's transmittance for transmissivity .96 at incidence 50 degrees, n = 1.52.
@@ -346,19 +331,17 @@ TEST(RcontribGpu, DirectSunIsAnalytic) {
     const double rm = std::pow((1 / ci - n / ct) / (1 / ci + n / ct), 2);
     const double trans = .5 * (1 - re) * (1 - re) * tn / (1 - re * re * tn * tn) +
                          .5 * (1 - rm) * (1 - rm) * tn / (1 - rm * rm * tn * tn);
-    r = RunCommand(run + "glass.rad", tmp.path());
-    ASSERT_EQ(r.status, 0) << r.err;
-    v = Values("\n\n" + r.out, false);
+    v = RunForValues(run + "glass.rad", tmp.path());
+    ASSERT_FALSE(v.empty());
     EXPECT_NEAR(v[0], std::sin(alt) * omega * trans, 1e-6 * v[0]);
-    r = RunCommand(run + "black.rad", tmp.path());
-    ASSERT_EQ(r.status, 0) << r.err;
-    EXPECT_EQ(Values("\n\n" + r.out, false)[0], 0);
+    v = RunForValues(run + "black.rad", tmp.path());
+    ASSERT_FALSE(v.empty());
+    EXPECT_EQ(v[0], 0);
     // trans: the shadow ray passes its specular transmission, colour x tspec, where RADIANCE's
     // Fresnel estimate at the pane has raised the specularity and so lowered the transmission.
     WriteFile(tmp.path() / "trans.rad", "void trans p 0 0 7 .6 .7 .8 .04 0 .5 .3\n" + pane);
-    r = RunCommand(run + "trans.rad", tmp.path());
-    ASSERT_EQ(r.status, 0) << r.err;
-    v = Values("\n\n" + r.out, false);
+    v = RunForValues(run + "trans.rad", tmp.path());
+    ASSERT_FALSE(v.empty());
     const double rspec = .04 + (std::exp(-5.85 * ci) - 0.00287989916) * (1 - .04);
     const double tspec = .5 * (1 - rspec) * .3;
     for (int k = 0; k < 3; ++k)
@@ -366,10 +349,9 @@ TEST(RcontribGpu, DirectSunIsAnalytic) {
     // rcontrib's default -dj .9 aims anywhere within .9 x 1.13 x .886 = .9 sun radii of the
     // centre along each side of a square, so at most 1.27 radii off: ldot moves by less than
     // cos(alt) x 1.5 angular radii.
-    r = RunCommand("echo '0 0 0 0 0 1' | rcontrib-gpu -I+ -ab 0 -faa -h -m solar sun.rad",
-                   tmp.path());
-    ASSERT_EQ(r.status, 0) << r.err;
-    v = Values("\n\n" + r.out, false);
+    v = RunForValues("echo '0 0 0 0 0 1' | rcontrib-gpu -I+ -ab 0 -faa -h -m solar sun.rad",
+                     tmp.path());
+    ASSERT_FALSE(v.empty());
     EXPECT_NE(v[0], std::sin(alt) * omega);
     EXPECT_NEAR(v[0], std::sin(alt) * omega, std::cos(alt) * 1.5 * half * omega);
 }
@@ -471,23 +453,20 @@ TEST(RcontribGpu, FirstHitIrradiance) {
                   "dark polygon floor 0 0 12 -1e3 -1e3 0 1e3 -1e3 0 1e3 1e3 0 -1e3 1e3 0\n"
                   "void glass clear 0 0 3 .9 .9 .9\n"
                   "clear polygon pane 0 0 12 -1 -1 2 1 -1 2 1 1 2 -1 1 2\n");
-    CommandResult r = RunCommand(
+    std::vector<double> v = RunForValues(
         "echo '0 0 3 0 0 -1' | rcontrib-gpu -i+ -ab 1 -ad 400 -lw 1e-6 -faa -h -m skyglow "
         "scene.rad",
         tmp.path());
-    ASSERT_EQ(r.status, 0) << r.err;
-    std::vector<double> v = Values("\n\n" + r.out, false);
     ASSERT_EQ(v.size(), 3u);
     // The floor's hemisphere sees the sky, the pane above cutting it a little. RADIANCE 5.4's
     // rcontrib -i gives 3.0094 at -ad 4000 (sd ~.001); one of our -ad 400 runs has sd .0032
     // (20 seeds), so 5 sd of the difference is .017.
     EXPECT_NEAR(v[0], 3.0094, 0.017);
-    r = RunCommand(
+    v = RunForValues(
         "echo '500 500 3 0 0 -1' | rcontrib-gpu -i+ -ab 1 -ad 400 -lw 1e-6 -faa -h -m skyglow "
         "scene.rad",
         tmp.path());
-    ASSERT_EQ(r.status, 0) << r.err;
-    v = Values("\n\n" + r.out, false);
+    ASSERT_FALSE(v.empty());
     EXPECT_NEAR(v[0], M_PI, 1e-6);  // away from the pane: the whole sky
 }
 
