@@ -68,6 +68,11 @@ struct Context::Impl {
     // Cached values of constant (':') variables, filled on first use.
     mutable std::vector<char> have_constant;
     mutable std::vector<double> constant_value;
+    // Values of the other variables within one evaluation (one ray): a variable depends only on
+    // channels and other variables, so it is computed once per top-level Evaluate.
+    mutable std::vector<uint64_t> variable_epoch;
+    mutable std::vector<double> variable_value;
+    mutable uint64_t epoch = 1;
 
     int Intern(const std::string &raw) {
         std::string name = raw;
@@ -81,6 +86,8 @@ struct Context::Impl {
         library.push_back(Library::kNone);
         have_constant.push_back(0);
         constant_value.push_back(0);
+        variable_epoch.push_back(0);
+        variable_value.push_back(0);
         return id;
     }
     void Invalidate() { std::fill(have_constant.begin(), have_constant.end(), 0); }
@@ -95,11 +102,13 @@ struct Evaluator {
     int depth = 0;
 
     struct Frame {
+        Frame(const Frame *c, const Node *const *a, int n, const std::string *nm)
+            : caller(c), args(a), nargs(n), name(nm) {}
         const Frame *caller;
         const Node *const *args;  // argument expressions (in the caller's frame)
         int nargs;
         const std::string *name;
-        mutable double value[16];
+        mutable double value[16];  // read only where `have` says it was set
         mutable unsigned have = 0;
     };
 
@@ -123,13 +132,17 @@ struct Evaluator {
         }
         if (!d->params.empty()) Fail("function '" + cx.names[sym] + "' used as a variable");
         if (d->constant && cx.have_constant[sym]) return cx.constant_value[sym];
+        if (!d->constant && cx.variable_epoch[sym] == cx.epoch) return cx.variable_value[sym];
         if (++depth > kMaxDepth) Fail("recursion without end evaluating '" + cx.names[sym] + "'");
         const FileLoc *outer = where;
         where = &d->loc;
         const double v = Eval(d->body.get(), nullptr);
         where = outer;
         --depth;
-        if (d->constant) cx.have_constant[sym] = 1, cx.constant_value[sym] = v;
+        if (d->constant)
+            cx.have_constant[sym] = 1, cx.constant_value[sym] = v;
+        else
+            cx.variable_epoch[sym] = cx.epoch, cx.variable_value[sym] = v;
         return v;
     }
 
@@ -218,9 +231,14 @@ struct Evaluator {
             // The named function's arguments still come from this call's expressions.
         }
         const int nargs = static_cast<int>(n->kids.size()) - 1;
-        std::vector<const Node *> args(nargs);
+        // Argument lists are short: keep them on the stack (this is the hot path of bin
+        // functions such as kbin).
+        const Node *small[8];
+        std::vector<const Node *> large;
+        const Node **args = small;
+        if (nargs > 8) large.resize(nargs), args = large.data();
         for (int i = 0; i < nargs; ++i) args[i] = n->kids[i + 1].get();
-        Frame frame{f, args.data(), nargs, &cx.names[sym], {}, 0};
+        Frame frame(f, args, nargs, &cx.names[sym]);
         const Context::Definition *d = cx.defs[sym].get();
         if (!d || d->params.empty()) {
             if (d) Fail("'" + cx.names[sym] + "' is a variable, called as a function");
@@ -609,6 +627,7 @@ Expression Context::Compile(std::string_view text, const FileLoc &loc) const {
 }
 
 double Expression::Evaluate(const Context &cx, const Channels *channels) const {
+    ++cx.impl_->epoch;  // a new ray: variables are computed afresh
     Evaluator ev{*cx.impl_, channels, &loc_};
     return ev.Eval(root_.get(), nullptr);
 }

@@ -88,6 +88,12 @@ double FresnelEstimate(double cos_incidence) {
 }
 constexpr double kFresnelThreshold = 0.017999;
 
+// The ray variables $1..$27 of one hit, on the stack (bins are evaluated for every hit).
+struct RayChannels : cal::Channels {
+    double v[27] = {};
+    double Value(int n) const override { return n >= 1 && n <= 27 ? v[n - 1] : 0.0; }
+};
+
 // What dirnorm() needs of a surface: colour, diffuse reflection and transmission, total
 // transmission, and whether RADIANCE's Fresnel estimate reduces the diffuse parts.
 struct DiffuseSurface {
@@ -269,13 +275,14 @@ struct ContribIntegrator::Impl {
 
     void Contribute(int k, const RayState &r, const double point[3], const double normal[3],
                     double t, const RGB &radiance, ThreadState &ts, double *record) const {
-        std::vector<double> ch(27, 0.0);
-        for (int i = 0; i < 3; ++i) ch[i] = r.dir[i], ch[3 + i] = normal[i], ch[6 + i] = point[i];
-        ch[9] = t;
-        ch[10] = -(r.dir[0] * normal[0] + r.dir[1] * normal[1] + r.dir[2] * normal[2]);
-        ch[11] = 1;
-        ch[15] = 1, ch[19] = 1, ch[23] = 1;  // identity transform axes
-        cal::ChannelArray channels(std::move(ch));
+        RayChannels channels;
+        for (int i = 0; i < 3; ++i) {
+            channels.v[i] = r.dir[i], channels.v[3 + i] = normal[i], channels.v[6 + i] = point[i];
+        }
+        channels.v[9] = t;
+        channels.v[10] = -(r.dir[0] * normal[0] + r.dir[1] * normal[1] + r.dir[2] * normal[2]);
+        channels.v[11] = 1;
+        channels.v[15] = 1, channels.v[19] = 1, channels.v[23] = 1;  // identity transform axes
         const double b = ts.bins[k].Evaluate(*ts.contexts[k], &channels);
         const int bin = static_cast<int>(std::floor(b + .5));
         if (b < -.5) return;  // negative bins are ignored
