@@ -534,6 +534,8 @@ struct ContribIntegrator::Impl {
                 const double normal[3], Random &rng, ThreadState &ts, double *record,
                 int depth) const {
         const RGB &mcolor = surface.colour;
+        // Black surfaces (five-phase "black" models) send no shadow rays at all.
+        if (Max3(mcolor) <= 0 || (surface.rdiff <= kTiny && surface.tdiff <= kTiny)) return;
         for (size_t i = 0; i < sources.size(); ++i) {
             const Source &s = sources[i];
             if (s.skip) continue;
