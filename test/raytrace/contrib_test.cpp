@@ -159,6 +159,16 @@ void WriteFurnace(const fs::path &file) {
     WriteFile(file, box);
 }
 
+// View factor from a point to a parallel rectangle of half-widths a, b centred above it at
+// height c: four times the corner formula.
+double ParallelRectangleViewFactor(double a, double b, double c) {
+    const double X = a / c, Y = b / c;
+    return 4 *
+           (X / std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) +
+            Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y))) /
+           (2 * M_PI);
+}
+
 void MeanAndStandardError(const std::vector<double> &x, double *mean, double *se) {
     double s = 0, ss = 0;
     for (double v : x) s += v;
@@ -187,6 +197,61 @@ TEST(RcontribGpu, FurnaceSumsTheSeries) {
     MeanAndStandardError(roulette, &mean, &se);
     EXPECT_GT(se, 0);  // roulette did act
     EXPECT_NEAR(mean, M_PI * (1 - std::pow(rho, 6)) / (1 - rho), 4 * se);
+}
+
+// Hard cases. A sensor lying exactly on the furnace's floor (RADIANCE starts -I rays 1e-4 off the
+// surface) still sees only walls: the series is exact. A sun 0.1 degrees above the horizon gives
+// a horizontal sensor sin(0.1 deg) x omega, and a vertical one facing it nearly omega.
+TEST(RcontribGpu, SensorOnASurfaceAndGrazingSun) {
+    TempDir tmp;
+    WriteFurnace(tmp.path() / "box.rad");
+    const std::vector<double> on_floor =
+        RecordTotals(tmp.path(), "-I+ -ab 3 -ad 64 -lw 1e-9 -m wall box.rad", 2, "0 0 -1 0 0 1");
+    ASSERT_EQ(on_floor.size(), 2u);
+    for (double t : on_floor) EXPECT_NEAR(t, M_PI * 1.75, 1e-5);
+
+    const double alt = 0.1 * M_PI / 180;
+    const double omega = 2 * M_PI * (1 - std::cos(0.533 / 2 * M_PI / 180));
+    std::ostringstream sun;
+    sun.precision(17);
+    sun << "void light solar 0 0 3 1 1 1\nsolar source sun 0 0 4 0 " << std::cos(alt) << " "
+        << std::sin(alt) << " 0.533\n";
+    WriteFile(tmp.path() / "low.rad", sun.str());
+    std::vector<double> v = RunForValues(
+        "printf '0 0 0 0 0 1\\n0 0 0 0 1 0\\n' | rcontrib-gpu -I+ -ab 0 -dj 0 -faa -h -m solar "
+        "low.rad",
+        tmp.path());
+    ASSERT_EQ(v.size(), 6u);
+    EXPECT_NEAR(v[0], std::sin(alt) * omega, 1e-6 * v[0]);
+    EXPECT_NEAR(v[3], std::cos(alt) * omega, 1e-6 * v[3]);
+}
+
+// A slat 1 mm thick (a closed black box) above a sensor under a uniform sky: the sky it sees is
+// pi (1 - view factor of the slat's underside); a ray slipping through the slat would add to it.
+TEST(RcontribGpu, ThinSlatDoesNotLeak) {
+    TempDir tmp;
+    const double a = .6, b = .4, c = .3, th = .001;
+    std::ostringstream slat;
+    slat << kSky << "void plastic black 0 0 5 0 0 0 0 0\n";
+    const double z0 = c, z1 = c + th;
+    auto face = [&](const char *name, std::initializer_list<double> p) {
+        slat << "black polygon " << name << " 0 0 12";
+        for (double x : p) slat << ' ' << x;
+        slat << '\n';
+    };
+    face("bottom", {-a, -b, z0, a, -b, z0, a, b, z0, -a, b, z0});
+    face("top", {-a, -b, z1, -a, b, z1, a, b, z1, a, -b, z1});
+    face("s1", {-a, -b, z0, -a, -b, z1, a, -b, z1, a, -b, z0});
+    face("s2", {-a, b, z0, a, b, z0, a, b, z1, -a, b, z1});
+    face("s3", {-a, -b, z0, -a, b, z0, -a, b, z1, -a, -b, z1});
+    face("s4", {a, -b, z0, a, -b, z1, a, b, z1, a, b, z0});
+    WriteFile(tmp.path() / "slat.rad", slat.str());
+    const std::vector<double> t = RecordTotals(
+        tmp.path(), "-I+ -ab 1 -ad 1024 -lw 1e-6 -m skyglow slat.rad", 200, "0 0 0 0 0 1");
+    ASSERT_EQ(t.size(), 200u);
+    double mean, se;
+    MeanAndStandardError(t, &mean, &se);
+    EXPECT_NEAR(mean, M_PI * (1 - ParallelRectangleViewFactor(a, b, c)), 4 * se);
 }
 
 // -se: the standard errors it reports match the spread of independent records. With 200
@@ -226,13 +291,7 @@ TEST(RcontribGpu, ViewFactorOfAWindow) {
         << " " << -b << " " << c << "\n";
     WriteFile(tmp.path() / "win.rad", win.str());
     // Corner view factor of a parallel rectangle (x by y at distance c), four times.
-    auto corner = [&](double x, double y) {
-        const double X = x / c, Y = y / c;
-        return (X / std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) +
-                Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y))) /
-               (2 * M_PI);
-    };
-    const double exact = M_PI * 4 * corner(a, b);
+    const double exact = M_PI * ParallelRectangleViewFactor(a, b, c);
     const std::vector<double> t =
         RecordTotals(tmp.path(), "-I+ -ab 1 -ad 1024 -lw 1e-6 -m pane win.rad", 200, "0 0 0 0 0 1");
     ASSERT_EQ(t.size(), 200u);
