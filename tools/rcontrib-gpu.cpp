@@ -327,11 +327,16 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
             o.header = Flag(a, o.header);
         } else if (a.rfind("-u", 0) == 0 || a.rfind("-bv", 0) == 0) {
             // random/back-face flags: our sampling is always repeatable for a given -seed
+        } else if (a == "-st") {
+            o.contrib.specular_threshold = number(a);
+        } else if (a == "-ss") {
+            o.contrib.specular_jitter = number(a);
+            if (o.contrib.specular_jitter > 1.5)
+                ErrorExit("-ss above 1.5 (several specular samples) is not supported yet");
         } else if (a == "-dj") {
             o.contrib.source_jitter = number(a);
         } else if (a == "-aa" || a == "-as" || a == "-dt" || a == "-ar" || a == "-aw" ||
-                   a == "-dc" || a == "-ds" || a == "-dr" || a == "-dp" || a == "-st" ||
-                   a == "-ss") {
+                   a == "-dc" || a == "-ds" || a == "-dr" || a == "-dp") {
             // forced by rcontrib (-aa 0 -as 0 -dt 0, making -dc moot), or about local or
             // virtual sources (-ds -dr -dp), which this version does not sample
             value(a);

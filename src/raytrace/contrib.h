@@ -30,6 +30,8 @@ struct ContribOptions {
     bool irradiance = false;            // -I: input rays are points and normals of sensors
     bool first_hit_irradiance = false;  // -i
     bool contributions = false;         // -V+
+    double specular_threshold = 0.02;   // -st: rough specular below it joins the diffuse part
+    double specular_jitter = 1.0;       // -ss
     double source_jitter = 0.9;  // -dj (rcontrib's default): shadow rays spread over a source
     uint64_t seed = 0;
 };
