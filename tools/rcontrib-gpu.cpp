@@ -453,7 +453,7 @@ int Main(int argc, char **argv) {
     // records it touches, so -c 0 or -c 10000 still uses every thread. Records end after -c rays
     // or, partial, at the end of input.
     const int accumulate = o.accumulate;
-    constexpr size_t kChunkRays = 8;
+    constexpr size_t kChunkRays = 2;  // small: one sensor ray can cost millions of rays
     struct Segment {
         size_t first = 0, count = 0;  // rays of the chunk
         bool ends_record = false;
