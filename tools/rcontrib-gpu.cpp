@@ -21,6 +21,7 @@
 #include "cal/calcomp.h"
 #include "matrix/header.h"
 #include "matrix/reader.h"
+#include "matrix/rgbe.h"
 #include "matrix/writer.h"
 #include "raytrace/backend.h"
 #include "raytrace/contrib.h"
@@ -290,7 +291,6 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
             };
             o.in = fmt(a[2], false);
             o.out = a.size() > 3 ? fmt(a[3], true) : o.in;
-            if (o.out == DataFormat::RGBE) ErrorExit("picture output (-f?c) is not supported yet");
         } else if (a == "-o") {
             o.ospec = value(a);
         } else if (a.rfind("-w", 0) == 0) {
@@ -588,6 +588,14 @@ int Main(int argc, char **argv) {
                                 text[s] += '\t';
                             }
                         text[s] += '\n';
+                    } else if (o.out == DataFormat::RGBE) {
+                        // RGBE as rcontrib writes it: one flat 4-byte colour per entry, so a
+                        // one-column output with -x and -y is a picture.
+                        for (int c : outputs[s].columns) {
+                            const Colr colr =
+                                ToColr(values[3 * c], values[3 * c + 1], values[3 * c + 2]);
+                            text[s].append(reinterpret_cast<const char *>(colr.data()), 4);
+                        }
                     } else {
                         part.clear();
                         for (int c : outputs[s].columns)

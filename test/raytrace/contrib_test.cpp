@@ -670,6 +670,39 @@ TEST(RcontribGpu, RadianceRayinitOnRaypath) {
     EXPECT_NEAR(total, M_PI, 1e-5);
 }
 
+// -fac with -x -y and a one-column output: a RADIANCE picture (header, resolution line, one flat
+// RGBE pixel per record), holding the ascii run's values to RGBE precision (1/256).
+TEST(RcontribGpu, PictureOutput) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "sky.rad", kSky);
+    std::string rays;
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 4; ++x)
+            rays += "0 0 0 " + std::to_string(x - 1.5) + " 1 " + std::to_string(y - 1.0) + "\n";
+    WriteFile(tmp.path() / "rays", rays);
+    const std::string opts = " -I+ -ab 1 -ad 256 -x 4 -y 3 -m skyglow sky.rad < rays";
+    CommandResult r = RunCommand("rcontrib-gpu -fac -o 'pic_%s.hdr'" + opts, tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string pic = ReadFile(tmp.path() / "pic_skyglow.hdr");
+    const size_t body = pic.find("\n\n-Y 3 +X 4\n");
+    ASSERT_NE(body, std::string::npos) << pic.substr(0, 400);
+    EXPECT_NE(pic.find("FORMAT=32-bit_rle_rgbe\n"), std::string::npos);
+    const std::string pixels = pic.substr(body + 12);
+    ASSERT_EQ(pixels.size(), 12u * 4);
+    // The ascii run: without a header but, being one column with -x and -y, with the resolution
+    // line, as rcontrib writes it.
+    r = RunCommand("rcontrib-gpu -h -faa" + opts, tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_EQ(r.out.rfind("-Y 3 +X 4\n", 0), 0u) << r.out.substr(0, 40);
+    const std::vector<double> v = Values("\n\n" + r.out.substr(10), false);
+    ASSERT_EQ(v.size(), 12u * 3);
+    for (int i = 0; i < 12; ++i) {
+        const auto *p = reinterpret_cast<const unsigned char *>(pixels.data() + 4 * i);
+        const double red = p[3] ? (p[0] + .5) * std::ldexp(1.0, p[3] - 136) : 0;
+        EXPECT_NEAR(red, v[3 * i], v[3 * i] / 128 + 1e-12) << i;
+    }
+}
+
 TEST(RcontribGpu, BadInput) {
     TempDir tmp;
     WriteFile(tmp.path() / "sky.rad", kSky);
