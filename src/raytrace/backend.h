@@ -21,8 +21,9 @@ struct TraceRay {
 struct TraceHit {
     bool hit = false;
     double t = 0;
-    uint32_t triangle = 0;         // index into FlatScene::triangles
-    double normal[3] = {0, 0, 0};  // unit geometric normal, in the triangle's winding
+    uint32_t triangle = 0;         // index into FlatScene::triangles (when shape < 0)
+    int shape = -1;                // else index into FlatScene::shapes (analytic surfaces)
+    double normal[3] = {0, 0, 0};  // unit geometric normal: triangle winding, shape's outside
 };
 
 class Backend {

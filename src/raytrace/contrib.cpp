@@ -365,11 +365,12 @@ struct ContribIntegrator::Impl {
             Escape(r, rng, ts, record);
             return;
         }
-        const int object = scene.triangle_object[hit.triangle];
+        const int object =
+            hit.shape >= 0 ? scene.shapes[hit.shape].object : scene.triangle_object[hit.triangle];
         double point[3], normal[3];
         for (int k = 0; k < 3; ++k)
             point[k] = r.org[k] + hit.t * r.dir[k], normal[k] = hit.normal[k];
-        const int mat_obj = scene.triangle_material[hit.triangle];
+        const int mat_obj = hit.shape >= 0 ? -1 : scene.triangle_material[hit.triangle];
         const Material &m = mat_obj >= 0 ? MaterialOfModifier(mat_obj) : materials[object];
         Shade(r, object, m, point, normal, hit.t, rng, ts, record, depth);
     }

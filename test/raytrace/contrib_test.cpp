@@ -284,6 +284,47 @@ TEST(RcontribGpu, RoughSpecularAsRadiance) {
     EXPECT_NEAR(v[3], 1.806924, 5 * 1.12 * 0.0035);
 }
 
+// Analytic surfaces traced as such. Inside a bubble of reflectance .5 every ray hits it (the
+// furnace series, exactly); a black sphere of radius R at height h hides (R/h)^2 of a sensor's
+// view factor; a glow disc (ring of inner radius 0) of radius R at height h shows R^2/(R^2+h^2);
+// at the bottom of a black tube of radius R and length L the sky shows through R^2/(R^2+L^2).
+// Stochastic cases: within 4 standard errors of 200 sensors.
+TEST(RcontribGpu, AnalyticSurfaces) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "bubble.rad",
+              "void plastic wall 0 0 5 .5 .5 .5 0 0\nwall bubble b 0 0 4 0 0 0 3\n");
+    const std::vector<double> exact =
+        RecordTotals(tmp.path(), "-I+ -ab 3 -ad 64 -lw 1e-9 -m wall bubble.rad", 2, "0 0 0 0 0 1");
+    ASSERT_EQ(exact.size(), 2u);
+    for (double t : exact) EXPECT_NEAR(t, M_PI * 1.75, 1e-5);
+
+    const double R = .5, h = 2, L = 3;
+    WriteFile(tmp.path() / "sphere.rad", std::string(kSky) +
+                                             "void plastic black 0 0 5 0 0 0 0 0\n"
+                                             "black sphere s 0 0 4 0 0 2 .5\n");
+    WriteFile(tmp.path() / "disc.rad",
+              "void glow lamp 0 0 4 1 1 1 0\n"
+              "lamp ring d 0 0 8 0 0 2 0 0 -1 0 .5\n");
+    WriteFile(tmp.path() / "tube.rad", std::string(kSky) +
+                                           "void plastic black 0 0 5 0 0 0 0 0\n"
+                                           "black tube t 0 0 7 0 0 0 0 0 3 .5\n");
+    struct Case {
+        const char *args;
+        double exact;
+    } cases[] = {{"-m skyglow sphere.rad", M_PI * (1 - R * R / (h * h))},
+                 {"-m lamp disc.rad", M_PI * R * R / (R * R + h * h)},
+                 {"-m skyglow tube.rad", M_PI * R * R / (R * R + L * L)}};
+    for (const Case &c : cases) {
+        const std::vector<double> t = RecordTotals(
+            tmp.path(), std::string("-I+ -ab 1 -ad 1024 -lw 1e-6 ") + c.args, 200, "0 0 0 0 0 1");
+        ASSERT_EQ(t.size(), 200u) << c.args;
+        double mean, se;
+        MeanAndStandardError(t, &mean, &se);
+        EXPECT_NEAR(mean, c.exact, 4 * se + 1e-9) << c.args;
+        EXPECT_LT(se, 0.01 * c.exact) << c.args;
+    }
+}
+
 // -se: the standard errors it reports match the spread of independent records. With 200
 // records the observed sd is known to ~5 % and the rms of the reported errors to a few %, so
 // their ratio must lie within 0.8-1.25.

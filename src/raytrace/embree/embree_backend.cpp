@@ -1,17 +1,29 @@
-// The CPU backend: Embree 3 triangles. Geometry is moved so the scene's centre is at the origin,
-// so float precision follows the scene's size, not its distance from the world origin (a room
-// 100 km away traces as well as one at the origin).
+// The CPU backend: Embree 3 triangles, and RADIANCE's analytic surfaces (spheres, cones,
+// cylinders, rings) as Embree user geometry intersected in double precision. Geometry is moved so
+// the scene's centre is at the origin, so float precision follows the scene's size, not its
+// distance from the world origin (a room 1000 km away traces as one at the origin).
 #include <embree3/rtcore.h>
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
+#include "raytrace/analytic.h"
 #include "raytrace/backend.h"
 #include "util/errors.h"
 
 namespace dayflux {
 
 namespace {
+
+// The ray being traced on this thread, in double (Embree's copy is float), and the distance of the
+// analytic surface hit it accepted last, so shapes are intersected and reported without float
+// rounding: a point on a sphere stays on it.
+struct ShapeQuery {
+    const TraceRay *ray = nullptr;
+    double t = 0;
+};
+thread_local ShapeQuery shape_query;
 
 void EmbreeError(void *, RTCError code, const char *message) {
     ErrorExit(std::string("Embree error ") + std::to_string(static_cast<int>(code)) + ": " +
@@ -33,19 +45,25 @@ class EmbreeBackend : public Backend {
 
     void Commit(const FlatScene &flat) override {
         flat_ = &flat;
-        if (!flat.shapes.empty())
-            for (const AnalyticShape &s : flat.shapes)
-                if (s.kind != AnalyticShape::kSource)
-                    ErrorExit("spheres, cones, cylinders and rings are not traced yet (object '" +
-                              flat.scene.objects[s.object].name + "')");
+        for (size_t i = 0; i < flat.shapes.size(); ++i)
+            if (flat.shapes[i].kind != AnalyticShape::kSource)
+                surfaces_.push_back(static_cast<int>(i));
         double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
         for (const Vec3 &v : flat.vertices)
             for (int k = 0; k < 3; ++k)
                 lo[k] = std::min(lo[k], v[k]), hi[k] = std::max(hi[k], v[k]);
+        const double zero[3] = {0, 0, 0};
+        for (int i : surfaces_) {
+            double slo[3], shi[3];
+            ShapeBounds(flat.shapes[i], zero, slo, shi);
+            for (int k = 0; k < 3; ++k)
+                lo[k] = std::min(lo[k], slo[k]), hi[k] = std::max(hi[k], shi[k]);
+        }
+        const bool empty = flat.vertices.empty() && surfaces_.empty();
         extent_ = 0;
         for (int k = 0; k < 3; ++k) {
-            centre_[k] = flat.vertices.empty() ? 0 : 0.5 * (lo[k] + hi[k]);
-            extent_ = std::max(extent_, flat.vertices.empty() ? 0 : hi[k] - lo[k]);
+            centre_[k] = empty ? 0 : 0.5 * (lo[k] + hi[k]);
+            extent_ = std::max(extent_, empty ? 0 : hi[k] - lo[k]);
         }
         scene_ = rtcNewScene(device_);
         rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
@@ -64,7 +82,18 @@ class EmbreeBackend : public Backend {
             for (size_t i = 0; i < flat.triangles.size(); ++i)
                 for (int k = 0; k < 3; ++k) ib[3 * i + k] = flat.triangles[i][k];
             rtcCommitGeometry(g);
-            rtcAttachGeometry(scene_, g);
+            triangles_id_ = rtcAttachGeometry(scene_, g);
+            rtcReleaseGeometry(g);
+        }
+        if (!surfaces_.empty()) {
+            RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+            rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(surfaces_.size()));
+            rtcSetGeometryUserData(g, this);
+            rtcSetGeometryBoundsFunction(g, ShapeBoundsFunction, nullptr);
+            rtcSetGeometryIntersectFunction(g, ShapeIntersectFunction);
+            rtcSetGeometryOccludedFunction(g, ShapeOccludedFunction);
+            rtcCommitGeometry(g);
+            shapes_id_ = rtcAttachGeometry(scene_, g);
             rtcReleaseGeometry(g);
         }
         rtcCommitScene(scene_);
@@ -78,11 +107,22 @@ class EmbreeBackend : public Backend {
             Fill(rays[i], &rh.ray);
             rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
             rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+            shape_query.ray = &rays[i];
             rtcIntersect1(scene_, &ctx, &rh);
             TraceHit &h = hits[i];
             h.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
             if (!h.hit) continue;
             h.t = rh.ray.tfar;
+            if (rh.hit.geomID == shapes_id_) {
+                h.t = shape_query.t;
+                h.shape = surfaces_[rh.hit.primID];
+                double p[3];
+                for (int k = 0; k < 3; ++k)
+                    p[k] = rays[i].org[k] - centre_[k] + h.t * rays[i].dir[k];
+                ShapeNormal(flat_->shapes[h.shape], centre_, p, h.normal);
+                continue;
+            }
+            h.shape = -1;
             h.triangle = rh.hit.primID;
             // The normal from the double-precision vertices, in the triangle's winding.
             const auto &t = flat_->triangles[h.triangle];
@@ -103,12 +143,64 @@ class EmbreeBackend : public Backend {
         for (size_t i = 0; i < n; ++i) {
             RTCRay r;
             Fill(rays[i], &r);
+            shape_query.ray = &rays[i];
             rtcOccluded1(scene_, &ctx, &r);
             occluded[i] = r.tfar < 0;
         }
     }
 
   private:
+    static void ShapeBoundsFunction(const RTCBoundsFunctionArguments *args) {
+        const auto *self = static_cast<const EmbreeBackend *>(args->geometryUserPtr);
+        double lo[3], hi[3];
+        ShapeBounds(self->flat_->shapes[self->surfaces_[args->primID]], self->centre_, lo, hi);
+        // Widened by a float step so that rounding cannot cut a surface off.
+        RTCBounds *b = args->bounds_o;
+        const double pad = 1e-6 * (self->extent_ + 1);
+        b->lower_x = static_cast<float>(lo[0] - pad), b->upper_x = static_cast<float>(hi[0] + pad);
+        b->lower_y = static_cast<float>(lo[1] - pad), b->upper_y = static_cast<float>(hi[1] + pad);
+        b->lower_z = static_cast<float>(lo[2] - pad), b->upper_z = static_cast<float>(hi[2] + pad);
+    }
+
+    // The ray of this thread's query in double, recentred.
+    void RayOf(double org[3], double dir[3]) const {
+        const TraceRay &r = *shape_query.ray;
+        for (int k = 0; k < 3; ++k) org[k] = r.org[k] - centre_[k], dir[k] = r.dir[k];
+    }
+
+    static void ShapeIntersectFunction(const RTCIntersectFunctionNArguments *args) {
+        if (!args->valid[0]) return;
+        CHECK(args->N == 1);
+        const auto *self = static_cast<const EmbreeBackend *>(args->geometryUserPtr);
+        RTCRayN *ray = RTCRayHitN_RayN(args->rayhit, 1);
+        RTCHitN *hit = RTCRayHitN_HitN(args->rayhit, 1);
+        double org[3], dir[3];
+        self->RayOf(org, dir);
+        const double t =
+            IntersectShape(self->flat_->shapes[self->surfaces_[args->primID]], self->centre_, org,
+                           dir, RTCRayN_tnear(ray, 1, 0), RTCRayN_tfar(ray, 1, 0));
+        if (t < 0) return;
+        shape_query.t = t;
+        RTCRayN_tfar(ray, 1, 0) = static_cast<float>(t);
+        RTCHitN_Ng_x(hit, 1, 0) = 0, RTCHitN_Ng_y(hit, 1, 0) = 0, RTCHitN_Ng_z(hit, 1, 0) = 1;
+        RTCHitN_u(hit, 1, 0) = 0, RTCHitN_v(hit, 1, 0) = 0;
+        RTCHitN_primID(hit, 1, 0) = args->primID;
+        RTCHitN_geomID(hit, 1, 0) = args->geomID;
+        RTCHitN_instID(hit, 1, 0, 0) = args->context->instID[0];
+    }
+
+    static void ShapeOccludedFunction(const RTCOccludedFunctionNArguments *args) {
+        if (!args->valid[0]) return;
+        CHECK(args->N == 1);
+        const auto *self = static_cast<const EmbreeBackend *>(args->geometryUserPtr);
+        double org[3], dir[3];
+        self->RayOf(org, dir);
+        const double t =
+            IntersectShape(self->flat_->shapes[self->surfaces_[args->primID]], self->centre_, org,
+                           dir, RTCRayN_tnear(args->ray, 1, 0), RTCRayN_tfar(args->ray, 1, 0));
+        if (t >= 0) RTCRayN_tfar(args->ray, 1, 0) = -std::numeric_limits<float>::infinity();
+    }
+
     void Fill(const TraceRay &in, RTCRay *r) const {
         r->org_x = static_cast<float>(in.org[0] - centre_[0]);
         r->org_y = static_cast<float>(in.org[1] - centre_[1]);
@@ -129,6 +221,8 @@ class EmbreeBackend : public Backend {
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
     const FlatScene *flat_ = nullptr;
+    std::vector<int> surfaces_;  // indices of the analytic surfaces (not sources) in flat_->shapes
+    unsigned triangles_id_ = RTC_INVALID_GEOMETRY_ID, shapes_id_ = RTC_INVALID_GEOMETRY_ID;
     double centre_[3] = {0, 0, 0};
     double extent_ = 0;
 };
