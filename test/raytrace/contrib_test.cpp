@@ -169,6 +169,16 @@ double ParallelRectangleViewFactor(double a, double b, double c) {
            (2 * M_PI);
 }
 
+// A distant sun of radiance 1 (modifier 'solar', RADIANCE's 0.533 degrees) at altitude alt
+// (radians), due north.
+std::string SunScene(double alt) {
+    std::ostringstream sun;
+    sun.precision(17);
+    sun << "void light solar 0 0 3 1 1 1\nsolar source sun 0 0 4 0 " << std::cos(alt) << " "
+        << std::sin(alt) << " 0.533\n";
+    return sun.str();
+}
+
 void MeanAndStandardError(const std::vector<double> &x, double *mean, double *se) {
     double s = 0, ss = 0;
     for (double v : x) s += v;
@@ -212,11 +222,7 @@ TEST(RcontribGpu, SensorOnASurfaceAndGrazingSun) {
 
     const double alt = 0.1 * M_PI / 180;
     const double omega = 2 * M_PI * (1 - std::cos(0.533 / 2 * M_PI / 180));
-    std::ostringstream sun;
-    sun.precision(17);
-    sun << "void light solar 0 0 3 1 1 1\nsolar source sun 0 0 4 0 " << std::cos(alt) << " "
-        << std::sin(alt) << " 0.533\n";
-    WriteFile(tmp.path() / "low.rad", sun.str());
+    WriteFile(tmp.path() / "low.rad", SunScene(alt));
     std::vector<double> v = RunForValues(
         "printf '0 0 0 0 0 1\\n0 0 0 0 1 0\\n' | rcontrib-gpu -I+ -ab 0 -dj 0 -faa -h -m solar "
         "low.rad",
@@ -261,13 +267,10 @@ TEST(RcontribGpu, ThinSlatDoesNotLeak) {
 // at -ad 4000 over 12 seeds, RADIANCE's about half of that at -ad 20000).
 TEST(RcontribGpu, RoughSpecularAsRadiance) {
     TempDir tmp;
-    std::ostringstream sun;
-    sun.precision(17);
     const double alt = 40 * M_PI / 180;
-    sun << "void light solar 0 0 3 1 1 1\nsolar source sun 0 0 4 0 " << std::cos(alt) << " "
-        << std::sin(alt) << " 0.533\nvoid glow skyglow 0 0 4 .2 .2 .2 0\n"
-        << "skyglow source sky 0 0 4 0 0 1 180\n";
-    WriteFile(tmp.path() / "sky.rad", sun.str());
+    WriteFile(tmp.path() / "sky.rad", SunScene(alt) +
+                                          "void glow skyglow 0 0 4 .2 .2 .2 0\n"
+                                          "skyglow source sky 0 0 4 0 0 1 180\n");
     const std::string floor = " polygon floor 0 0 12 -50 -50 0 50 -50 0 50 50 0 -50 50 0\n";
     WriteFile(tmp.path() / "metal.rad", "void metal f 0 0 5 .6 .5 .4 .8 .2\nf" + floor);
     WriteFile(tmp.path() / "plastic.rad", "void plastic f 0 0 5 .5 .4 .3 .015 .1\nf" + floor);
@@ -439,11 +442,7 @@ TEST(RcontribGpu, SunCoefficientsMatchRadiance) {
 TEST(RcontribGpu, DirectSunIsAnalytic) {
     TempDir tmp;
     const double alt = 40 * M_PI / 180, half = 0.533 / 2 * M_PI / 180;
-    std::ostringstream sun;
-    sun.precision(17);
-    sun << "void light solar 0 0 3 1 1 1\nsolar source sun 0 0 4 0 " << std::cos(alt) << " "
-        << std::sin(alt) << " 0.533\n";
-    WriteFile(tmp.path() / "sun.rad", sun.str());
+    WriteFile(tmp.path() / "sun.rad", SunScene(alt));
     const std::string pane = "p polygon pane 0 0 12 -5 -5 1 5 -5 1 5 5 1 -5 5 1\n";
     WriteFile(tmp.path() / "glass.rad", "void glass p 0 0 3 .96 .96 .96\n" + pane);
     WriteFile(tmp.path() / "black.rad", "void plastic p 0 0 5 0 0 0 0 0\n" + pane);
@@ -530,11 +529,7 @@ TEST(RcontribGpu, AccumulationAsRcontrib) {
     TempDir tmp;
     const double alt = 40 * M_PI / 180;
     const double omega = 2 * M_PI * (1 - std::cos(0.533 / 2 * M_PI / 180));
-    std::ostringstream sun;
-    sun.precision(17);
-    sun << "void light solar 0 0 3 1 1 1\nsolar source sun 0 0 4 0 " << std::cos(alt) << " "
-        << std::sin(alt) << " 0.533\n";
-    WriteFile(tmp.path() / "sun.rad", sun.str());
+    WriteFile(tmp.path() / "sun.rad", SunScene(alt));
     const double normals[7][3] = {{0, 0, 1}, {0, 0, 0}, {0, 1, 0}, {0, .5, 1},
                                   {1, 0, 1}, {0, 1, 1}, {0, 0, 1}};
     std::string rays;
