@@ -35,9 +35,14 @@ void WriteFile(const std::filesystem::path &p, const std::string &data) {
 }
 
 CommandResult RunCommand(const std::string &command, const std::filesystem::path &dir) {
+    // Captured output goes to the system's temporary folder under this process's id: ctest runs
+    // tests as parallel processes, often in the same folder, and test data must stay untouched.
     static int counter = 0;
-    const std::filesystem::path out = dir / (".out" + std::to_string(++counter));
-    const std::filesystem::path err = dir / (".err" + std::to_string(counter));
+    const std::string stem =
+        "dayflux-test-" + std::to_string(getpid()) + "-" + std::to_string(++counter);
+    const std::filesystem::path tmp = std::filesystem::temp_directory_path();
+    const std::filesystem::path out = tmp / (stem + ".out");
+    const std::filesystem::path err = tmp / (stem + ".err");
     const std::string full = "cd '" + dir.string() + "' && PATH='" + BinDir().string() +
                              "':\"$PATH\" && ( " + command + " ) > '" + out.string() + "' 2> '" +
                              err.string() + "'";
