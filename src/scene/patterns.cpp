@@ -4,8 +4,7 @@
 
 namespace dayflux {
 
-PatternFunction::PatternFunction(const Primitive &p)
-    : cx_(std::make_unique<cal::Context>()), args_(p.fargs) {
+PatternFunction::PatternFunction(const Primitive &p) : pattern_(p), args_(p.fargs) {
     const bool colour = p.type == "colorfunc";
     if (!colour && p.type != "brightfunc")
         ErrorExit(&p.loc, p.type + " '" + p.name + "' is not a function pattern");
@@ -15,19 +14,30 @@ PatternFunction::PatternFunction(const Primitive &p)
     if (p.sargs.size() > nfunc + 1)
         ErrorExit(&p.loc, p.type + " '" + p.name +
                               "': transforms of pattern coordinates are not supported yet");
-    cx_->LoadRayInit();
+    states_.local() = Load();  // errors in the files show here, on the calling thread
+}
+
+PatternFunction::State PatternFunction::Load() const {
+    const Primitive &p = pattern_;
+    const size_t nfunc = p.type == "colorfunc" ? 3 : 1;
+    State st;
+    st.cx = std::make_unique<cal::Context>();
+    st.cx->LoadRayInit();
     const std::string &file = p.sargs[nfunc];
-    if (file != ".") cx_->LoadFile(FindOnRaypath(file));
-    for (size_t k = 0; k < nfunc; ++k) functions_.push_back(cx_->Compile(p.sargs[k], p.loc));
+    if (file != ".") st.cx->LoadFile(FindOnRaypath(file));
+    for (size_t k = 0; k < nfunc; ++k) st.functions.push_back(st.cx->Compile(p.sargs[k], p.loc));
+    return st;
 }
 
 void PatternFunction::Evaluate(const std::vector<double> &channels, double rgb[3]) const {
+    State &st = states_.local();
+    if (!st.cx) st = Load();
     cal::ChannelArray ch(channels);
     ch.SetObjectArguments(args_);
-    if (functions_.size() == 1) {
-        rgb[0] = rgb[1] = rgb[2] = functions_[0].Evaluate(*cx_, &ch);
+    if (st.functions.size() == 1) {
+        rgb[0] = rgb[1] = rgb[2] = st.functions[0].Evaluate(*st.cx, &ch);
     } else {
-        for (int k = 0; k < 3; ++k) rgb[k] = functions_[k].Evaluate(*cx_, &ch);
+        for (int k = 0; k < 3; ++k) rgb[k] = st.functions[k].Evaluate(*st.cx, &ch);
     }
 }
 

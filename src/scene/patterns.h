@@ -1,10 +1,15 @@
 // Patterns given by functions (brightfunc, colorfunc): their .cal files loaded from RAYPATH into a
 // context of their own (after lib/rayinit.cal), evaluated for a ray with the primitive's real
 // arguments as A1, A2, ... The sky descriptions of gensky and gendaylit are such patterns.
+// Evaluate may be called from many threads: each thread gets its own context (evaluation caches
+// values in it).
 #pragma once
+
+#include <tbb/enumerable_thread_specific.h>
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cal/calcomp.h"
 #include "scene/primitives.h"
@@ -16,13 +21,17 @@ class PatternFunction {
     explicit PatternFunction(const Primitive &pattern);
     // The pattern's RGB factor for a ray: channels hold Dx Dy Dz, Nx Ny Nz, Px Py Pz, ... ($1..).
     void Evaluate(const std::vector<double> &channels, double rgb[3]) const;
-    const cal::Context &Context() const { return *cx_; }
-    const std::vector<cal::Expression> &Functions() const { return functions_; }
 
   private:
-    std::unique_ptr<cal::Context> cx_;
-    std::vector<cal::Expression> functions_;  // one (brightness) or three (red, green, blue)
+    struct State {
+        std::unique_ptr<cal::Context> cx;
+        std::vector<cal::Expression> functions;  // one (brightness) or three (red, green, blue)
+    };
+    State Load() const;
+
+    Primitive pattern_;
     std::vector<double> args_;
+    mutable tbb::enumerable_thread_specific<State> states_;
 };
 
 }  // namespace dayflux
