@@ -93,8 +93,11 @@ MatrixHeader ReadHeader(InputSource &in) {
 }
 
 bool NextIsResolution(InputSource &in) {
-    int c = in.Peek();
-    return c == '-' || c == '+';
+    // "-Y 3 +X 4" and its kin, not data such as "-3.2 ...".
+    const int c = in.Peek();
+    if (c != '-' && c != '+') return false;
+    const int d = in.PeekSecond();
+    return d == 'X' || d == 'Y';
 }
 
 void ReadResolution(InputSource &in, int *xres, int *yres) {

@@ -63,8 +63,10 @@ void Tangents(const double n[3], double u[3], double v[3]) {
     v[2] = n[0] * u[1] - n[1] * u[0];
 }
 
+struct MixInfo;
+
 struct Material {
-    enum Kind { kBlack, kDiffuse, kGlass, kMirror, kGlow, kLight } kind = kBlack;
+    enum Kind { kBlack, kDiffuse, kGlass, kMirror, kGlow, kLight, kMix } kind = kBlack;
     RGB color{0, 0, 0};
     double spec = 0;              // plastic/metal/trans specularity
     double trans = 0, tspec = 0;  // trans: transmissivity and its specular fraction
@@ -72,6 +74,14 @@ struct Material {
     bool metal = false;
     double rindex = 1.52;
     const PatternFunction *pattern = nullptr;  // brightfunc/colorfunc modifying the colour
+    const MixInfo *mix = nullptr;              // mixfunc: the two materials and the coefficient
+};
+
+// A mixfunc: foreground and background (void: transparent) and the function mixing them.
+struct MixInfo {
+    Material fore, back;
+    bool is_void[2] = {false, false};
+    std::unique_ptr<PatternFunction> coef;
 };
 
 struct Source {
@@ -127,6 +137,7 @@ struct ContribIntegrator::Impl {
     std::vector<Material> materials;     // per scene object (surfaces: their material)
     std::vector<int> tracked_of_object;  // tracked modifier whose name is the object's modifier
     std::vector<std::unique_ptr<PatternFunction>> patterns;
+    std::vector<std::unique_ptr<MixInfo>> mixes;
     std::vector<Source> sources;
 
     struct ThreadState {
@@ -216,6 +227,41 @@ struct ContribIntegrator::Impl {
             if (m.alpha2 > kTiny && m.trans * m.tspec > kTiny)
                 ErrorExit(&p.loc,
                           "trans '" + p.name + "': rough specular transmission is not traced yet");
+        } else if (t == "mixfunc") {
+            if (p.sargs.size() < 4)
+                ErrorExit(&p.loc, "mixfunc '" + p.name + "': bad number of arguments");
+            if (p.sargs.size() > 4)
+                ErrorExit(&p.loc, "mixfunc '" + p.name +
+                                      "': transforms of its coordinates are not supported yet");
+            auto info = std::make_unique<MixInfo>();
+            for (int side = 0; side < 2; ++side) {
+                const std::string &name = p.sargs[side];
+                if (name == "void") {
+                    info->is_void[side] = true;
+                    continue;
+                }
+                int j = mod - 1;  // the last modifier of that name before the mixfunc
+                while (j >= 0 &&
+                       !(objs[j].name == name && objs[j].info->kind != PrimitiveKind::kSurface &&
+                         objs[j].info->kind != PrimitiveKind::kVolume))
+                    --j;
+                if (j < 0)
+                    ErrorExit(&p.loc,
+                              "mixfunc '" + p.name + "': undefined modifier '" + name + "'");
+                (side == 0 ? info->fore : info->back) = Resolve(j, pattern_of);
+            }
+            Primitive f = p;  // the coefficient, evaluated as a brightfunc would be
+            f.type = "brightfunc";
+            f.info = FindPrimitiveType("brightfunc");
+            f.modifier = -1;
+            f.sargs = {p.sargs[2], p.sargs[3]};
+            info->coef = std::make_unique<PatternFunction>(f);
+            m.kind = Material::kMix;
+            m.mix = info.get();
+            mixes.push_back(std::move(info));
+            if (p.modifier >= 0)
+                ErrorExit(&p.loc, "mixfunc '" + p.name + "': inappropriate modifier");
+            return m;
         } else if (t == "glass") {
             m.kind = Material::kGlass;
             m.color = {f[0], f[1], f[2]};
@@ -441,7 +487,38 @@ struct ContribIntegrator::Impl {
                    depth);
             return;
         }
+        ShadeMaterial(r, object, m, point, normal, rod, rng, ts, record, depth);
+    }
+
+    // What the material does with a ray that reached it (normal faces the ray; rod > 0).
+    void ShadeMaterial(const RayState &r, int object, const Material &m, const double point[3],
+                       const double normal[3], double rod, Random &rng, ThreadState &ts,
+                       double *record, int depth) const {
         switch (m.kind) {
+            case Material::kMix: {
+                // raymixture(): the foreground with coef, the background with 1 - coef, each
+                // shading a share of the ray; a void side lets its share through.
+                std::vector<double> ch(27, 0.0);
+                for (int i = 0; i < 3; ++i)
+                    ch[i] = r.dir[i], ch[3 + i] = normal[i], ch[6 + i] = point[i];
+                double v[3];
+                m.mix->coef->Evaluate(ch, v);
+                const double c = std::clamp(v[0], 0.0, 1.0);
+                const Material *sides[2] = {&m.mix->fore, &m.mix->back};
+                const double share[2] = {c, 1. - c};
+                for (int side = 0; side < 2; ++side) {
+                    if (share[side] <= kTiny) continue;
+                    RayState part = r;
+                    part.weight *= share[side];
+                    for (double &x : part.coef) x *= share[side];
+                    if (m.mix->is_void[side])
+                        Transmit(part, RGB{1, 1, 1}, point, rng, ts, record, depth);
+                    else
+                        ShadeMaterial(part, object, *sides[side], point, normal, rod, rng, ts,
+                                      record, depth);
+                }
+                return;
+            }
             case Material::kBlack:
             case Material::kGlow:
             case Material::kLight:

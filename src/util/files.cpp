@@ -91,6 +91,29 @@ bool InputSource::Fill() {
     return true;
 }
 
+int InputSource::PeekSecond() {
+    if (end_ - pos_ < 2) {
+        // Keep the byte that is left at the front and read more after it.
+        const size_t left = end_ - pos_;
+        std::memmove(buf_.data(), buf_.data() + pos_, left);
+        pos_ = 0;
+        end_ = left;
+        if (!eof_ && fp_) {
+            const size_t n = std::fread(buf_.data() + left, 1, buf_.size() - left, fp_);
+            if (n == 0) {
+                if (std::ferror(fp_)) {
+                    FileLoc loc = LocNoLine();
+                    ErrorExit(&loc, std::string("read error: ") + std::strerror(errno));
+                }
+                eof_ = true;
+            }
+            end_ += n;
+        }
+        if (end_ - pos_ < 2) return -1;
+    }
+    return static_cast<unsigned char>(buf_[pos_ + 1]);
+}
+
 size_t InputSource::Read(void *dst, size_t n) {
     char *out = static_cast<char *>(dst);
     size_t done = 0;

@@ -45,6 +45,8 @@ class InputSource {
         if (pos_ == end_ && !Fill()) return -1;
         return static_cast<unsigned char>(buf_[pos_]);
     }
+    // The byte after the next one, or -1 (for telling "-Y 3 +X 4" from "-3 ...").
+    int PeekSecond();
     // Reads up to n bytes of binary data; returns the count read (less only at end of input).
     size_t Read(void *dst, size_t n);
     // Reads one line without its '\n'; false at end of input with nothing read.

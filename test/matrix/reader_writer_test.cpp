@@ -83,6 +83,15 @@ TEST(Reader, RowCountFromEndOfInputWhenNoNrows) {
     }
 }
 
+// Ascii data starting with a minus sign is data, not a picture's resolution line ("-Y 3 +X 4").
+TEST(Reader, NegativeFirstValueIsNotAResolutionLine) {
+    std::vector<double> v = RandomValues(3 * 2 * 3, 5);
+    for (double &x : v) x = -x;
+    int rows = 0;
+    EXPECT_EQ(Decode(Encode(v, 3, 2, 3, DataFormat::Ascii, false), &rows), v);
+    EXPECT_EQ(rows, 3);
+}
+
 TEST(Reader, SwapsBytesForTheOtherByteOrder) {
     std::vector<double> v = RandomValues(3 * 2 * 3, 11);
     for (DataFormat f : {DataFormat::Float, DataFormat::Double}) {

@@ -328,6 +328,30 @@ TEST(RcontribGpu, AnalyticSurfaces) {
     }
 }
 
+// mixfunc against RADIANCE 5.4 (rcontrib -u- -ab 2 -ad 20000 -lw 1e-6): a floor half white, half
+// black (by the sign of Px) and a screen above the sensor 30 % black, 70 % void (transparent).
+// Tolerance: 5 x the combined sd (ours at -ad 4000 over 10 seeds; RADIANCE's about half). The
+// second sensor's line starts with a minus sign, which is data, not a resolution line.
+TEST(RcontribGpu, MixfuncAsRadiance) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "mix.cal", "side = if(Px, 1, A1);\nscr = .3;\n");
+    WriteFile(tmp.path() / "mix.rad",
+              std::string(kSky) +
+                  "void plastic white 0 0 5 .8 .8 .8 0 0\n"
+                  "void plastic black 0 0 5 0 0 0 0 0\n"
+                  "void mixfunc halves 4 white black side mix.cal 0 1 .5\n"
+                  "void mixfunc screen 4 black void scr mix.cal 0 0\n"
+                  "halves polygon floor 0 0 12 -9 -9 0 9 -9 0 9 9 0 -9 9 0\n"
+                  "screen polygon shade 0 0 12 -1 -1 2 -1 1 2 1 1 2 1 -1 2\n");
+    const std::vector<double> v = RunForValues(
+        "printf '0 0 .5 0 0 1\\n-3 3 1 0 0 -1\\n' | rcontrib-gpu -I+ -ab 2 -ad 4000 -lw 1e-6 "
+        "-faa -h -m skyglow mix.rad",
+        tmp.path());
+    ASSERT_EQ(v.size(), 6u);
+    EXPECT_NEAR(v[0], 2.804347, 5 * 1.12 * 0.0010);
+    EXPECT_NEAR(v[3], 1.259178, 5 * 1.12 * 0.0025);
+}
+
 // -se: the standard errors it reports match the spread of independent records. With 200
 // records the observed sd is known to ~5 % and the rms of the reported errors to a few %, so
 // their ratio must lie within 0.8-1.25.
