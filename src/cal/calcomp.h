@@ -7,6 +7,7 @@
 
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -54,6 +55,21 @@ class ChannelArray : public Channels {
   private:
     std::vector<double> v_, args_;
     bool has_args_ = false;
+};
+
+// Channels over values the caller keeps (no copies: for evaluation once per ray).
+class ChannelView : public Channels {
+  public:
+    explicit ChannelView(std::span<const double> v, const std::vector<double> *args = nullptr)
+        : v_(v), args_(args) {}
+    double Value(int n) const override {
+        return n >= 1 && n <= static_cast<int>(v_.size()) ? v_[n - 1] : 0.0;
+    }
+    const std::vector<double> *ObjectArguments() const override { return args_; }
+
+  private:
+    std::span<const double> v_;
+    const std::vector<double> *args_;
 };
 
 class Context;

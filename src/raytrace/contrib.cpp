@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include "raytrace/sampling.h"
 
@@ -99,11 +100,19 @@ double FresnelEstimate(double cos_incidence) {
 }
 constexpr double kFresnelThreshold = 0.017999;
 
-// The ray variables $1..$27 of one hit, on the stack (bins are evaluated for every hit).
-struct RayChannels : cal::Channels {
-    double v[27] = {};
-    double Value(int n) const override { return n >= 1 && n <= 27 ? v[n - 1] : 0.0; }
-};
+// The ray variables $1..$27 of a hit (rayinit.cal's Dx.. Nx.. Px.. T Rdot S and an identity
+// object transform), on the stack: bins and patterns are evaluated at every hit.
+using RayVariables = std::array<double, 27>;
+RayVariables MakeRayVariables(const double dir[3], const double point[3], const double normal[3],
+                              double t) {
+    RayVariables v{};
+    for (int i = 0; i < 3; ++i) v[i] = dir[i], v[3 + i] = normal[i], v[6 + i] = point[i];
+    v[9] = t;
+    v[10] = -(dir[0] * normal[0] + dir[1] * normal[1] + dir[2] * normal[2]);
+    v[11] = 1;
+    v[15] = 1, v[19] = 1, v[23] = 1;
+    return v;
+}
 
 // What dirnorm() needs of a surface: colour, diffuse reflection and transmission, total
 // transmission, and whether RADIANCE's Fresnel estimate reduces the diffuse parts.
@@ -134,8 +143,10 @@ struct ContribIntegrator::Impl {
     ContribOptions o;
     std::vector<TrackedModifier> tracked;
     std::function<std::unique_ptr<cal::Context>(int)> make_context;
-    std::vector<Material> materials;     // per scene object (surfaces: their material)
-    std::vector<int> tracked_of_object;  // tracked modifier whose name is the object's modifier
+    std::vector<Material> materials;      // per scene object (surfaces: their material)
+    std::vector<int> tracked_of_object;   // tracked modifier whose name is the object's modifier
+    std::map<int, Material> by_modifier;  // each modifier resolved once (stable references)
+    std::map<int, int> tracked_of_mesh_material;  // RADIANCE meshes' own materials: tracked index
     std::vector<std::unique_ptr<PatternFunction>> patterns;
     std::vector<std::unique_ptr<MixInfo>> mixes;
     std::vector<Source> sources;
@@ -167,12 +178,15 @@ struct ContribIntegrator::Impl {
         for (size_t i = 0; i < objs.size(); ++i) {
             const Primitive &p = objs[i];
             if (p.info->kind == PrimitiveKind::kSurface || p.info->kind == PrimitiveKind::kVolume) {
-                for (size_t k = 0; k < tracked.size(); ++k)
-                    if (p.modifier_name == tracked[k].name)
-                        tracked_of_object[i] = static_cast<int>(k);
-                materials[i] = Resolve(p.modifier, pattern_of);
+                tracked_of_object[i] = TrackedIndex(p.modifier_name);
+                materials[i] = Resolved(p.modifier, pattern_of);
             }
         }
+        for (int mat : scene.triangle_material)
+            if (mat >= 0 && !tracked_of_mesh_material.count(mat)) {
+                Resolved(mat, pattern_of);
+                tracked_of_mesh_material[mat] = TrackedIndex(objs[mat].name);
+            }
         for (const AnalyticShape &sh : scene.shapes) {
             if (sh.kind != AnalyticShape::kSource) continue;
             const double l =
@@ -200,6 +214,20 @@ struct ContribIntegrator::Impl {
                                             "distant ones, made with 'source')");
     }
 
+    int TrackedIndex(const std::string &modifier) const {
+        int found = -1;
+        for (size_t k = 0; k < tracked.size(); ++k)
+            if (modifier == tracked[k].name) found = static_cast<int>(k);
+        return found;
+    }
+
+    // Resolve, once per modifier (a mixfunc loads its files, many surfaces share a modifier).
+    const Material &Resolved(int mod, std::vector<int> &pattern_of) {
+        auto it = by_modifier.find(mod);
+        if (it == by_modifier.end()) it = by_modifier.emplace(mod, Resolve(mod, pattern_of)).first;
+        return it->second;
+    }
+
     // The material a surface's modifier stands for, with the patterns that modify it.
     Material Resolve(int mod, std::vector<int> &pattern_of) {
         const auto &objs = scene.scene.objects;
@@ -217,7 +245,6 @@ struct ContribIntegrator::Impl {
             m.metal = t == "metal";
             m.alpha2 = f[4] * f[4];
         } else if (t == "trans") {
-            if (f.size() != 7) ErrorExit(&p.loc, "trans '" + p.name + "': bad number of arguments");
             m.kind = Material::kDiffuse;
             m.color = {f[0], f[1], f[2]};
             m.spec = f[3];
@@ -228,8 +255,6 @@ struct ContribIntegrator::Impl {
                 ErrorExit(&p.loc,
                           "trans '" + p.name + "': rough specular transmission is not traced yet");
         } else if (t == "mixfunc") {
-            if (p.sargs.size() < 4)
-                ErrorExit(&p.loc, "mixfunc '" + p.name + "': bad number of arguments");
             if (p.sargs.size() > 4)
                 ErrorExit(&p.loc, "mixfunc '" + p.name +
                                       "': transforms of its coordinates are not supported yet");
@@ -248,7 +273,7 @@ struct ContribIntegrator::Impl {
                 if (j < 0)
                     ErrorExit(&p.loc,
                               "mixfunc '" + p.name + "': undefined modifier '" + name + "'");
-                (side == 0 ? info->fore : info->back) = Resolve(j, pattern_of);
+                (side == 0 ? info->fore : info->back) = Resolved(j, pattern_of);
             }
             Primitive f = p;  // the coefficient, evaluated as a brightfunc would be
             f.type = "brightfunc";
@@ -323,14 +348,8 @@ struct ContribIntegrator::Impl {
 
     void Contribute(int k, const RayState &r, const double point[3], const double normal[3],
                     double t, const RGB &radiance, ThreadState &ts, double *record) const {
-        RayChannels channels;
-        for (int i = 0; i < 3; ++i) {
-            channels.v[i] = r.dir[i], channels.v[3 + i] = normal[i], channels.v[6 + i] = point[i];
-        }
-        channels.v[9] = t;
-        channels.v[10] = -(r.dir[0] * normal[0] + r.dir[1] * normal[1] + r.dir[2] * normal[2]);
-        channels.v[11] = 1;
-        channels.v[15] = 1, channels.v[19] = 1, channels.v[23] = 1;  // identity transform axes
+        const RayVariables v = MakeRayVariables(r.dir, point, normal, t);
+        const cal::ChannelView channels(v);
         const double b = ts.bins[k].Evaluate(*ts.contexts[k], &channels);
         const int bin = static_cast<int>(std::floor(b + .5));
         if (b < -.5) return;  // negative bins are ignored
@@ -347,14 +366,11 @@ struct ContribIntegrator::Impl {
     }
 
     RGB PatternColour(const Material &m, const RayState &r, const double point[3],
-                      const double normal[3]) const {
+                      const double normal[3], double t) const {
         RGB c = m.color;
         if (m.pattern) {
-            std::vector<double> ch(27, 0.0);
-            for (int i = 0; i < 3; ++i)
-                ch[i] = r.dir[i], ch[3 + i] = normal[i], ch[6 + i] = point[i];
             double f[3];
-            m.pattern->Evaluate(ch, f);
+            m.pattern->Evaluate(MakeRayVariables(r.dir, point, normal, t), f);
             for (int k = 0; k < 3; ++k) c[k] *= f[k];
         }
         return c;
@@ -416,13 +432,13 @@ struct ContribIntegrator::Impl {
         double point[3], normal[3];
         for (int k = 0; k < 3; ++k)
             point[k] = r.org[k] + hit.t * r.dir[k], normal[k] = hit.normal[k];
-        const int mat_obj = hit.shape >= 0 ? -1 : scene.triangle_material[hit.triangle];
-        const Material &m = mat_obj >= 0 ? MaterialOfModifier(mat_obj) : materials[object];
-        Shade(r, object, m, point, normal, hit.t, rng, ts, record, depth);
-    }
-
-    const Material &MaterialOfModifier(int) const {
-        ErrorExit("materials inside RADIANCE meshes are not traced yet");
+        const int mat = hit.shape >= 0 ? -1 : scene.triangle_material[hit.triangle];
+        if (mat >= 0)  // a RADIANCE mesh's own material, tracked by its name
+            Shade(r, object, tracked_of_mesh_material.at(mat), by_modifier.at(mat), point, normal,
+                  hit.t, rng, ts, record, depth);
+        else
+            Shade(r, object, tracked_of_object[object], materials[object], point, normal, hit.t,
+                  rng, ts, record, depth);
     }
 
     void Escape(const RayState &r, Random &rng, ThreadState &ts, double *record) const {
@@ -446,13 +462,14 @@ struct ContribIntegrator::Impl {
         const int object = sources[chosen].object;
         double point[3], normal[3];
         for (int k = 0; k < 3; ++k) point[k] = r.dir[k] * 1e30, normal[k] = -r.dir[k];
-        Shade(r, object, materials[object], point, normal, std::numeric_limits<double>::infinity(),
-              rng, ts, record, 0);
+        Shade(r, object, tracked_of_object[object], materials[object], point, normal,
+              std::numeric_limits<double>::infinity(), rng, ts, record, 0);
     }
 
-    void Shade(const RayState &r, int object, const Material &m, const double point[3],
-               const double geo_normal[3], double t, Random &rng, ThreadState &ts, double *record,
-               int depth) const {
+    // tracked: the tracked modifier the hit counts for, or -1.
+    void Shade(const RayState &r, int object, int tracked_index, const Material &m,
+               const double point[3], const double geo_normal[3], double t, Random &rng,
+               ThreadState &ts, double *record, int depth) const {
         // Face the normal toward where the ray came from (RADIANCE flips surfaces seen from
         // behind).
         double normal[3];
@@ -461,7 +478,7 @@ struct ContribIntegrator::Impl {
         const double sign = rod < 0 ? -1 : 1;
         for (int k = 0; k < 3; ++k) normal[k] = sign * geo_normal[k];
         rod *= sign;
-        int k = tracked_of_object[object];
+        int k = tracked_index;
         // A ray aimed at a source counts only there (trace_contrib()).
         if (r.aimed >= 0 && object != sources[r.aimed].object) k = -1;
         const bool light = m.kind == Material::kLight;
@@ -469,7 +486,7 @@ struct ContribIntegrator::Impl {
         const bool bad = light && (r.crtype & (kAmbient | kSpecular)) && !(r.crtype & kShadow);
         if (k >= 0 && !bad) {
             RGB radiance{1, 1, 1};
-            if (o.contributions) radiance = PatternColour(m, r, point, normal);
+            if (o.contributions) radiance = PatternColour(m, r, point, normal, t);
             Contribute(k, r, point, normal, t, radiance, ts, record);
         }
         // -i: primary rays (and rays straight through transparent things before them) find the
@@ -487,22 +504,19 @@ struct ContribIntegrator::Impl {
                    depth);
             return;
         }
-        ShadeMaterial(r, object, m, point, normal, rod, rng, ts, record, depth);
+        ShadeMaterial(r, object, m, point, normal, rod, t, rng, ts, record, depth);
     }
 
     // What the material does with a ray that reached it (normal faces the ray; rod > 0).
     void ShadeMaterial(const RayState &r, int object, const Material &m, const double point[3],
-                       const double normal[3], double rod, Random &rng, ThreadState &ts,
+                       const double normal[3], double rod, double t, Random &rng, ThreadState &ts,
                        double *record, int depth) const {
         switch (m.kind) {
             case Material::kMix: {
                 // raymixture(): the foreground with coef, the background with 1 - coef, each
                 // shading a share of the ray; a void side lets its share through.
-                std::vector<double> ch(27, 0.0);
-                for (int i = 0; i < 3; ++i)
-                    ch[i] = r.dir[i], ch[3 + i] = normal[i], ch[6 + i] = point[i];
                 double v[3];
-                m.mix->coef->Evaluate(ch, v);
+                m.mix->coef->Evaluate(MakeRayVariables(r.dir, point, normal, t), v);
                 const double c = std::clamp(v[0], 0.0, 1.0);
                 const Material *sides[2] = {&m.mix->fore, &m.mix->back};
                 const double share[2] = {c, 1. - c};
@@ -514,7 +528,7 @@ struct ContribIntegrator::Impl {
                     if (m.mix->is_void[side])
                         Transmit(part, RGB{1, 1, 1}, point, rng, ts, record, depth);
                     else
-                        ShadeMaterial(part, object, *sides[side], point, normal, rod, rng, ts,
+                        ShadeMaterial(part, object, *sides[side], point, normal, rod, t, rng, ts,
                                       record, depth);
                 }
                 return;
@@ -528,7 +542,7 @@ struct ContribIntegrator::Impl {
                 // the specularity at grazing angles, or rough (Gaussian) specular reflection,
                 // sampled or, below -st, folded into the diffuse part; trans adds pure specular
                 // and diffuse transmission.
-                const RGB c = PatternColour(m, r, point, normal);
+                const RGB c = PatternColour(m, r, point, normal, t);
                 const bool pure = m.alpha2 <= kTiny;
                 double rspec = m.spec, fest = 0;
                 const double pdot = std::max(rod, .001);
@@ -586,12 +600,12 @@ struct ContribIntegrator::Impl {
             }
             case Material::kMirror: {
                 if (r.crtype & kShadow) return;
-                Reflect(r, PatternColour(m, r, point, normal), point, normal, rod, rng, ts, record,
-                        depth);
+                Reflect(r, PatternColour(m, r, point, normal, t), point, normal, rod, rng, ts,
+                        record, depth);
                 return;
             }
             case Material::kGlass: {
-                RGB mc = PatternColour(m, r, point, normal);
+                RGB mc = PatternColour(m, r, point, normal, t);
                 const bool hastrans = Max3(mc) > 1e-15;
                 for (double &v : mc) v = std::max(v, 1e-15);
                 const double n = m.rindex, pdot = rod;

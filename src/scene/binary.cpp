@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "scene/reader.h"
+
 namespace dayflux {
 
 void RadianceBinaryInput::Fail(const std::string &msg) const {
@@ -90,6 +92,7 @@ long RadianceBinaryInput::Objects(int objsize, Scene *scene) {
         for (long n = Int(2); n > 0; --n) p.sargs.push_back(String());
         for (long n = Int(2); n > 0; --n) p.fargs.push_back(Real());
         p.loc = FileLoc{in_.Name(), 0};
+        CheckArguments(p);
         scene->objects.push_back(std::move(p));
     }
     return static_cast<long>(scene->objects.size() - first);

@@ -29,11 +29,10 @@ PatternFunction::State PatternFunction::Load() const {
     return st;
 }
 
-void PatternFunction::Evaluate(const std::vector<double> &channels, double rgb[3]) const {
+void PatternFunction::Evaluate(std::span<const double> channels, double rgb[3]) const {
     State &st = states_.local();
     if (!st.cx) st = Load();
-    cal::ChannelArray ch(channels);
-    ch.SetObjectArguments(args_);
+    const cal::ChannelView ch(channels, &args_);
     if (st.functions.size() == 1) {
         rgb[0] = rgb[1] = rgb[2] = st.functions[0].Evaluate(*st.cx, &ch);
     } else {

@@ -8,6 +8,7 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,7 @@ class PatternFunction {
   public:
     explicit PatternFunction(const Primitive &pattern);
     // The pattern's RGB factor for a ray: channels hold Dx Dy Dz, Nx Ny Nz, Px Py Pz, ... ($1..).
-    void Evaluate(const std::vector<double> &channels, double rgb[3]) const;
+    void Evaluate(std::span<const double> channels, double rgb[3]) const;
 
   private:
     struct State {

@@ -173,7 +173,7 @@ void SceneReader::ReadPrimitive(InputSource &in, const Context &cx) {
     scene_->objects.push_back(std::move(p));
 }
 
-void SceneReader::CheckArguments(const Primitive &p) const {
+void CheckArguments(const Primitive &p) {
     const size_t ns = p.sargs.size(), nf = p.fargs.size();
     auto need = [&](bool ok, const std::string &what) {
         if (!ok)

@@ -33,12 +33,15 @@ class SceneReader {
     void ReadPrimitive(InputSource &in, const Context &cx);
     void RunCommand(const std::string &command, const FileLoc &loc, const Context &cx);
     bool Xform(const std::vector<std::string> &args, const FileLoc &loc, const Context &cx);
-    void CheckArguments(const Primitive &p) const;
 
     Scene *scene_;
     std::unordered_map<std::string, int> modifiers_;  // latest modifier definition of each name
     bool allow_undefined_ = false;
 };
+
+// The argument counts p's type requires; an error naming p's file and line if they are wrong.
+// Scene files and frozen octrees are both checked, so later stages can index arguments freely.
+void CheckArguments(const Primitive &p);
 
 // Reads several scene files (as oconv takes them) into one scene.
 Scene ReadScene(const std::vector<std::string> &paths);
