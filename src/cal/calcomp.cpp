@@ -96,6 +96,12 @@ struct Context::Impl {
 // Evaluation with activation frames: arguments are expressions of the caller, evaluated on first
 // use and remembered, as RADIANCE does (so if() evaluates only the branch it takes).
 struct Evaluator {
+    // Each evaluator is one top-level evaluation: variables cached by earlier ones (another
+    // ray, or definitions since changed) are computed afresh.
+    Evaluator(const Context::Impl &c, const Channels *ch, const FileLoc *w)
+        : cx(c), channels(ch), where(w) {
+        ++cx.epoch;
+    }
     const Context::Impl &cx;
     const Channels *channels;
     const FileLoc *where;
@@ -416,7 +422,7 @@ class Parser {
     }
     // Reduces a node whose operands are all numbers, as RADIANCE's rconst().
     NodePtr Reduce(NodePtr n) {
-        Evaluator ev{cx_, nullptr, nullptr};
+        Evaluator ev(cx_, nullptr, nullptr);
         FileLoc here = Here();
         ev.where = &here;
         return Num(ev.Eval(n.get(), nullptr));
@@ -537,7 +543,7 @@ class Parser {
         const Context::Definition *d = cx_.defs[ref->index].get();
         if (!d || !d->constant || !d->params.empty()) return ref;
         try {
-            Evaluator ev{cx_, nullptr, &d->loc};
+            Evaluator ev(cx_, nullptr, &d->loc);
             return Num(ev.Eval(d->body.get(), nullptr));
         } catch (const UserError &) {
             return ref;  // depends on something not yet defined, or on a ray: evaluate later
@@ -555,7 +561,7 @@ class Parser {
         if (!constant) return call;
         try {
             FileLoc here = Here();
-            Evaluator ev{cx_, nullptr, &here};
+            Evaluator ev(cx_, nullptr, &here);
             return Num(ev.Eval(call.get(), nullptr));
         } catch (const UserError &) {
             return call;
@@ -627,8 +633,7 @@ Expression Context::Compile(std::string_view text, const FileLoc &loc) const {
 }
 
 double Expression::Evaluate(const Context &cx, const Channels *channels) const {
-    ++cx.impl_->epoch;  // a new ray: variables are computed afresh
-    Evaluator ev{*cx.impl_, channels, &loc_};
+    Evaluator ev(*cx.impl_, channels, &loc_);
     return ev.Eval(root_.get(), nullptr);
 }
 

@@ -71,6 +71,18 @@ TEST(Calcomp, ConstantsAreReducedAsRadianceDoes) {
     EXPECT_EQ(Eval(cx, "x*0 + 2^0"), 1);  // folded: x is never evaluated, so no ray is needed
 }
 
+// A variable redefined after use: later evaluations (and constants folded later) see the new
+// value, not one remembered from an earlier evaluation.
+TEST(Calcomp, RedefinitionIsSeenByLaterEvaluations) {
+    Context cx;
+    cx.Load("a = 3; f(x) : x + a; y = f(1);", FileLoc{"t.cal", 1});
+    EXPECT_EQ(Eval(cx, "y"), 4);
+    cx.Load("a = 4; z = f(1); k : a;", FileLoc{"t.cal", 2});
+    EXPECT_EQ(Eval(cx, "z"), 5);
+    EXPECT_EQ(Eval(cx, "k"), 4);
+    EXPECT_EQ(Eval(cx, "y"), 4);  // f is constant (':'), so f(1) was folded when y was defined
+}
+
 TEST(Calcomp, ErrorsNameFileLineAndProblem) {
     Context cx;
     EXPECT_EQ(ErrorOf([&] {
