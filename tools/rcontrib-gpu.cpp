@@ -439,8 +439,7 @@ int Main(int argc, char **argv) {
             h += FormatLine(o.out) + "\n";
             s.file->Write(h);
         }
-        if (reclen == 1 && o.xres > 0 && o.yres > 0)
-            s.file->Write("-Y " + std::to_string(o.yres) + " +X " + std::to_string(o.xres) + "\n");
+        if (reclen == 1 && o.xres > 0 && o.yres > 0) s.file->Write(ResolutionLine(o.xres, o.yres));
     }
     // Input rays: origin and direction, in blocks; each block traced in parallel, written in order.
     ReadSpec rs;

@@ -35,7 +35,7 @@ std::string HeaderStart(int argc, char **argv);
 std::string DateLines();
 // NROWS/NCOLS/NCOMP, BigEndian (binary only) and FORMAT lines, then the blank line.
 std::string HeaderFields(int nrows, int ncols, int ncomp, DataFormat format);
-// "FORMAT=...\n" on its own, and the blank line, for pictures.
+// "FORMAT=...\n" on its own (the caller ends the header with the blank line).
 std::string FormatLine(DataFormat format);
 std::string ResolutionLine(int xres, int yres);
 

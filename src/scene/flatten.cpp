@@ -29,36 +29,13 @@ Vec3 Direction(const Transform &t, const double *d) {
     return out;
 }
 
-// Parses an instance's transform words (xform's -t -rx -ry -rz -s -mx -my -mz).
+// An instance's or mesh's transform words (xform's options).
 Transform InstanceTransform(const Primitive &p) {
     Transform xf;
-    for (size_t i = 1; i < p.sargs.size(); ++i) {
-        const std::string &a = p.sargs[i];
-        auto num = [&]() {
-            if (i + 1 >= p.sargs.size())
-                ErrorExit(&p.loc, "instance '" + p.name + "': option " + a + " needs a number");
-            return std::atof(p.sargs[++i].c_str());
-        };
-        Transform t;
-        t.identity = false;
-        if (a == "-t") {
-            for (int k = 0; k < 3; ++k) t.m[12 + k] = num();
-        } else if (a == "-rx" || a == "-ry" || a == "-rz") {
-            const double ang = num() * (M_PI / 180.), c = std::cos(ang), s = std::sin(ang);
-            const int ax = a[2] - 'x', u = (ax + 1) % 3, w = (ax + 2) % 3;
-            t.m[4 * u + u] = c, t.m[4 * u + w] = s, t.m[4 * w + u] = -s, t.m[4 * w + w] = c;
-        } else if (a == "-s") {
-            const double s = num();
-            for (int k = 0; k < 3; ++k) t.m[5 * k] = s;
-            t.scale = s;
-        } else if (a == "-mx" || a == "-my" || a == "-mz") {
-            t.m[5 * (a[2] - 'x')] = -1;
-        } else {
-            ErrorExit(&p.loc,
-                      "instance '" + p.name + "': unsupported transform option '" + a + "'");
-        }
-        xf = xf.Then(t);
-    }
+    for (size_t i = 1; i < p.sargs.size(); ++i)
+        if (!ApplyTransformOption(p.sargs, &i, p.loc, p.type + " '" + p.name + "'", &xf))
+            ErrorExit(&p.loc, p.type + " '" + p.name + "': unsupported transform option '" +
+                                  p.sargs[i] + "'");
     return xf;
 }
 

@@ -1,6 +1,9 @@
 #include "scene/primitives.h"
 
+#include <cmath>
 #include <cstring>
+
+#include "util/strings.h"
 
 namespace dayflux {
 
@@ -70,6 +73,37 @@ int Scene::FindModifier(const std::string &name) const {
             objects[i].info->kind != PrimitiveKind::kVolume)
             return i;
     return -1;
+}
+
+bool ApplyTransformOption(const std::vector<std::string> &args, size_t *i, const FileLoc &loc,
+                          const std::string &who, Transform *xf) {
+    const std::string &a = args[*i];
+    auto number = [&]() {
+        double v;
+        if (*i + 1 >= args.size() || !ParseNumber(args[*i + 1], &v))
+            ErrorExit(&loc, who + ": option " + a + " needs a number");
+        ++*i;
+        return v;
+    };
+    Transform t;
+    t.identity = false;
+    if (a == "-t") {
+        for (int k = 0; k < 3; ++k) t.m[12 + k] = number();
+    } else if (a == "-rx" || a == "-ry" || a == "-rz") {
+        const double ang = number() * (M_PI / 180.), c = std::cos(ang), s = std::sin(ang);
+        const int ax = a[2] - 'x', u = (ax + 1) % 3, w = (ax + 2) % 3;  // x->y for z, ...
+        t.m[4 * u + u] = c, t.m[4 * u + w] = s, t.m[4 * w + u] = -s, t.m[4 * w + w] = c;
+    } else if (a == "-s") {
+        const double s = number();
+        for (int k = 0; k < 3; ++k) t.m[5 * k] = s;
+        t.scale = s;
+    } else if (a == "-mx" || a == "-my" || a == "-mz") {
+        t.m[5 * (a[2] - 'x')] = -1;
+    } else {
+        return false;
+    }
+    *xf = xf->Then(t);
+    return true;
 }
 
 }  // namespace dayflux

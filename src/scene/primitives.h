@@ -40,6 +40,12 @@ struct Transform {
     void ApplyDirection(const double d[3], double out[3]) const;  // no translation
 };
 
+// If args[*i] is one of xform's transform options (-t x y z, -rx/-ry/-rz deg, -s f, -mx/-my/-mz),
+// applies it after xf, moves *i past its numbers and returns true; else returns false. who
+// names the primitive or command for the error a missing or bad number gives at loc.
+bool ApplyTransformOption(const std::vector<std::string> &args, size_t *i, const FileLoc &loc,
+                          const std::string &who, Transform *xf);
+
 struct Primitive {
     int modifier = -1;  // index of the modifier primitive, -1 for void
     std::string modifier_name;

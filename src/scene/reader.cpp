@@ -39,18 +39,6 @@ std::vector<std::string> SplitWords(const std::string &s) {
     return words;
 }
 
-Transform Rotation(int axis, double degrees) {
-    Transform t;
-    const double a = degrees * (M_PI / 180.), c = std::cos(a), s = std::sin(a);
-    const int i = (axis + 1) % 3, j = (axis + 2) % 3;  // the plane rotated: x->y for z, ...
-    t.m[4 * i + i] = c;
-    t.m[4 * i + j] = s;
-    t.m[4 * j + i] = -s;
-    t.m[4 * j + j] = c;
-    t.identity = false;
-    return t;
-}
-
 }  // namespace
 
 void SceneReader::ReadFile(const std::string &path) {
@@ -239,34 +227,10 @@ bool SceneReader::Xform(const std::vector<std::string> &args, const FileLoc &loc
     Transform xf;
     Context inner = cx;
     std::vector<std::string> files;
-    auto number = [&](size_t *i) {
-        double v;
-        if (*i + 1 >= args.size() || !ParseNumber(args[*i + 1], &v))
-            ErrorExit(&loc, "xform: option " + args[*i] + " needs a number");
-        ++*i;
-        return v;
-    };
     for (size_t i = 1; i < args.size(); ++i) {
         const std::string &a = args[i];
-        if (a == "-t") {
-            Transform t;
-            for (int k = 0; k < 3; ++k) t.m[12 + k] = number(&i);
-            t.identity = false;
-            xf = xf.Then(t);
-        } else if (a == "-rx" || a == "-ry" || a == "-rz") {
-            xf = xf.Then(Rotation(a[2] - 'x', number(&i)));
-        } else if (a == "-s") {
-            Transform t;
-            const double s = number(&i);
-            for (int k = 0; k < 3; ++k) t.m[5 * k] = s;
-            t.scale = s;
-            t.identity = false;
-            xf = xf.Then(t);
-        } else if (a == "-mx" || a == "-my" || a == "-mz") {
-            Transform t;
-            t.m[5 * (a[2] - 'x')] = -1;
-            t.identity = false;
-            xf = xf.Then(t);
+        if (ApplyTransformOption(args, &i, loc, "xform", &xf)) {
+            continue;
         } else if (a == "-m" && i + 1 < args.size()) {
             inner.modifier_override = args[++i];
         } else if (a == "-n" && i + 1 < args.size()) {

@@ -76,10 +76,13 @@ bool InputSource::Close() {
 
 bool InputSource::Fill() {
     if (eof_ || !fp_) return false;
-    // Keep nothing: callers consume whole bytes before refilling.
-    size_t n = std::fread(buf_.data(), 1, buf_.size(), fp_);
+    // Bytes not yet handed out move to the front; more are read after them.
+    const size_t left = end_ - pos_;
+    if (left > 0 && pos_ > 0) std::memmove(buf_.data(), buf_.data() + pos_, left);
     pos_ = 0;
-    end_ = n;
+    end_ = left;
+    const size_t n = std::fread(buf_.data() + left, 1, buf_.size() - left, fp_);
+    end_ += n;
     if (n == 0) {
         if (std::ferror(fp_)) {
             FileLoc loc = LocNoLine();
@@ -92,25 +95,8 @@ bool InputSource::Fill() {
 }
 
 int InputSource::PeekSecond() {
-    if (end_ - pos_ < 2) {
-        // Keep the byte that is left at the front and read more after it.
-        const size_t left = end_ - pos_;
-        std::memmove(buf_.data(), buf_.data() + pos_, left);
-        pos_ = 0;
-        end_ = left;
-        if (!eof_ && fp_) {
-            const size_t n = std::fread(buf_.data() + left, 1, buf_.size() - left, fp_);
-            if (n == 0) {
-                if (std::ferror(fp_)) {
-                    FileLoc loc = LocNoLine();
-                    ErrorExit(&loc, std::string("read error: ") + std::strerror(errno));
-                }
-                eof_ = true;
-            }
-            end_ += n;
-        }
-        if (end_ - pos_ < 2) return -1;
-    }
+    while (end_ - pos_ < 2)
+        if (!Fill()) return -1;
     return static_cast<unsigned char>(buf_[pos_ + 1]);
 }
 

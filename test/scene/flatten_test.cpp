@@ -173,5 +173,18 @@ TEST(Flatten, MeshFromObj2mesh) {
     EXPECT_EQ(f.triangle_object[0], 1);
 }
 
+TEST(Flatten, BadInstanceTransformNamesItsPlace) {
+    Scene s;
+    SceneReader r(&s);
+    r.ReadText("void plastic grey 0 0 5 .5 .5 .5 0 0\ngrey mesh box 5 box.rtm -t 2 x 0 0 0\n",
+               "t.rad");
+    try {
+        Flatten(std::move(s));
+        ADD_FAILURE() << "no error";
+    } catch (const UserError &e) {
+        EXPECT_STREQ(e.what(), "t.rad:2: mesh 'box': option -t needs a number");
+    }
+}
+
 }  // namespace
 }  // namespace dayflux
