@@ -649,34 +649,8 @@ const Context::Definition *Context::Find(int symbol) const {
                                                                         : nullptr;
 }
 
-bool Context::IsLibrary(int symbol) const {
-    return impl_->library[symbol] != Library::kNone && !impl_->defs[symbol];
-}
-
-bool Context::IsDefined(const std::string &name) const {
-    const int s = SymbolIndex(name);
-    return s >= 0 && (impl_->defs[s] || impl_->library[s] != Library::kNone);
-}
-
-bool Context::IsFunction(const std::string &name) const {
-    const int s = SymbolIndex(name);
-    if (s < 0) return false;
-    if (impl_->defs[s]) return !impl_->defs[s]->params.empty();
-    return impl_->library[s] != Library::kNone;
-}
-
 double Context::Value(const std::string &name, const Channels *channels) const {
     return Compile(name, FileLoc{"", 0}).Evaluate(*this, channels);
-}
-
-double Context::Call(const std::string &name, const std::vector<double> &args,
-                     const Channels *channels) const {
-    std::ostringstream s;
-    s.precision(17);
-    s << name << "(";
-    for (size_t i = 0; i < args.size(); ++i) s << (i ? "," : "") << "(" << args[i] << ")";
-    s << ")";
-    return Compile(s.str(), FileLoc{"", 0}).Evaluate(*this, channels);
 }
 
 }  // namespace dayflux::cal

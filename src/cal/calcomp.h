@@ -112,13 +112,8 @@ class Context {
     // Parses an expression (for example a -b bin expression).
     Expression Compile(std::string_view text, const FileLoc &loc) const;
 
-    bool IsDefined(const std::string &name) const;
-    bool IsFunction(const std::string &name) const;  // user or library function
     // Value of a variable (no arguments).
     double Value(const std::string &name, const Channels *channels = nullptr) const;
-    // Value of a user or library function at numeric arguments.
-    double Call(const std::string &name, const std::vector<double> &args,
-                const Channels *channels = nullptr) const;
 
     // For code generators: the definition of a symbol.
     struct Definition {
@@ -131,7 +126,6 @@ class Context {
     int SymbolIndex(const std::string &name) const;  // -1 if unknown
     const std::string &SymbolName(int index) const;
     const Definition *Find(int symbol) const;
-    bool IsLibrary(int symbol) const;
 
     struct Impl;  // opaque: symbols, definitions, caches
 

@@ -32,7 +32,6 @@ class MatrixReader {
     int Cols() const { return ncols_; }
     int Comps() const { return ncomp_; }
     DataFormat Format() const { return format_; }
-    int RowsRead() const { return rows_read_; }
 
     // Reads the next row (Cols() x Comps() values, components interleaved). Returns false at
     // the end of input only where the row count is unknown; a short row is an error.

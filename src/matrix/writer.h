@@ -24,7 +24,6 @@ class RowFormatter {
     // Appends one row of ncols x ncomp interleaved values.
     void Append(const double *values, std::string *out) const;
     void Append(const float *values, std::string *out) const;
-    DataFormat Format() const { return format_; }
 
   private:
     template <class T>

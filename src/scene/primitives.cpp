@@ -61,12 +61,6 @@ void Transform::ApplyDirection(const double d[3], double out[3]) const {
     for (int j = 0; j < 3; ++j) out[j] = d[0] * m[j] + d[1] * m[4 + j] + d[2] * m[8 + j];
 }
 
-size_t Scene::Count(PrimitiveKind kind) const {
-    size_t n = 0;
-    for (const Primitive &p : objects) n += p.info->kind == kind;
-    return n;
-}
-
 int Scene::FindModifier(const std::string &name) const {
     for (int i = static_cast<int>(objects.size()); i--;)
         if (objects[i].name == name && objects[i].info->kind != PrimitiveKind::kSurface &&

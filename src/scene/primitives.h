@@ -60,8 +60,6 @@ struct Primitive {
 
 struct Scene {
     std::vector<Primitive> objects;
-
-    size_t Count(PrimitiveKind kind) const;
     // The latest definition named `name` (as a modifier is looked up), -1 if none.
     int FindModifier(const std::string &name) const;
 };

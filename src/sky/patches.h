@@ -10,7 +10,6 @@ class SkyPatchBasis {
   public:
     explicit SkyPatchBasis(int mf);
 
-    int Subdivisions() const { return mf_; }
     // Patches including the ground (patch 0): 144 MF^2 + 2.
     int Size() const { return static_cast<int>(altitude_.size()); }
     // Sky rows 0 .. 7 MF - 1 are regular; row 7 MF is the zenith cap.

@@ -162,15 +162,6 @@ bool InputSource::OnlySpaceLeft() {
     return true;
 }
 
-std::optional<uint64_t> InputSource::RemainingBytes() {
-    if (!fp_ || is_pipe_) return std::nullopt;
-    struct stat st;
-    if (fstat(fileno(fp_), &st) != 0 || !S_ISREG(st.st_mode)) return std::nullopt;
-    long here = std::ftell(fp_);
-    if (here < 0) return std::nullopt;
-    return static_cast<uint64_t>(st.st_size) - static_cast<uint64_t>(here) + (end_ - pos_);
-}
-
 OutputFile::OutputFile(const std::string &spec) {
     if (spec.empty() || spec == "-") {
         name_ = "<stdout>";

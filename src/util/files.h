@@ -57,8 +57,6 @@ class InputSource {
     // True when nothing but white space is left.
     bool OnlySpaceLeft();
     bool AtEnd() { return Peek() < 0; }
-    // Bytes left to read when the source is a regular file, for sizing headerless binary data.
-    std::optional<uint64_t> RemainingBytes();
     // Closes the source; a command that exited non-zero gives a warning as RADIANCE does.
     // Returns false for such a command.
     bool Close();
