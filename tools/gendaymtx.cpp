@@ -20,7 +20,6 @@
 namespace dayflux {
 namespace {
 
-constexpr double kSunAngleDeg = 0.533;  // full angle of the solar disk
 constexpr double kEfficacy = 179.;
 
 double Rad(double deg) { return deg * (M_PI / 180.); }
@@ -187,21 +186,13 @@ int Main(int argc, char **argv) {
         bool sun_in_sky;
     };
     std::vector<Pending> pending;
-    int leap_day = 0;
+    SunTrack sun(site);
     WeatherRecord rec;
     while (weather.Next(&rec)) {
-        Pending p{rec, 0, 0, 0, false};
-        if (rec.month == 2 && rec.day == 29) {
-            p.julian = 60;
-            leap_day = 1;
-        } else {
-            p.julian = DayOfYear(rec.month, rec.day) + leap_day;
-        }
-        const double sda = SolarDeclination(p.julian), sta = SolarTimeOffset(p.julian, site);
-        p.altitude = SolarAltitude(site, sda, rec.hour + sta);
-        p.sun_in_sky = p.altitude > -Rad(kSunAngleDeg / 2.);
-        if (o.sun_hours_only && !p.sun_in_sky) continue;
-        p.azimuth = SolarAzimuth(site, sda, rec.hour + sta) + M_PI - Rad(o.sky.rotation_deg);
+        const SunTrack::Position pos = sun.Next(rec.month, rec.day, rec.hour);
+        if (o.sun_hours_only && !pos.in_sky) continue;
+        Pending p{rec, pos.day_of_year, pos.altitude,
+                  pos.azimuth + M_PI - Rad(o.sky.rotation_deg), pos.in_sky};
         pending.push_back(p);
     }
     if (pending.empty()) ErrorExit(weather.Name() + ": no valid time steps on input");

@@ -23,6 +23,22 @@ double SolarAltitude(const Site &site, double sd, double st) {
                      std::cos(site.latitude) * std::cos(sd) * std::cos(st * (M_PI / 12.)));
 }
 
+SunTrack::Position SunTrack::Next(int month, int day, double hour) {
+    Position p;
+    if (month == 2 && day == 29) {
+        p.day_of_year = 60;
+        leap_day_ = 1;
+    } else {
+        p.day_of_year = DayOfYear(month, day) + leap_day_;
+    }
+    const double sd = SolarDeclination(p.day_of_year);
+    const double st = hour + SolarTimeOffset(p.day_of_year, site_);
+    p.altitude = SolarAltitude(site_, sd, st);
+    p.azimuth = SolarAzimuth(site_, sd, st);
+    p.in_sky = p.altitude > -(kSunAngleDeg / 2.) * (M_PI / 180.);
+    return p;
+}
+
 double SolarAzimuth(const Site &site, double sd, double st) {
     return -std::atan2(std::cos(sd) * std::sin(st * (M_PI / 12.)),
                        -std::cos(site.latitude) * std::sin(sd) -

@@ -23,6 +23,27 @@ double SolarAltitude(const Site &site, double declination, double solar_time);
 // Azimuth (radians) measured from south, west positive, as RADIANCE's sazi().
 double SolarAzimuth(const Site &site, double declination, double solar_time);
 
+// The full angle of the solar disc, degrees (gendaymtx's and gensky's).
+constexpr double kSunAngleDeg = 0.533;
+
+// The sun over a weather file's records, taken in order as gendaymtx takes them: February 29
+// is day 60, and once it has been seen the days after it move on by one.
+class SunTrack {
+  public:
+    struct Position {
+        int day_of_year = 0;
+        double altitude = 0;  // radians
+        double azimuth = 0;   // radians from south, west positive
+        bool in_sky = false;  // any part of the disc above the horizon (gendaymtx -u keeps these)
+    };
+    explicit SunTrack(const Site &site) : site_(site) {}
+    Position Next(int month, int day, double hour);
+
+  private:
+    Site site_;
+    int leap_day_ = 0;
+};
+
 // RADIANCE's table cosine (tcos.c): 1024 entries per quarter turn, nearest entry, no interpolation.
 // gendaymtx normalises its skies with it, so we must too.
 double TableCos(double x);
