@@ -165,15 +165,16 @@ bool MatrixReader::ReadRowT(T *values) {
 bool MatrixReader::ReadRow(float *values) { return ReadRowT(values); }
 bool MatrixReader::ReadRow(double *values) { return ReadRowT(values); }
 
-void MatrixReader::Finish() {
+void MatrixReader::Finish(bool trailing_data_is_error) {
+    const auto report = [&](const FileLoc &loc, const char *what) {
+        if (trailing_data_is_error)
+            ErrorExit(&loc, std::string(what) + " (more than the header's size)");
+        Warning(&loc, what);
+    };
     if (format_ == DataFormat::Ascii) {
-        if (!in_->OnlySpaceLeft()) {
-            FileLoc loc = in_->Loc();
-            Warning(&loc, "unexpected data at end of ascii input");
-        }
+        if (!in_->OnlySpaceLeft()) report(in_->Loc(), "unexpected data at end of ascii input");
     } else if (!in_->AtEnd()) {
-        FileLoc loc = in_->LocNoLine();
-        Warning(&loc, "unexpected data at end of binary input");
+        report(in_->LocNoLine(), "unexpected data at end of binary input");
     }
     in_->Close();
 }

@@ -37,8 +37,9 @@ class MatrixReader {
     // the end of input only where the row count is unknown; a short row is an error.
     bool ReadRow(float *values);
     bool ReadRow(double *values);
-    // After the last row: warns about trailing data and closes the input.
-    void Finish();
+    // After the last row: warns about trailing data (or, where a consumer needs the exact size,
+    // fails) and closes the input.
+    void Finish(bool trailing_data_is_error = false);
 
   private:
     void Init(const ReadSpec &rs);

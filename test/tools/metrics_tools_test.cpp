@@ -1,0 +1,152 @@
+// dcmetrics end to end: layouts (sensors or steps as rows), RGB irradiance, weather calendars
+// with gendaymtx -u, grids and area weights, CSV/JSON output, and bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+
+#include "test_util.h"
+
+namespace dayflux::test {
+namespace fs = std::filesystem;
+namespace {
+
+// An ascii matrix of sensors x steps (or its transpose) with value(sensor, step).
+template <class F>
+std::string AsciiMatrix(int sensors, int steps, int ncomp, bool steps_are_rows, F value) {
+    std::ostringstream s;
+    s.precision(17);
+    const int rows = steps_are_rows ? steps : sensors, cols = steps_are_rows ? sensors : steps;
+    s << "#?RADIANCE\nNROWS=" << rows << "\nNCOLS=" << cols << "\nNCOMP=" << ncomp
+      << "\nFORMAT=ascii\n\n";
+    for (int r = 0; r < rows; ++r) {
+        for (int c = 0; c < cols; ++c) {
+            const double v = steps_are_rows ? value(c, r) : value(r, c);
+            for (int k = 0; k < ncomp; ++k) s << v << (k + 1 < ncomp ? " " : "\t");
+        }
+        s << "\n";
+    }
+    return s.str();
+}
+
+class DcmetricsTest : public ::testing::Test {
+  protected:
+    // Sensor s: 400 + s lux before noon and 50 lux after; sensor 0 alone has 2000 lux of
+    // direct sun, at 08:30 every day.
+    static double Total(int s, int step) { return (step % 24) < 12 ? 400. + s : 50.; }
+    static double Direct(int s, int step) { return s == 0 && step % 24 == 8 ? 2000. : 0.; }
+    TempDir tmp_;
+
+    CommandResult Run(const std::string &cmd) { return RunCommand(cmd, tmp_.path()); }
+};
+
+TEST_F(DcmetricsTest, MetricsCsvJsonAndLayouts) {
+    WriteFile(tmp_.path() / "total.mtx", AsciiMatrix(3, 8760, 1, false, Total));
+    WriteFile(tmp_.path() / "direct.mtx", AsciiMatrix(3, 8760, 1, false, Direct));
+    CommandResult r = Run("dcmetrics -g west 1 -g east 2 -o m total.mtx direct.mtx");
+    ASSERT_EQ(r.status, 0) << r.err;
+    // Occupied 08:30..17:30: 4 of 10 hours are mornings at 400+ lux, so DA is 40 % everywhere,
+    // sDA 0; ASE: sensor 0 has 365 direct hours above 1000 lux (> 250), so ASE is 100 % of
+    // "west" and 0 % of "east".
+    EXPECT_NE(r.out.find("3650 occupied hours"), std::string::npos) << r.out;
+    const std::string csv = ReadFile(tmp_.path() / "m.csv");
+    EXPECT_NE(csv.find("grid,sensor,area,DA,cDA,UDI_lower,UDI,UDI_upper,ASE_hours\n"
+                       "west,0,1.000000,40.0000,"),
+              std::string::npos)
+        << csv;
+    EXPECT_NE(csv.find(",365.00\n"), std::string::npos) << csv;
+    const std::string json = ReadFile(tmp_.path() / "m.json");
+    EXPECT_NE(json.find("\"name\": \"west\", \"sensors\": 1, \"area\": 1.000000, \"sDA\": "
+                        "0.0000, \"ASE\": 100.0000"),
+              std::string::npos)
+        << json;
+    EXPECT_NE(json.find("\"name\": \"east\", \"sensors\": 2, \"area\": 2.000000, \"sDA\": "
+                        "0.0000, \"ASE\": 0.0000"),
+              std::string::npos)
+        << json;
+    // cDA: 4 hours at 1 and 6 hours at 50/300.
+    EXPECT_NE(json.find("\"mean_cDA\": " + std::to_string(40. + 60. / 6.).substr(0, 7)),
+              std::string::npos)
+        << json;
+
+    // The same as RGB irradiance with hours as rows (rmtxop -t): grey E / 178.9 in each channel,
+    // since 47.4 + 119.9 + 11.6 = 178.9.
+    WriteFile(tmp_.path() / "rgb.mtx",
+              AsciiMatrix(3, 8760, 3, true, [](int s, int t) { return Total(s, t) / 178.9; }));
+    CommandResult t = Run("dcmetrics -t -g west 1 -g east 2 -o t rgb.mtx");
+    ASSERT_EQ(t.status, 0) << t.err;
+    const std::string tcsv = ReadFile(tmp_.path() / "t.csv");
+    // Equal but for the ASE column, which needs the direct-sun matrix.
+    const auto second_line_without_ase = [](const std::string &text) {
+        const size_t start = text.find('\n') + 1;
+        return text.substr(start, text.rfind(',', text.find('\n', start)) - start);
+    };
+    EXPECT_EQ(second_line_without_ase(tcsv), second_line_without_ase(csv));
+}
+
+TEST_F(DcmetricsTest, WeatherCalendarWithSunUpSteps) {
+    // A leap-year .wea from two days: with -u the matrix holds only the sun-up steps, and the
+    // occupied steps left out still count in the denominator.
+    std::string wea =
+        "place test\nlatitude 42.37\nlongitude 71.03\ntime_zone 75\n"
+        "site_elevation 5\nweather_data_file_units 1\n";
+    for (int d : {28, 29})
+        for (int h = 0; h < 24; ++h)
+            wea += "2 " + std::to_string(d) + " " + std::to_string(h) + ".5 100 100\n";
+    WriteFile(tmp_.path() / "two.wea", wea);
+    // Boston in late February: 11 steps a day have the sun up (RADIANCE 5.4's gendaymtx -u
+    // writes 22 columns for this file).
+    WriteFile(tmp_.path() / "up.mtx", AsciiMatrix(1, 22, 1, false, [](int, int) { return 500.; }));
+    CommandResult r = Run("dcmetrics -w two.wea -u -occ 0 24 -o m up.mtx");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("48 occupied hours"), std::string::npos) << r.out;
+    EXPECT_NE(ReadFile(tmp_.path() / "m.csv")
+                  .find("grid,0,1.000000,45.8333,45.8333,54.1667,45.8333,0.0000,\n"),
+              std::string::npos);
+    // Without -u the counts disagree, and the message says why.
+    CommandResult bad = Run("dcmetrics -w two.wea up.mtx");
+    EXPECT_NE(bad.status, 0);
+    EXPECT_NE(bad.err.find("22 time steps, but two.wea gives 48 (22 with the sun up"),
+              std::string::npos)
+        << bad.err;
+}
+
+TEST_F(DcmetricsTest, BadInput) {
+    WriteFile(tmp_.path() / "total.mtx", AsciiMatrix(2, 8760, 1, false, Total));
+    WriteFile(tmp_.path() / "small.mtx", AsciiMatrix(2, 100, 1, false, Total));
+    WriteFile(tmp_.path() / "direct3.mtx", AsciiMatrix(3, 8760, 1, false, Direct));
+    std::string ragged = AsciiMatrix(2, 8760, 1, false, Total);
+    ragged.insert(ragged.find("\n\n") + 2, "7 ");  // one value too many
+    WriteFile(tmp_.path() / "ragged.mtx", ragged);
+    std::string shortm = AsciiMatrix(2, 8760, 1, false, Total);
+    shortm.resize(shortm.size() - 20);
+    WriteFile(tmp_.path() / "short.mtx", shortm);
+    WriteFile(tmp_.path() / "sched.txt", "1\n0\n");
+    WriteFile(tmp_.path() / "areas.txt", "1 -2\n");
+    struct Case {
+        std::string cmd, message;
+    };
+    const Case cases[] = {
+        {"dcmetrics small.mtx", "small.mtx: 100 time steps is not an hourly year"},
+        {"dcmetrics total.mtx direct3.mtx",
+         "direct3.mtx: 3 sensors x 8760 time steps, but the illuminance matrix has 2 x 8760"},
+        {"dcmetrics ragged.mtx", "more than the header's size"},
+        {"dcmetrics short.mtx", "short.mtx"},
+        {"dcmetrics -s sched.txt total.mtx", "sched.txt: 2 occupancy values for 8760 time steps"},
+        {"dcmetrics -g a 0 total.mtx", "-g a: '0' is not a positive sensor count"},
+        {"dcmetrics -g a 1 total.mtx", "the grids (-g) hold 1 sensors, but total.mtx has 2"},
+        {"dcmetrics -a areas.txt total.mtx", "areas.txt:1: sensor area '-2' is not a positive"},
+        {"dcmetrics missing.mtx", "missing.mtx"},
+        {"dcmetrics -occ 18 8 total.mtx", "-occ: the start must come before the end"},
+        {"dcmetrics -udi 3000 x total.mtx", "'x' is not a number"},
+    };
+    for (const Case &c : cases) {
+        CommandResult r = Run(c.cmd);
+        EXPECT_EQ(r.status, 1) << c.cmd;
+        EXPECT_NE(r.err.find(c.message), std::string::npos) << c.cmd << ": " << r.err;
+        EXPECT_FALSE(fs::exists(tmp_.path() / "m.csv")) << c.cmd;
+    }
+}
+
+}  // namespace
+}  // namespace dayflux::test

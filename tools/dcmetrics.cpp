@@ -1,0 +1,350 @@
+// dcmetrics: annual daylight metrics (DA, cDA, UDI, sDA, ASE) from the illuminance matrices of a
+// daylight-coefficient or multi-phase run, per sensor and per grid, as text, CSV and JSON.
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "matrix/reader.h"
+#include "metrics/annual.h"
+#include "sky/solar.h"
+#include "sky/weather.h"
+#include "util/errors.h"
+#include "util/files.h"
+#include "util/strings.h"
+
+namespace dayflux {
+namespace {
+
+// RADIANCE's conversion of RGB irradiance to illuminance (rmtxop -c 47.4 119.9 11.6).
+constexpr double kLuxPerRgb[3] = {47.4, 119.9, 11.6};
+
+[[noreturn]] void Usage(const char *prog) {
+    ErrorExit(std::string("Usage: ") + prog +
+              " [-t][-w weather [-u]][-occ start end | -s schedule][-da lux][-udi low high]"
+              "[-sda percent][-ase lux hours][-a areas][-g name count ...][-o prefix] "
+              "illuminance [direct_sun_illuminance]");
+}
+
+struct Grid {
+    std::string name;
+    int count = 0;
+};
+
+struct Options {
+    bool steps_are_rows = false;
+    std::string weather, schedule, areas, prefix;
+    bool sun_up_only = false;
+    double occ_start = 8, occ_end = 18;
+    MetricThresholds t;
+    std::vector<Grid> grids;
+    std::string total, direct;
+};
+
+double Number(int argc, char **argv, int *i) {
+    if (*i + 1 >= argc) Usage(argv[0]);
+    double v;
+    if (!ParseNumber(argv[++*i], &v))
+        ErrorExit(std::string(argv[*i - 1]) + ": '" + argv[*i] + "' is not a number");
+    return v;
+}
+
+Options ParseOptions(int argc, char **argv) {
+    Options o;
+    int i = 1;
+    for (; i < argc && argv[i][0] == '-' && argv[i][1]; ++i) {
+        const std::string a = argv[i];
+        if (a == "-t") {
+            o.steps_are_rows = true;
+        } else if (a == "-w" && i + 1 < argc) {
+            o.weather = argv[++i];
+        } else if (a == "-u") {
+            o.sun_up_only = true;
+        } else if (a == "-occ") {
+            o.occ_start = Number(argc, argv, &i);
+            o.occ_end = Number(argc, argv, &i);
+        } else if (a == "-s" && i + 1 < argc) {
+            o.schedule = argv[++i];
+        } else if (a == "-da") {
+            o.t.da_lux = Number(argc, argv, &i);
+        } else if (a == "-udi") {
+            o.t.udi_lower = Number(argc, argv, &i);
+            o.t.udi_upper = Number(argc, argv, &i);
+        } else if (a == "-sda") {
+            o.t.sda_percent = Number(argc, argv, &i);
+        } else if (a == "-ase") {
+            o.t.ase_lux = Number(argc, argv, &i);
+            o.t.ase_hours = Number(argc, argv, &i);
+        } else if (a == "-a" && i + 1 < argc) {
+            o.areas = argv[++i];
+        } else if (a == "-g" && i + 2 < argc) {
+            Grid g{argv[i + 1], 0};
+            if (!ParseInt(argv[i + 2], &g.count) || g.count <= 0)
+                ErrorExit(std::string("-g ") + argv[i + 1] + ": '" + argv[i + 2] +
+                          "' is not a positive sensor count");
+            o.grids.push_back(g);
+            i += 2;
+        } else if (a == "-o" && i + 1 < argc) {
+            o.prefix = argv[++i];
+        } else {
+            Usage(argv[0]);
+        }
+    }
+    if (i == argc || argc - i > 2) Usage(argv[0]);
+    o.total = argv[i];
+    if (i + 1 < argc) o.direct = argv[i + 1];
+    if (o.sun_up_only && o.weather.empty()) ErrorExit("-u needs the weather file (-w)");
+    if (!(o.occ_start < o.occ_end)) ErrorExit("-occ: the start must come before the end");
+    if (!(o.t.udi_lower < o.t.udi_upper))
+        ErrorExit("-udi: the lower limit must be below the upper");
+    return o;
+}
+
+// The year's time steps, and for each matrix step the index of its time step.
+struct Calendar {
+    std::vector<TimeStep> steps;
+    std::vector<int> step_of_column;
+    std::string description;
+};
+
+Calendar ReadCalendar(const Options &o, int matrix_steps, const std::string &matrix_name) {
+    Calendar c;
+    if (o.weather.empty()) {
+        if (matrix_steps != 8760 && matrix_steps != 8784)
+            ErrorExit(matrix_name + ": " + std::to_string(matrix_steps) +
+                      " time steps is not an hourly year (8760 or 8784): give the weather "
+                      "file with -w");
+        c.steps = HourlyYear(matrix_steps == 8784);
+        for (int j = 0; j < matrix_steps; ++j) c.step_of_column.push_back(j);
+        c.description = "an hourly year";
+        return c;
+    }
+    WeatherReader weather(o.weather);
+    const WeatherHeader &wh = weather.Header();
+    SunTrack sun(
+        Site{wh.latitude * M_PI / 180., wh.longitude * M_PI / 180., wh.time_zone * M_PI / 180.});
+    WeatherRecord rec;
+    int sun_up = 0;
+    while (weather.Next(&rec)) {
+        const bool up = sun.Next(rec.month, rec.day, rec.hour).in_sky;
+        if (up) ++sun_up;
+        if (!o.sun_up_only || up) c.step_of_column.push_back(static_cast<int>(c.steps.size()));
+        c.steps.push_back(TimeStep{rec.month, rec.day, rec.hour});
+    }
+    if (static_cast<int>(c.step_of_column.size()) != matrix_steps) {
+        std::string hint = o.sun_up_only ? " (without -u: " + std::to_string(c.steps.size()) + ")"
+                                         : " (" + std::to_string(sun_up) +
+                                               " with the sun up: was the sky made with "
+                                               "gendaymtx -u? then give -u)";
+        ErrorExit(matrix_name + ": " + std::to_string(matrix_steps) + " time steps, but " +
+                  weather.Name() + " gives " + std::to_string(c.step_of_column.size()) + hint);
+    }
+    c.description = weather.Name();
+    return c;
+}
+
+// One illuminance matrix, streamed into the metrics; returns its sensor count.
+struct MatrixShape {
+    int sensors = 0, steps = 0;
+};
+
+MatrixShape Stream(const std::string &spec, const Options &o, const Calendar *calendar,
+                   AnnualMetrics *metrics, bool direct, const MatrixShape *expect) {
+    MatrixReader r(spec);
+    const int nc = r.Comps();
+    if (nc != 1 && nc != 3)
+        ErrorExit(r.Name() + ": NCOMP=" + std::to_string(nc) +
+                  ": expected illuminance (1 component) or RGB irradiance (3)");
+    MatrixShape shape;
+    if (o.steps_are_rows) {
+        shape.sensors = r.Cols();
+        shape.steps = r.Rows();
+        if (shape.steps == 0) ErrorExit(r.Name() + ": the number of rows (NROWS=) is needed");
+    } else {
+        shape.sensors = r.Rows();
+        shape.steps = r.Cols();
+        if (shape.sensors == 0) ErrorExit(r.Name() + ": the number of rows (NROWS=) is needed");
+    }
+    if (expect && (shape.sensors != expect->sensors || shape.steps != expect->steps))
+        ErrorExit(r.Name() + ": " + std::to_string(shape.sensors) + " sensors x " +
+                  std::to_string(shape.steps) + " time steps, but the illuminance matrix has " +
+                  std::to_string(expect->sensors) + " x " + std::to_string(expect->steps));
+    if (!calendar || !metrics) {  // only the shape was wanted
+        return shape;
+    }
+    const std::vector<int> &col_step = calendar->step_of_column;
+    std::vector<double> row(static_cast<size_t>(r.Cols()) * nc);
+    const auto lux = [&](int j) {
+        const double *v = &row[static_cast<size_t>(j) * nc];
+        return nc == 1 ? v[0] : kLuxPerRgb[0] * v[0] + kLuxPerRgb[1] * v[1] + kLuxPerRgb[2] * v[2];
+    };
+    for (int i = 0; i < r.Rows(); ++i) {
+        r.ReadRow(row.data());
+        for (int j = 0; j < r.Cols(); ++j) {
+            const int sensor = o.steps_are_rows ? j : i;
+            const int step = col_step[o.steps_are_rows ? i : j];
+            const double e = lux(j);
+            if (!std::isfinite(e))
+                ErrorExit(r.Name() + ": row " + std::to_string(i + 1) + " column " +
+                          std::to_string(j + 1) + " is not a finite number");
+            if (direct) {
+                metrics->AddDirect(sensor, step, e);
+            } else {
+                metrics->AddTotal(sensor, step, e);
+            }
+        }
+    }
+    r.Finish(true);
+    return shape;
+}
+
+std::vector<double> ReadAreas(const std::string &path, int sensors) {
+    auto in = InputSource::Open(path);
+    std::vector<double> a;
+    std::string_view word;
+    while (true) {
+        const FileLoc loc = in->Loc();
+        if (!in->NextWord(&word)) break;
+        double v;
+        if (!ParseNumber(word, &v) || !(v > 0))
+            ErrorExit(&loc, "sensor area '" + std::string(word) + "' is not a positive number");
+        a.push_back(v);
+    }
+    in->Close();
+    if (static_cast<int>(a.size()) != sensors)
+        ErrorExit(in->Name() + ": " + std::to_string(a.size()) + " areas for " +
+                  std::to_string(sensors) + " sensors");
+    return a;
+}
+
+std::string JsonString(const std::string &s) {
+    std::string out = "\"";
+    for (char ch : s) {
+        if (ch == '"' || ch == '\\') {
+            out += '\\';
+            out += ch;
+        } else if (static_cast<unsigned char>(ch) < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", ch);
+            out += buf;
+        } else {
+            out += ch;
+        }
+    }
+    return out + "\"";
+}
+
+std::string Fixed(double v, int digits = 4) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+    return buf;
+}
+
+std::string JsonNumber(double v) { return v < 0 ? "null" : Fixed(v); }
+
+void WriteCsv(const std::string &path, const AnnualMetrics &m, const std::vector<Grid> &grids,
+              const std::vector<double> &areas, bool has_direct) {
+    OutputFile out(path);
+    out.Write("grid,sensor,area,DA,cDA,UDI_lower,UDI,UDI_upper,ASE_hours\n");
+    int s = 0;
+    for (const Grid &g : grids) {
+        for (int k = 0; k < g.count; ++k, ++s) {
+            const SensorMetrics x = m.Sensor(s);
+            out.Write(g.name + "," + std::to_string(s) + "," +
+                      Fixed(areas.empty() ? 1. : areas[s], 6) + "," + Fixed(x.da) + "," +
+                      Fixed(x.cda) + "," + Fixed(x.udi_lower) + "," + Fixed(x.udi) + "," +
+                      Fixed(x.udi_upper) + "," + (has_direct ? Fixed(x.ase_hours, 2) : "") + "\n");
+        }
+    }
+    out.Commit();
+}
+
+void WriteJson(const std::string &path, const Options &o, const AnnualMetrics &m,
+               const std::vector<GridMetrics> &gm, const Calendar &cal) {
+    OutputFile out(path);
+    const MetricThresholds &t = o.t;
+    std::string s = "{\n  \"program\": \"dcmetrics\",\n";
+    s += "  \"thresholds\": {\"da_lux\": " + Fixed(t.da_lux) +
+         ", \"udi_lower_lux\": " + Fixed(t.udi_lower) +
+         ", \"udi_upper_lux\": " + Fixed(t.udi_upper) +
+         ", \"sda_percent\": " + Fixed(t.sda_percent) + ", \"ase_lux\": " + Fixed(t.ase_lux) +
+         ", \"ase_hours\": " + Fixed(t.ase_hours) + "},\n";
+    s += "  \"time_steps\": " + std::to_string(cal.steps.size()) +
+         ",\n  \"occupied_hours\": " + Fixed(m.OccupiedHours()) + ",\n  \"grids\": [\n";
+    for (size_t gi = 0; gi < gm.size(); ++gi) {
+        const GridMetrics &g = gm[gi];
+        s += "    {\"name\": " + JsonString(g.name) + ", \"sensors\": " + std::to_string(g.count) +
+             ", \"area\": " + Fixed(g.area, 6) + ", \"sDA\": " + Fixed(g.sda) +
+             ", \"ASE\": " + JsonNumber(g.ase) + ", \"mean_DA\": " + Fixed(g.mean_da) +
+             ", \"mean_cDA\": " + Fixed(g.mean_cda) +
+             ", \"mean_UDI_lower\": " + Fixed(g.mean_udi_lower) +
+             ", \"mean_UDI\": " + Fixed(g.mean_udi) +
+             ", \"mean_UDI_upper\": " + Fixed(g.mean_udi_upper) + ",\n";
+        const char *names[] = {"DA", "cDA", "UDI_lower", "UDI", "UDI_upper", "ASE_hours"};
+        for (int f = 0; f < 6; ++f) {
+            s += std::string("     \"") + names[f] + "\": [";
+            for (int k = 0; k < g.count; ++k) {
+                const SensorMetrics x = m.Sensor(g.first + k);
+                const double v[] = {x.da, x.cda, x.udi_lower, x.udi, x.udi_upper, x.ase_hours};
+                if (k) s += ", ";
+                s += f == 5 ? JsonNumber(v[f]) : Fixed(v[f]);
+            }
+            s += f == 5 ? "]}" : "],\n";
+        }
+        s += gi + 1 < gm.size() ? ",\n" : "\n";
+    }
+    s += "  ]\n}\n";
+    out.Write(s);
+    out.Commit();
+}
+
+int Main(int argc, char **argv) {
+    Options o = ParseOptions(argc, argv);
+    const MatrixShape shape = Stream(o.total, o, nullptr, nullptr, false, nullptr);
+    if (!o.direct.empty()) Stream(o.direct, o, nullptr, nullptr, true, &shape);
+    const Calendar cal = ReadCalendar(o, shape.steps, o.total);
+    std::vector<double> occupancy = o.schedule.empty()
+                                        ? DailySchedule(cal.steps, o.occ_start, o.occ_end)
+                                        : ReadSchedule(o.schedule, cal.steps.size());
+    AnnualMetrics metrics(shape.sensors, std::move(occupancy), o.t);
+    if (metrics.OccupiedHours() <= 0) ErrorExit("the schedule has no occupied hours");
+
+    if (o.grids.empty()) o.grids.push_back(Grid{"grid", shape.sensors});
+    int total = 0;
+    for (const Grid &g : o.grids) total += g.count;
+    if (total != shape.sensors)
+        ErrorExit("the grids (-g) hold " + std::to_string(total) + " sensors, but " + o.total +
+                  " has " + std::to_string(shape.sensors));
+    const std::vector<double> areas =
+        o.areas.empty() ? std::vector<double>{} : ReadAreas(o.areas, shape.sensors);
+
+    Stream(o.total, o, &cal, &metrics, false, nullptr);
+    if (!o.direct.empty()) Stream(o.direct, o, &cal, &metrics, true, &shape);
+
+    std::vector<GridMetrics> gm;
+    int first = 0;
+    for (const Grid &g : o.grids) {
+        gm.push_back(metrics.Grid(g.name, first, g.count, areas));
+        first += g.count;
+    }
+    std::printf("# %d sensors, %d time steps (%s), %.0f occupied hours\n", shape.sensors,
+                static_cast<int>(cal.steps.size()), cal.description.c_str(),
+                metrics.OccupiedHours());
+    std::printf("%-12s %8s %9s %9s %8s %8s %8s %8s\n", "grid", "sensors", "sDA300/50", "ASE1k/250",
+                "meanDA", "meancDA", "meanUDI", "UDI<100");
+    for (const GridMetrics &g : gm) {
+        std::printf("%-12s %8d %8.1f%% %8s %7.1f%% %7.1f%% %7.1f%% %7.1f%%\n", g.name.c_str(),
+                    g.count, g.sda, g.ase < 0 ? "-" : (Fixed(g.ase, 1) + "%").c_str(), g.mean_da,
+                    g.mean_cda, g.mean_udi, g.mean_udi_lower);
+    }
+    if (!o.prefix.empty()) {
+        WriteCsv(o.prefix + ".csv", metrics, o.grids, areas, !o.direct.empty());
+        WriteJson(o.prefix + ".json", o, metrics, gm, cal);
+    }
+    return 0;
+}
+
+}  // namespace
+}  // namespace dayflux
+
+int main(int argc, char **argv) { return dayflux::RunTool(argc, argv, dayflux::Main); }
