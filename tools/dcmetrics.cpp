@@ -260,7 +260,8 @@ void WriteCsv(const std::string &path, const AnnualMetrics &m, const std::vector
 }
 
 void WriteJson(const std::string &path, const Options &o, const AnnualMetrics &m,
-               const std::vector<GridMetrics> &gm, const Calendar &cal) {
+               const std::vector<GridMetrics> &gm, const GridMetrics &overall,
+               const Calendar &cal) {
     OutputFile out(path);
     const MetricThresholds &t = o.t;
     std::string s = "{\n  \"program\": \"dcmetrics\",\n";
@@ -270,7 +271,11 @@ void WriteJson(const std::string &path, const Options &o, const AnnualMetrics &m
          ", \"sda_percent\": " + Fixed(t.sda_percent) + ", \"ase_lux\": " + Fixed(t.ase_lux) +
          ", \"ase_hours\": " + Fixed(t.ase_hours) + "},\n";
     s += "  \"time_steps\": " + std::to_string(cal.steps.size()) +
-         ",\n  \"occupied_hours\": " + Fixed(m.OccupiedHours()) + ",\n  \"grids\": [\n";
+         ",\n  \"occupied_hours\": " + Fixed(m.OccupiedHours()) + ",\n";
+    s += "  \"overall\": {\"sensors\": " + std::to_string(overall.count) +
+         ", \"area\": " + Fixed(overall.area, 6) + ", \"sDA\": " + Fixed(overall.sda) +
+         ", \"ASE\": " + JsonNumber(overall.ase) + ", \"mean_DA\": " + Fixed(overall.mean_da) +
+         "},\n  \"grids\": [\n";
     for (size_t gi = 0; gi < gm.size(); ++gi) {
         const GridMetrics &g = gm[gi];
         s += "    {\"name\": " + JsonString(g.name) + ", \"sensors\": " + std::to_string(g.count) +
@@ -327,19 +332,23 @@ int Main(int argc, char **argv) {
         gm.push_back(metrics.Grid(g.name, first, g.count, areas));
         first += g.count;
     }
+    // Several grids: the whole as well, last, so scripts can take the last line.
+    const GridMetrics overall = metrics.Grid("all", 0, shape.sensors, areas);
     std::printf("# %d sensors, %d time steps (%s), %.0f occupied hours\n", shape.sensors,
                 static_cast<int>(cal.steps.size()), cal.description.c_str(),
                 metrics.OccupiedHours());
     std::printf("%-12s %8s %9s %9s %8s %8s %8s %8s\n", "grid", "sensors", "sDA300/50", "ASE1k/250",
                 "meanDA", "meancDA", "meanUDI", "UDI<100");
-    for (const GridMetrics &g : gm) {
+    const auto print = [](const GridMetrics &g) {
         std::printf("%-12s %8d %8.1f%% %8s %7.1f%% %7.1f%% %7.1f%% %7.1f%%\n", g.name.c_str(),
                     g.count, g.sda, g.ase < 0 ? "-" : (Fixed(g.ase, 1) + "%").c_str(), g.mean_da,
                     g.mean_cda, g.mean_udi, g.mean_udi_lower);
-    }
+    };
+    for (const GridMetrics &g : gm) print(g);
+    if (gm.size() > 1) print(overall);
     if (!o.prefix.empty()) {
         WriteCsv(o.prefix + ".csv", metrics, o.grids, areas, !o.direct.empty());
-        WriteJson(o.prefix + ".json", o, metrics, gm, cal);
+        WriteJson(o.prefix + ".json", o, metrics, gm, overall, cal);
     }
     return 0;
 }

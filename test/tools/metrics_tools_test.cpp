@@ -148,5 +148,41 @@ TEST_F(DcmetricsTest, BadInput) {
     }
 }
 
+TEST_F(DcmetricsTest, FcplanDrawsMetricsAndRejectsMismatches) {
+    WriteFile(tmp_.path() / "total.mtx", AsciiMatrix(3, 8760, 1, false, Total));
+    WriteFile(tmp_.path() / "s.pts", "0.5 0.5 1 0 0 1\n1.5 0.5 1 0 0 1\n2.5 0.5 1 0 0 1\n");
+    WriteFile(tmp_.path() / "two.pts", "0.5 0.5 1 0 0 1\n1.5 0.5 1 0 0 1\n");
+    ASSERT_EQ(Run("dcmetrics -o m total.mtx").status, 0);
+    CommandResult r = Run("fcplan -i s.pts -c DA -s 100 -w 50 -o da.png -hdr da.hdr m.csv");
+    ASSERT_EQ(r.status, 0) << r.err;
+    // Metrics go into the HDR as they are: DA is 40 % everywhere.
+    // First pixel of a picture, through rmtxop (RGBE keeps about 1 % of precision).
+    const auto first_pixel = [&](const std::string &pic) {
+        CommandResult p = Run("rmtxop -fa " + pic);
+        EXPECT_EQ(p.status, 0) << p.err;
+        return std::stod(p.out.substr(p.out.find("\n\n") + 2));
+    };
+    EXPECT_NEAR(first_pixel("da.hdr"), 40, 0.4);
+    // Illuminance from a matrix column goes in as W/m2 (lux / 179); 09:30 is 400 lux.
+    ASSERT_EQ(Run("fcplan -i s.pts -c 9 -px 1 -hdr h.hdr total.mtx").status, 0);
+    EXPECT_NEAR(first_pixel("h.hdr") * 179, 400, 4);
+    struct Case {
+        std::string cmd, message;
+    };
+    const Case cases[] = {
+        {"fcplan -i two.pts -c DA -o x.png m.csv", "m.csv: 3 values for 2 sensors in two.pts"},
+        {"fcplan -i s.pts -c DB -o x.png m.csv", "m.csv:1: no column named 'DB'"},
+        {"fcplan -i s.pts -c 9000 -o x.png total.mtx", "-c 9000: columns are numbered 0 to 8759"},
+        {"fcplan -i s.pts -c DA m.csv", "no output"},
+        {"fcplan -i none.pts -c DA -o x.png m.csv", "none.pts"},
+    };
+    for (const Case &c : cases) {
+        CommandResult e = Run(c.cmd);
+        EXPECT_EQ(e.status, 1) << c.cmd;
+        EXPECT_NE(e.err.find(c.message), std::string::npos) << c.cmd << ": " << e.err;
+        EXPECT_FALSE(fs::exists(tmp_.path() / "x.png")) << c.cmd;
+    }
+}
+
 }  // namespace
 }  // namespace dayflux::test
