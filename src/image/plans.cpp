@@ -117,7 +117,7 @@ namespace {
 
 std::string Label(double v) {
     char buf[32];
-    if (std::fabs(v) >= 1000 && std::fmod(v, 1000.) == 0) {
+    if (std::fabs(v) >= 1000 && v == std::round(v)) {
         const int n = std::snprintf(buf, sizeof buf, "%.0f", v);
         std::string s;  // thousands separated as in the paper's scale ("20,000 lux")
         for (int i = 0; i < n; ++i) {
