@@ -3,4 +3,4 @@
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 "$root/tools/build.sh"
-exec "$root/examples/sun-hours/run.sh"
+exec "$root/examples/reference-office/run.sh" "$@"

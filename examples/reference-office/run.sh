@@ -5,9 +5,10 @@ set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 out=$here/out/small
 for a in "$@"; do case $a in OUT=*) out=${a#OUT=} ;; esac; done
+case $out in /*) ;; *) out=$here/$out ;; esac  # make runs in $here
 bin=${DAYFLUX_BIN:-$here/../../build/bin}
 start=$(date +%s.%N)
-make --no-print-directory -C "$here" BIN="$bin" OUT="$out" "$@"
+make --no-print-directory -C "$here" BIN="$bin" "$@" OUT="$out"
 end=$(date +%s.%N)
 echo
 cat "$out/metrics.txt"
