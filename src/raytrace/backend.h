@@ -24,6 +24,10 @@ struct TraceHit {
     uint32_t triangle = 0;         // index into FlatScene::triangles (when shape < 0)
     int shape = -1;                // else index into FlatScene::shapes (analytic surfaces)
     double normal[3] = {0, 0, 0};  // unit geometric normal: triangle winding, shape's outside
+    // The hit point in double precision, on the surface: for triangles, the ray's intersection
+    // with the triangle's plane, moved into the triangle where float traversal reported a hit
+    // a hair beyond an edge (so new rays from it never start outside a closed room).
+    double point[3] = {0, 0, 0};
 };
 
 class Backend {

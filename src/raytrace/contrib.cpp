@@ -154,6 +154,7 @@ struct ContribIntegrator::Impl {
     struct ThreadState {
         std::vector<std::unique_ptr<cal::Context>> contexts;
         std::vector<cal::Expression> bins;
+        std::vector<float> ambient_dirs;  // Ambient()'s sample directions, a stack
     };
     mutable tbb::enumerable_thread_specific<ThreadState> threads;
 
@@ -392,21 +393,51 @@ struct ContribIntegrator::Impl {
         for (double &c : acoef) c /= static_cast<double>(n) * n;
         double ux[3], uy[3];
         Tangents(normal, ux, uy);
+        // RADIANCE's ambcollision(): a sample within a quarter division of an earlier
+        // neighbour's direction is drawn again, anywhere in its cell. This moves samples away
+        // from their neighbours (so its estimate differs from plain stratified sampling in the
+        // percent range for light arriving at grazing angles); we match it.
+        const double spacing = (M_PI / 4.) / n;
+        const double cos_thresh = 1. - .5 * spacing * spacing;
+        // The directions live on a per-thread stack, since the samples' own hemispheres nest.
+        std::vector<float> &dirs = ts.ambient_dirs;
+        const size_t base = dirs.size();
+        if (n > 1) dirs.resize(base + static_cast<size_t>(n) * n * 3, 0.f);
+        const auto collides = [&](int i, int j, const double dv[3]) {
+            for (int ii = std::max(0, i - 1); ii <= std::min(n - 1, i + 1); ++ii)
+                for (int jj = std::max(0, j - 1); jj <= std::min(n - 1, j + 1); ++jj) {
+                    if (ii == i && jj == j) continue;
+                    const float *a = &dirs[base + (static_cast<size_t>(ii) * n + jj) * 3];
+                    if (a[0] == 0 && a[1] == 0 && a[2] == 0) continue;  // not sampled
+                    if (a[0] * dv[0] + a[1] * dv[1] + a[2] * dv[2] >= cos_thresh) return true;
+                }
+            return false;
+        };
         for (int i = n; i--;)
             for (int j = n; j--;) {
                 RayState child;
                 if (!Spawn(r, kAmbient, acoef, rng, &child)) continue;
                 child.ambient_depth = r.ambient_depth + 1;
-                double x, y;
-                SquareToDisk((j + rng.Uniform()) / n, (i + rng.Uniform()) / n, &x, &y);
-                const double z = std::sqrt(std::max(0.0, 1. - x * x - y * y));
-                for (int k = 0; k < 3; ++k) {
-                    child.org[k] = point[k];
-                    child.dir[k] = x * ux[k] + y * uy[k] + z * normal[k];
+                double u = rng.Uniform(), v = rng.Uniform();
+                for (int tries = 0;; ++tries) {
+                    double x, y;
+                    SquareToDisk((j + v) / n, (i + u) / n, &x, &y);
+                    const double z = std::sqrt(std::max(0.0, 1. - x * x - y * y));
+                    for (int k = 0; k < 3; ++k) {
+                        child.org[k] = point[k];
+                        child.dir[k] = x * ux[k] + y * uy[k] + z * normal[k];
+                    }
+                    Normalize(child.dir);
+                    if (n == 1 || tries == 1000 || !collides(i, j, child.dir)) break;
+                    u = rng.Uniform(), v = rng.Uniform();
                 }
-                Normalize(child.dir);
+                if (n > 1)
+                    for (int k = 0; k < 3; ++k)
+                        dirs[base + (static_cast<size_t>(i) * n + j) * 3 + k] =
+                            static_cast<float>(child.dir[k]);
                 Trace(child, rng, ts, record, depth + 1);
             }
+        dirs.resize(base);
     }
 
     static void Normalize(double v[3]) {
@@ -430,8 +461,7 @@ struct ContribIntegrator::Impl {
         const int object =
             hit.shape >= 0 ? scene.shapes[hit.shape].object : scene.triangle_object[hit.triangle];
         double point[3], normal[3];
-        for (int k = 0; k < 3; ++k)
-            point[k] = r.org[k] + hit.t * r.dir[k], normal[k] = hit.normal[k];
+        for (int k = 0; k < 3; ++k) point[k] = hit.point[k], normal[k] = hit.normal[k];
         const int mat = hit.shape >= 0 ? -1 : scene.triangle_material[hit.triangle];
         if (mat >= 0)  // a RADIANCE mesh's own material, tracked by its name
             Shade(r, object, tracked_of_mesh_material.at(mat), by_modifier.at(mat), point, normal,

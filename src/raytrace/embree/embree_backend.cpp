@@ -120,6 +120,7 @@ class EmbreeBackend : public Backend {
                 for (int k = 0; k < 3; ++k)
                     p[k] = rays[i].org[k] - centre_[k] + h.t * rays[i].dir[k];
                 ShapeNormal(flat_->shapes[h.shape], centre_, p, h.normal);
+                for (int k = 0; k < 3; ++k) h.point[k] = rays[i].org[k] + h.t * rays[i].dir[k];
                 continue;
             }
             h.shape = -1;
@@ -134,7 +135,67 @@ class EmbreeBackend : public Backend {
                             u[0] * v[1] - u[1] * v[0]};
             const double len = std::sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
             for (int k = 0; k < 3; ++k) h.normal[k] = len > 0 ? nn[k] / len : 0;
+            HitPointOnTriangle(rays[i], a, b, c, nn, &h);
         }
+    }
+
+    // Refines a triangle hit in double: t from the plane, the point clamped into the triangle.
+    static void HitPointOnTriangle(const TraceRay &r, const Vec3 &a, const Vec3 &b, const Vec3 &c,
+                                   const double n[3], TraceHit *h) {
+        const double dn = r.dir[0] * n[0] + r.dir[1] * n[1] + r.dir[2] * n[2];
+        if (dn != 0) {
+            const double t =
+                ((a[0] - r.org[0]) * n[0] + (a[1] - r.org[1]) * n[1] + (a[2] - r.org[2]) * n[2]) /
+                dn;
+            if (t > 0) h->t = t;
+        }
+        double p[3];
+        for (int k = 0; k < 3; ++k) p[k] = r.org[k] + h->t * r.dir[k];
+        ClosestPointOnTriangle(p, a, b, c, h->point);
+    }
+
+    // The point of triangle abc closest to p (Ericson, Real-Time Collision Detection, 5.1.5).
+    static void ClosestPointOnTriangle(const double p[3], const Vec3 &a, const Vec3 &b,
+                                       const Vec3 &c, double out[3]) {
+        const auto sub = [](const double *x, const double *y, double *d) {
+            for (int k = 0; k < 3; ++k) d[k] = x[k] - y[k];
+        };
+        const auto dot = [](const double *x, const double *y) {
+            return x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+        };
+        const auto set = [&](double u, double v, double w) {  // barycentric weights
+            for (int k = 0; k < 3; ++k) out[k] = u * a[k] + v * b[k] + w * c[k];
+        };
+        double ab[3], ac[3], ap[3], bp[3], cp[3];
+        sub(b.data(), a.data(), ab);
+        sub(c.data(), a.data(), ac);
+        sub(p, a.data(), ap);
+        const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+        if (d1 <= 0 && d2 <= 0) return set(1, 0, 0);
+        sub(p, b.data(), bp);
+        const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+        if (d3 >= 0 && d4 <= d3) return set(0, 1, 0);
+        const double vc = d1 * d4 - d3 * d2;
+        if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+            const double v = d1 / (d1 - d3);
+            return set(1 - v, v, 0);
+        }
+        sub(p, c.data(), cp);
+        const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+        if (d6 >= 0 && d5 <= d6) return set(0, 0, 1);
+        const double vb = d5 * d2 - d1 * d6;
+        if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+            const double w = d2 / (d2 - d6);
+            return set(1 - w, 0, w);
+        }
+        const double va = d3 * d6 - d5 * d4;
+        if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+            const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+            return set(0, 1 - w, w);
+        }
+        const double denom = 1 / (va + vb + vc);
+        const double v = vb * denom, w = vc * denom;
+        set(1 - v - w, v, w);
     }
 
     void Occluded(const TraceRay *rays, bool *occluded, size_t n) const override {
