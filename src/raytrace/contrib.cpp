@@ -403,15 +403,15 @@ struct ContribIntegrator::Impl {
         std::vector<float> &dirs = ts.ambient_dirs;
         const size_t base = dirs.size();
         if (n > 1) dirs.resize(base + static_cast<size_t>(n) * n * 3, 0.f);
+        // Cells are sampled from the last row and column back, so the neighbours already
+        // sampled are (i, j+1) and (i+1, j-1..j+1); a cell with no direction was skipped.
         const auto collides = [&](int i, int j, const double dv[3]) {
-            for (int ii = std::max(0, i - 1); ii <= std::min(n - 1, i + 1); ++ii)
-                for (int jj = std::max(0, j - 1); jj <= std::min(n - 1, j + 1); ++jj) {
-                    if (ii == i && jj == j) continue;
-                    const float *a = &dirs[base + (static_cast<size_t>(ii) * n + jj) * 3];
-                    if (a[0] == 0 && a[1] == 0 && a[2] == 0) continue;  // not sampled
-                    if (a[0] * dv[0] + a[1] * dv[1] + a[2] * dv[2] >= cos_thresh) return true;
-                }
-            return false;
+            const auto near = [&](int ii, int jj) {
+                if (ii >= n || jj < 0 || jj >= n) return false;
+                const float *a = &dirs[base + (static_cast<size_t>(ii) * n + jj) * 3];
+                return a[0] * dv[0] + a[1] * dv[1] + a[2] * dv[2] >= cos_thresh;
+            };
+            return near(i, j + 1) || near(i + 1, j - 1) || near(i + 1, j) || near(i + 1, j + 1);
         };
         for (int i = n; i--;)
             for (int j = n; j--;) {
