@@ -2,6 +2,7 @@
 // daylight-coefficient or multi-phase run, per sensor and per grid, as text, CSV and JSON.
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -148,45 +149,40 @@ struct MatrixShape {
     int sensors = 0, steps = 0;
 };
 
-MatrixShape Stream(const std::string &spec, const Options &o, const Calendar *calendar,
-                   AnnualMetrics *metrics, bool direct, const MatrixShape *expect) {
-    MatrixReader r(spec);
+// The shape of an illuminance matrix from its header (the data is read once, by Stream).
+MatrixShape ShapeOf(const MatrixReader &r, const Options &o, const MatrixShape *expect) {
     const int nc = r.Comps();
     if (nc != 1 && nc != 3)
         ErrorExit(r.Name() + ": NCOMP=" + std::to_string(nc) +
                   ": expected illuminance (1 component) or RGB irradiance (3)");
     MatrixShape shape;
-    if (o.steps_are_rows) {
-        shape.sensors = r.Cols();
-        shape.steps = r.Rows();
-        if (shape.steps == 0) ErrorExit(r.Name() + ": the number of rows (NROWS=) is needed");
-    } else {
-        shape.sensors = r.Rows();
-        shape.steps = r.Cols();
-        if (shape.sensors == 0) ErrorExit(r.Name() + ": the number of rows (NROWS=) is needed");
-    }
+    shape.sensors = o.steps_are_rows ? r.Cols() : r.Rows();
+    shape.steps = o.steps_are_rows ? r.Rows() : r.Cols();
+    if (r.Rows() == 0) ErrorExit(r.Name() + ": the number of rows (NROWS=) is needed");
     if (expect && (shape.sensors != expect->sensors || shape.steps != expect->steps))
         ErrorExit(r.Name() + ": " + std::to_string(shape.sensors) + " sensors x " +
                   std::to_string(shape.steps) + " time steps, but the illuminance matrix has " +
                   std::to_string(expect->sensors) + " x " + std::to_string(expect->steps));
-    if (!calendar || !metrics) {  // only the shape was wanted
-        return shape;
-    }
-    const std::vector<int> &col_step = calendar->step_of_column;
+    return shape;
+}
+
+// Streams a matrix into the metrics, as total or as direct-sun illuminance.
+void Stream(MatrixReader &r, const Options &o, const Calendar &calendar, bool direct,
+            AnnualMetrics *metrics) {
+    const int nc = r.Comps();
+    const std::vector<int> &col_step = calendar.step_of_column;
     std::vector<double> row(static_cast<size_t>(r.Cols()) * nc);
-    const auto lux = [&](int j) {
-        const double *v = &row[static_cast<size_t>(j) * nc];
-        return nc == 1 ? v[0] : kLuxPerRgb[0] * v[0] + kLuxPerRgb[1] * v[1] + kLuxPerRgb[2] * v[2];
-    };
     for (int i = 0; i < r.Rows(); ++i) {
         r.ReadRow(row.data());
         for (int j = 0; j < r.Cols(); ++j) {
-            const int sensor = o.steps_are_rows ? j : i;
-            const int step = col_step[o.steps_are_rows ? i : j];
-            const double e = lux(j);
+            const double *v = &row[static_cast<size_t>(j) * nc];
+            const double e =
+                nc == 1 ? v[0] : kLuxPerRgb[0] * v[0] + kLuxPerRgb[1] * v[1] + kLuxPerRgb[2] * v[2];
             if (!std::isfinite(e))
                 ErrorExit(r.Name() + ": row " + std::to_string(i + 1) + " column " +
                           std::to_string(j + 1) + " is not a finite number");
+            const int sensor = o.steps_are_rows ? j : i;
+            const int step = col_step[o.steps_are_rows ? i : j];
             if (direct) {
                 metrics->AddDirect(sensor, step, e);
             } else {
@@ -195,7 +191,6 @@ MatrixShape Stream(const std::string &spec, const Options &o, const Calendar *ca
         }
     }
     r.Finish(true);
-    return shape;
 }
 
 std::vector<double> ReadAreas(const std::string &path, int sensors) {
@@ -305,8 +300,14 @@ void WriteJson(const std::string &path, const Options &o, const AnnualMetrics &m
 
 int Main(int argc, char **argv) {
     Options o = ParseOptions(argc, argv);
-    const MatrixShape shape = Stream(o.total, o, nullptr, nullptr, false, nullptr);
-    if (!o.direct.empty()) Stream(o.direct, o, nullptr, nullptr, true, &shape);
+    // Each input is opened once (it may be a pipe or stdin): headers first, then the data.
+    MatrixReader total(o.total);
+    const MatrixShape shape = ShapeOf(total, o, nullptr);
+    std::unique_ptr<MatrixReader> direct;
+    if (!o.direct.empty()) {
+        direct = std::make_unique<MatrixReader>(o.direct);
+        ShapeOf(*direct, o, &shape);
+    }
     const Calendar cal = ReadCalendar(o, shape.steps, o.total);
     std::vector<double> occupancy = o.schedule.empty()
                                         ? DailySchedule(cal.steps, o.occ_start, o.occ_end)
@@ -315,16 +316,16 @@ int Main(int argc, char **argv) {
     if (metrics.OccupiedHours() <= 0) ErrorExit("the schedule has no occupied hours");
 
     if (o.grids.empty()) o.grids.push_back(Grid{"grid", shape.sensors});
-    int total = 0;
-    for (const Grid &g : o.grids) total += g.count;
-    if (total != shape.sensors)
-        ErrorExit("the grids (-g) hold " + std::to_string(total) + " sensors, but " + o.total +
-                  " has " + std::to_string(shape.sensors));
+    int grid_sensors = 0;
+    for (const Grid &g : o.grids) grid_sensors += g.count;
+    if (grid_sensors != shape.sensors)
+        ErrorExit("the grids (-g) hold " + std::to_string(grid_sensors) + " sensors, but " +
+                  o.total + " has " + std::to_string(shape.sensors));
     const std::vector<double> areas =
         o.areas.empty() ? std::vector<double>{} : ReadAreas(o.areas, shape.sensors);
 
-    Stream(o.total, o, &cal, &metrics, false, nullptr);
-    if (!o.direct.empty()) Stream(o.direct, o, &cal, &metrics, true, &shape);
+    Stream(total, o, cal, false, &metrics);
+    if (direct) Stream(*direct, o, cal, true, &metrics);
 
     std::vector<GridMetrics> gm;
     int first = 0;

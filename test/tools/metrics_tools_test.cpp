@@ -69,6 +69,12 @@ TEST_F(DcmetricsTest, MetricsCsvJsonAndLayouts) {
               std::string::npos)
         << json;
 
+    // From a pipe: each input is read once.
+    CommandResult piped =
+        Run("cat total.mtx | dcmetrics -g west 1 -g east 2 -o p - '!cat direct.mtx'");
+    ASSERT_EQ(piped.status, 0) << piped.err;
+    EXPECT_EQ(ReadFile(tmp_.path() / "p.csv"), csv);
+
     // The same as RGB irradiance with hours as rows (rmtxop -t): grey E / 178.9 in each channel,
     // since 47.4 + 119.9 + 11.6 = 178.9.
     WriteFile(tmp_.path() / "rgb.mtx",
