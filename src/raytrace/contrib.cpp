@@ -8,19 +8,12 @@
 #include <limits>
 #include <map>
 
+#include "raytrace/materials.h"
 #include "raytrace/sampling.h"
 
 namespace dayflux {
 
 namespace {
-
-constexpr double kTiny = 1e-6;  // RADIANCE's FTINY
-
-using RGB = std::array<double, 3>;
-
-double Max3(const RGB &c) { return std::max({c[0], c[1], c[2]}); }
-// RADIANCE's bright(): luminance weights of its standard primaries.
-double Bright(const RGB &c) { return 0.2651058 * c[0] + 0.6701058 * c[1] + 0.0647884 * c[2]; }
 
 // Ray types, as RADIANCE's ray.h numbers them; a ray's "crtype" is the union over its ancestry.
 enum : int {
@@ -48,57 +41,6 @@ class Random {
     uint64_t Next() { return Mix(state_ += 0x9e3779b97f4a7c15ULL); }
     uint64_t state_;
 };
-
-// Two unit vectors perpendicular to n and to each other.
-void Tangents(const double n[3], double u[3], double v[3]) {
-    const int ax = std::fabs(n[0]) < 0.6 ? 0 : (std::fabs(n[1]) < 0.6 ? 1 : 2);
-    double e[3] = {0, 0, 0};
-    e[ax] = 1;
-    u[0] = e[1] * n[2] - e[2] * n[1];
-    u[1] = e[2] * n[0] - e[0] * n[2];
-    u[2] = e[0] * n[1] - e[1] * n[0];
-    const double l = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    for (int k = 0; k < 3; ++k) u[k] /= l;
-    v[0] = n[1] * u[2] - n[2] * u[1];
-    v[1] = n[2] * u[0] - n[0] * u[2];
-    v[2] = n[0] * u[1] - n[1] * u[0];
-}
-
-struct MixInfo;
-
-struct Material {
-    enum Kind { kBlack, kDiffuse, kGlass, kMirror, kGlow, kLight, kMix } kind = kBlack;
-    RGB color{0, 0, 0};
-    double spec = 0;              // plastic/metal/trans specularity
-    double trans = 0, tspec = 0;  // trans: transmissivity and its specular fraction
-    double alpha2 = 0;            // roughness squared (0: pure specular)
-    bool metal = false;
-    double rindex = 1.52;
-    const PatternFunction *pattern = nullptr;  // brightfunc/colorfunc modifying the colour
-    const MixInfo *mix = nullptr;              // mixfunc: the two materials and the coefficient
-};
-
-// A mixfunc: foreground and background (void: transparent) and the function mixing them.
-struct MixInfo {
-    Material fore, back;
-    bool is_void[2] = {false, false};
-    std::unique_ptr<PatternFunction> coef;
-};
-
-struct Source {
-    double dir[3];
-    double solid_angle;  // RADIANCE's ss2 = 2 pi (1 - cos(half angle))
-    int object;
-    bool skip;  // glow: reached only by rays that find nothing else
-    RGB colour;
-    double u[3], v[3];  // half-sides of the square of area ss2 that -dj jitters over (setflatss)
-};
-
-// RADIANCE's Fresnel estimate for pure specular plastic and metal (normal.c).
-double FresnelEstimate(double cos_incidence) {
-    return std::exp(-5.85 * cos_incidence) - 0.00287989916;
-}
-constexpr double kFresnelThreshold = 0.017999;
 
 // The ray variables $1..$27 of a hit (rayinit.cal's Dx.. Nx.. Px.. T Rdot S and an identity
 // object transform), on the stack: bins and patterns are evaluated at every hit.
@@ -143,13 +85,8 @@ struct ContribIntegrator::Impl {
     ContribOptions o;
     std::vector<TrackedModifier> tracked;
     std::function<std::unique_ptr<cal::Context>(int)> make_context;
-    std::vector<Material> materials;      // per scene object (surfaces: their material)
-    std::vector<int> tracked_of_object;   // tracked modifier whose name is the object's modifier
-    std::map<int, Material> by_modifier;  // each modifier resolved once (stable references)
-    std::map<int, int> tracked_of_mesh_material;  // RADIANCE meshes' own materials: tracked index
-    std::vector<std::unique_ptr<PatternFunction>> patterns;
-    std::vector<std::unique_ptr<MixInfo>> mixes;
-    std::vector<Source> sources;
+    SceneMaterials table;
+    const std::vector<Source> &sources;
 
     struct ThreadState {
         std::vector<std::unique_ptr<cal::Context>> contexts;
@@ -171,156 +108,13 @@ struct ContribIntegrator::Impl {
 
     Impl(const FlatScene &s, const Backend &b, const ContribOptions &opt,
          std::vector<TrackedModifier> t, std::function<std::unique_ptr<cal::Context>(int)> mc)
-        : scene(s), backend(b), o(opt), tracked(std::move(t)), make_context(std::move(mc)) {
-        const auto &objs = scene.scene.objects;
-        materials.resize(objs.size());
-        tracked_of_object.assign(objs.size(), -1);
-        std::vector<int> pattern_of(objs.size(), -1);
-        for (size_t i = 0; i < objs.size(); ++i) {
-            const Primitive &p = objs[i];
-            if (p.info->kind == PrimitiveKind::kSurface || p.info->kind == PrimitiveKind::kVolume) {
-                tracked_of_object[i] = TrackedIndex(p.modifier_name);
-                materials[i] = Resolved(p.modifier, pattern_of);
-            }
-        }
-        for (int mat : scene.triangle_material)
-            if (mat >= 0 && !tracked_of_mesh_material.count(mat)) {
-                Resolved(mat, pattern_of);
-                tracked_of_mesh_material[mat] = TrackedIndex(objs[mat].name);
-            }
-        for (const AnalyticShape &sh : scene.shapes) {
-            if (sh.kind != AnalyticShape::kSource) continue;
-            const double l =
-                std::sqrt(sh.p0[0] * sh.p0[0] + sh.p0[1] * sh.p0[1] + sh.p0[2] * sh.p0[2]);
-            Source s;
-            for (int k = 0; k < 3; ++k) s.dir[k] = sh.p0[k] / l;
-            s.solid_angle = 2. * M_PI * (1. - std::cos(sh.r0 * (M_PI / 360.)));
-            s.object = sh.object;
-            s.skip = materials[sh.object].kind == Material::kGlow;
-            s.colour = materials[sh.object].color;
-            Tangents(s.dir, s.u, s.v);
-            const double half_side = .5 * std::sqrt(s.solid_angle);
-            for (int k = 0; k < 3; ++k) s.u[k] *= half_side, s.v[k] *= half_side;
-            sources.push_back(s);
-        }
-        // Light on a local surface would have to be sampled as an area source.
-        std::vector<bool> is_source(objs.size(), false);
-        for (const AnalyticShape &sh : scene.shapes)
-            if (sh.kind == AnalyticShape::kSource) is_source[sh.object] = true;
-        for (size_t i = 0; i < objs.size(); ++i)
-            if (!is_source[i] && materials[i].kind == Material::kLight &&
-                objs[i].info->kind == PrimitiveKind::kSurface)
-                ErrorExit(&objs[i].loc, "'" + objs[i].name +
-                                            "': local light sources are not sampled yet (only "
-                                            "distant ones, made with 'source')");
-    }
-
-    int TrackedIndex(const std::string &modifier) const {
-        int found = -1;
-        for (size_t k = 0; k < tracked.size(); ++k)
-            if (modifier == tracked[k].name) found = static_cast<int>(k);
-        return found;
-    }
-
-    // Resolve, once per modifier (a mixfunc loads its files, many surfaces share a modifier).
-    const Material &Resolved(int mod, std::vector<int> &pattern_of) {
-        auto it = by_modifier.find(mod);
-        if (it == by_modifier.end()) it = by_modifier.emplace(mod, Resolve(mod, pattern_of)).first;
-        return it->second;
-    }
-
-    // The material a surface's modifier stands for, with the patterns that modify it.
-    Material Resolve(int mod, std::vector<int> &pattern_of) {
-        const auto &objs = scene.scene.objects;
-        Material m;
-        while (mod >= 0 && objs[mod].type == "alias")
-            mod = objs[mod].modifier >= 0 ? objs[mod].modifier : -1;
-        if (mod < 0) return m;  // void: absorbs
-        const Primitive &p = objs[mod];
-        const auto &f = p.fargs;
-        const std::string &t = p.type;
-        if (t == "plastic" || t == "metal") {
-            m.kind = Material::kDiffuse;
-            m.color = {f[0], f[1], f[2]};
-            m.spec = f[3];
-            m.metal = t == "metal";
-            m.alpha2 = f[4] * f[4];
-        } else if (t == "trans") {
-            m.kind = Material::kDiffuse;
-            m.color = {f[0], f[1], f[2]};
-            m.spec = f[3];
-            m.trans = f[5];
-            m.tspec = f[6];
-            m.alpha2 = f[4] * f[4];
-            if (m.alpha2 > kTiny && m.trans * m.tspec > kTiny)
-                ErrorExit(&p.loc,
-                          "trans '" + p.name + "': rough specular transmission is not traced yet");
-        } else if (t == "mixfunc") {
-            if (p.sargs.size() > 4)
-                ErrorExit(&p.loc, "mixfunc '" + p.name +
-                                      "': transforms of its coordinates are not supported yet");
-            auto info = std::make_unique<MixInfo>();
-            for (int side = 0; side < 2; ++side) {
-                const std::string &name = p.sargs[side];
-                if (name == "void") {
-                    info->is_void[side] = true;
-                    continue;
-                }
-                int j = mod - 1;  // the last modifier of that name before the mixfunc
-                while (j >= 0 &&
-                       !(objs[j].name == name && objs[j].info->kind != PrimitiveKind::kSurface &&
-                         objs[j].info->kind != PrimitiveKind::kVolume))
-                    --j;
-                if (j < 0)
-                    ErrorExit(&p.loc,
-                              "mixfunc '" + p.name + "': undefined modifier '" + name + "'");
-                (side == 0 ? info->fore : info->back) = Resolved(j, pattern_of);
-            }
-            Primitive f = p;  // the coefficient, evaluated as a brightfunc would be
-            f.type = "brightfunc";
-            f.info = FindPrimitiveType("brightfunc");
-            f.modifier = -1;
-            f.sargs = {p.sargs[2], p.sargs[3]};
-            info->coef = std::make_unique<PatternFunction>(f);
-            m.kind = Material::kMix;
-            m.mix = info.get();
-            mixes.push_back(std::move(info));
-            if (p.modifier >= 0)
-                ErrorExit(&p.loc, "mixfunc '" + p.name + "': inappropriate modifier");
-            return m;
-        } else if (t == "glass") {
-            m.kind = Material::kGlass;
-            m.color = {f[0], f[1], f[2]};
-            if (f.size() == 4) m.rindex = f[3];
-        } else if (t == "mirror") {
-            m.kind = Material::kMirror;
-            m.color = {f[0], f[1], f[2]};
-        } else if (t == "glow") {
-            m.kind = Material::kGlow;
-            m.color = {f[0], f[1], f[2]};
-        } else if (t == "light") {
-            m.kind = Material::kLight;
-            m.color = {f[0], f[1], f[2]};
-        } else {
-            ErrorExit(&p.loc, "material type " + t + " ('" + p.name + "') is not traced yet");
-        }
-        // A pattern modifying the material (brightfunc, colorfunc).
-        int pm = p.modifier;
-        while (pm >= 0 && objs[pm].type == "alias") pm = objs[pm].modifier;
-        if (pm >= 0) {
-            const Primitive &pp = objs[pm];
-            if (pp.type != "brightfunc" && pp.type != "colorfunc")
-                ErrorExit(&pp.loc,
-                          pp.type + " '" + pp.name + "' as a material modifier is not traced yet");
-            if (pattern_of[pm] < 0) {
-                pattern_of[pm] = static_cast<int>(patterns.size());
-                patterns.push_back(std::make_unique<PatternFunction>(pp));
-            }
-            m.pattern = patterns[pattern_of[pm]].get();
-            if (pp.modifier >= 0) ErrorExit(&pp.loc, "chains of patterns are not traced yet");
-        }
-        return m;
-    }
+        : scene(s),
+          backend(b),
+          o(opt),
+          tracked(std::move(t)),
+          make_context(std::move(mc)),
+          table(s, tracked),
+          sources(table.Sources()) {}
 
     // rayorigin(): the child's coefficient and weight, Russian roulette. False if the ray dies.
     bool Spawn(const RayState &parent, int type, const RGB &rc, Random &rng,
@@ -464,11 +258,11 @@ struct ContribIntegrator::Impl {
         for (int k = 0; k < 3; ++k) point[k] = hit.point[k], normal[k] = hit.normal[k];
         const int mat = hit.shape >= 0 ? -1 : scene.triangle_material[hit.triangle];
         if (mat >= 0)  // a RADIANCE mesh's own material, tracked by its name
-            Shade(r, object, tracked_of_mesh_material.at(mat), by_modifier.at(mat), point, normal,
-                  hit.t, rng, ts, record, depth);
+            Shade(r, object, table.TrackedOfMeshMaterial(mat), table.OfMeshMaterial(mat), point,
+                  normal, hit.t, rng, ts, record, depth);
         else
-            Shade(r, object, tracked_of_object[object], materials[object], point, normal, hit.t,
-                  rng, ts, record, depth);
+            Shade(r, object, table.TrackedOfObject(object), table.OfObject(object), point, normal,
+                  hit.t, rng, ts, record, depth);
     }
 
     void Escape(const RayState &r, Random &rng, ThreadState &ts, double *record) const {
@@ -492,7 +286,7 @@ struct ContribIntegrator::Impl {
         const int object = sources[chosen].object;
         double point[3], normal[3];
         for (int k = 0; k < 3; ++k) point[k] = r.dir[k] * 1e30, normal[k] = -r.dir[k];
-        Shade(r, object, tracked_of_object[object], materials[object], point, normal,
+        Shade(r, object, table.TrackedOfObject(object), table.OfObject(object), point, normal,
               std::numeric_limits<double>::infinity(), rng, ts, record, 0);
     }
 

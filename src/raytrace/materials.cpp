@@ -1,0 +1,156 @@
+#include "raytrace/materials.h"
+
+#include "util/errors.h"
+
+namespace dayflux {
+
+SceneMaterials::SceneMaterials(const FlatScene &scene, const std::vector<TrackedModifier> &tracked)
+    : scene_(scene), tracked_(tracked) {
+    const auto &objs = scene_.scene.objects;
+    materials_.resize(objs.size());
+    tracked_of_object_.assign(objs.size(), -1);
+    std::vector<int> pattern_of(objs.size(), -1);
+    for (size_t i = 0; i < objs.size(); ++i) {
+        const Primitive &p = objs[i];
+        if (p.info->kind == PrimitiveKind::kSurface || p.info->kind == PrimitiveKind::kVolume) {
+            tracked_of_object_[i] = TrackedIndex(p.modifier_name);
+            materials_[i] = Resolved(p.modifier, pattern_of);
+        }
+    }
+    for (int mat : scene_.triangle_material)
+        if (mat >= 0 && !tracked_of_mesh_material_.count(mat)) {
+            Resolved(mat, pattern_of);
+            tracked_of_mesh_material_[mat] = TrackedIndex(objs[mat].name);
+        }
+    for (const AnalyticShape &sh : scene_.shapes) {
+        if (sh.kind != AnalyticShape::kSource) continue;
+        const double l = std::sqrt(sh.p0[0] * sh.p0[0] + sh.p0[1] * sh.p0[1] + sh.p0[2] * sh.p0[2]);
+        Source s;
+        for (int k = 0; k < 3; ++k) s.dir[k] = sh.p0[k] / l;
+        s.solid_angle = 2. * M_PI * (1. - std::cos(sh.r0 * (M_PI / 360.)));
+        s.object = sh.object;
+        s.skip = materials_[sh.object].kind == Material::kGlow;
+        s.colour = materials_[sh.object].color;
+        Tangents(s.dir, s.u, s.v);
+        const double half_side = .5 * std::sqrt(s.solid_angle);
+        for (int k = 0; k < 3; ++k) s.u[k] *= half_side, s.v[k] *= half_side;
+        sources_.push_back(s);
+    }
+    // Light on a local surface would have to be sampled as an area source.
+    std::vector<bool> is_source(objs.size(), false);
+    for (const AnalyticShape &sh : scene_.shapes)
+        if (sh.kind == AnalyticShape::kSource) is_source[sh.object] = true;
+    for (size_t i = 0; i < objs.size(); ++i)
+        if (!is_source[i] && materials_[i].kind == Material::kLight &&
+            objs[i].info->kind == PrimitiveKind::kSurface)
+            ErrorExit(&objs[i].loc, "'" + objs[i].name +
+                                        "': local light sources are not sampled yet (only "
+                                        "distant ones, made with 'source')");
+}
+
+int SceneMaterials::TrackedIndex(const std::string &modifier) const {
+    int found = -1;
+    for (size_t k = 0; k < tracked_.size(); ++k)
+        if (modifier == tracked_[k].name) found = static_cast<int>(k);
+    return found;
+}
+
+// Resolve, once per modifier (a mixfunc loads its files, many surfaces share a modifier).
+const Material &SceneMaterials::Resolved(int mod, std::vector<int> &pattern_of) {
+    auto it = by_modifier_.find(mod);
+    if (it == by_modifier_.end()) it = by_modifier_.emplace(mod, Resolve(mod, pattern_of)).first;
+    return it->second;
+}
+
+// The material a surface's modifier stands for, with the patterns that modify it.
+Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
+    const auto &objs = scene_.scene.objects;
+    Material m;
+    while (mod >= 0 && objs[mod].type == "alias")
+        mod = objs[mod].modifier >= 0 ? objs[mod].modifier : -1;
+    if (mod < 0) return m;  // void: absorbs
+    const Primitive &p = objs[mod];
+    const auto &f = p.fargs;
+    const std::string &t = p.type;
+    if (t == "plastic" || t == "metal") {
+        m.kind = Material::kDiffuse;
+        m.color = {f[0], f[1], f[2]};
+        m.spec = f[3];
+        m.metal = t == "metal";
+        m.alpha2 = f[4] * f[4];
+    } else if (t == "trans") {
+        m.kind = Material::kDiffuse;
+        m.color = {f[0], f[1], f[2]};
+        m.spec = f[3];
+        m.trans = f[5];
+        m.tspec = f[6];
+        m.alpha2 = f[4] * f[4];
+        if (m.alpha2 > kTiny && m.trans * m.tspec > kTiny)
+            ErrorExit(&p.loc,
+                      "trans '" + p.name + "': rough specular transmission is not traced yet");
+    } else if (t == "mixfunc") {
+        if (p.sargs.size() > 4)
+            ErrorExit(&p.loc, "mixfunc '" + p.name +
+                                  "': transforms of its coordinates are not supported yet");
+        auto info = std::make_unique<MixInfo>();
+        for (int side = 0; side < 2; ++side) {
+            const std::string &name = p.sargs[side];
+            if (name == "void") {
+                info->is_void[side] = true;
+                continue;
+            }
+            int j = mod - 1;  // the last modifier of that name before the mixfunc
+            while (j >= 0 &&
+                   !(objs[j].name == name && objs[j].info->kind != PrimitiveKind::kSurface &&
+                     objs[j].info->kind != PrimitiveKind::kVolume))
+                --j;
+            if (j < 0)
+                ErrorExit(&p.loc, "mixfunc '" + p.name + "': undefined modifier '" + name + "'");
+            (side == 0 ? info->fore : info->back) = Resolved(j, pattern_of);
+        }
+        Primitive f = p;  // the coefficient, evaluated as a brightfunc would be
+        f.type = "brightfunc";
+        f.info = FindPrimitiveType("brightfunc");
+        f.modifier = -1;
+        f.sargs = {p.sargs[2], p.sargs[3]};
+        info->coef = std::make_unique<PatternFunction>(f);
+        m.kind = Material::kMix;
+        m.mix = info.get();
+        mixes_.push_back(std::move(info));
+        if (p.modifier >= 0) ErrorExit(&p.loc, "mixfunc '" + p.name + "': inappropriate modifier");
+        return m;
+    } else if (t == "glass") {
+        m.kind = Material::kGlass;
+        m.color = {f[0], f[1], f[2]};
+        if (f.size() == 4) m.rindex = f[3];
+    } else if (t == "mirror") {
+        m.kind = Material::kMirror;
+        m.color = {f[0], f[1], f[2]};
+    } else if (t == "glow") {
+        m.kind = Material::kGlow;
+        m.color = {f[0], f[1], f[2]};
+    } else if (t == "light") {
+        m.kind = Material::kLight;
+        m.color = {f[0], f[1], f[2]};
+    } else {
+        ErrorExit(&p.loc, "material type " + t + " ('" + p.name + "') is not traced yet");
+    }
+    // A pattern modifying the material (brightfunc, colorfunc).
+    int pm = p.modifier;
+    while (pm >= 0 && objs[pm].type == "alias") pm = objs[pm].modifier;
+    if (pm >= 0) {
+        const Primitive &pp = objs[pm];
+        if (pp.type != "brightfunc" && pp.type != "colorfunc")
+            ErrorExit(&pp.loc,
+                      pp.type + " '" + pp.name + "' as a material modifier is not traced yet");
+        if (pattern_of[pm] < 0) {
+            pattern_of[pm] = static_cast<int>(patterns_.size());
+            patterns_.push_back(std::make_unique<PatternFunction>(pp));
+        }
+        m.pattern = patterns_[pattern_of[pm]].get();
+        if (pp.modifier >= 0) ErrorExit(&pp.loc, "chains of patterns are not traced yet");
+    }
+    return m;
+}
+
+}  // namespace dayflux

@@ -1,0 +1,110 @@
+// What a scene's modifiers mean to the integrators: each surface's material (RADIANCE's plastic,
+// metal, trans, glass, mirror, glow, light, mixfunc, with brightfunc/colorfunc patterns), the
+// modifier tracked by -m that it counts for, and the distant sources. Both backends' integrators
+// read this one table, so they model the same materials and refuse the same things.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "raytrace/contrib.h"
+#include "scene/flatten.h"
+#include "scene/patterns.h"
+
+namespace dayflux {
+
+constexpr double kTiny = 1e-6;  // RADIANCE's FTINY
+
+using RGB = std::array<double, 3>;
+
+inline double Max3(const RGB &c) { return std::max({c[0], c[1], c[2]}); }
+// RADIANCE's bright(): luminance weights of its standard primaries.
+inline double Bright(const RGB &c) {
+    return 0.2651058 * c[0] + 0.6701058 * c[1] + 0.0647884 * c[2];
+}
+
+// Two unit vectors perpendicular to n and to each other.
+inline void Tangents(const double n[3], double u[3], double v[3]) {
+    const int ax = std::fabs(n[0]) < 0.6 ? 0 : (std::fabs(n[1]) < 0.6 ? 1 : 2);
+    double e[3] = {0, 0, 0};
+    e[ax] = 1;
+    u[0] = e[1] * n[2] - e[2] * n[1];
+    u[1] = e[2] * n[0] - e[0] * n[2];
+    u[2] = e[0] * n[1] - e[1] * n[0];
+    const double l = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (int k = 0; k < 3; ++k) u[k] /= l;
+    v[0] = n[1] * u[2] - n[2] * u[1];
+    v[1] = n[2] * u[0] - n[0] * u[2];
+    v[2] = n[0] * u[1] - n[1] * u[0];
+}
+
+struct MixInfo;
+
+struct Material {
+    enum Kind { kBlack, kDiffuse, kGlass, kMirror, kGlow, kLight, kMix } kind = kBlack;
+    RGB color{0, 0, 0};
+    double spec = 0;              // plastic/metal/trans specularity
+    double trans = 0, tspec = 0;  // trans: transmissivity and its specular fraction
+    double alpha2 = 0;            // roughness squared (0: pure specular)
+    bool metal = false;
+    double rindex = 1.52;
+    const PatternFunction *pattern = nullptr;  // brightfunc/colorfunc modifying the colour
+    const MixInfo *mix = nullptr;              // mixfunc: the two materials and the coefficient
+};
+
+// A mixfunc: foreground and background (void: transparent) and the function mixing them.
+struct MixInfo {
+    Material fore, back;
+    bool is_void[2] = {false, false};
+    std::unique_ptr<PatternFunction> coef;
+};
+
+struct Source {
+    double dir[3];
+    double solid_angle;  // RADIANCE's ss2 = 2 pi (1 - cos(half angle))
+    int object;
+    bool skip;  // glow: reached only by rays that find nothing else
+    RGB colour;
+    double u[3], v[3];  // half-sides of the square of area ss2 that -dj jitters over (setflatss)
+};
+
+// RADIANCE's Fresnel estimate for pure specular plastic and metal (normal.c).
+inline double FresnelEstimate(double cos_incidence) {
+    return std::exp(-5.85 * cos_incidence) - 0.00287989916;
+}
+constexpr double kFresnelThreshold = 0.017999;
+
+class SceneMaterials {
+  public:
+    // Resolves every surface's modifier (errors, with file and line, for what is not traced).
+    SceneMaterials(const FlatScene &scene, const std::vector<TrackedModifier> &tracked);
+
+    const Material &OfObject(int object) const { return materials_[object]; }
+    int TrackedOfObject(int object) const { return tracked_of_object_[object]; }
+    // A RADIANCE mesh's own material (FlatScene::triangle_material), tracked by its name.
+    const Material &OfMeshMaterial(int mat) const { return by_modifier_.at(mat); }
+    int TrackedOfMeshMaterial(int mat) const { return tracked_of_mesh_material_.at(mat); }
+    const std::vector<Source> &Sources() const { return sources_; }
+
+  private:
+    int TrackedIndex(const std::string &modifier) const;
+    const Material &Resolved(int mod, std::vector<int> &pattern_of);
+    Material Resolve(int mod, std::vector<int> &pattern_of);
+
+    const FlatScene &scene_;
+    const std::vector<TrackedModifier> &tracked_;
+    std::vector<Material> materials_;      // per scene object (surfaces: their material)
+    std::vector<int> tracked_of_object_;   // tracked modifier whose name is the object's modifier
+    std::map<int, Material> by_modifier_;  // each modifier resolved once (stable references)
+    std::map<int, int> tracked_of_mesh_material_;
+    std::vector<std::unique_ptr<PatternFunction>> patterns_;
+    std::vector<std::unique_ptr<MixInfo>> mixes_;
+    std::vector<Source> sources_;
+};
+
+}  // namespace dayflux
