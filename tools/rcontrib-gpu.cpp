@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <mutex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -24,6 +25,9 @@
 #include "matrix/rgbe.h"
 #include "matrix/writer.h"
 #include "raytrace/backend.h"
+#ifdef DAYFLUX_HAVE_GPU_CONTRIB
+#include "raytrace/vulkan/vulkan_contrib.h"
+#endif
 #include "raytrace/contrib.h"
 #include "scene/flatten.h"
 #include "scene/octree.h"
@@ -384,12 +388,40 @@ int Main(int argc, char **argv) {
         }
     }
     FlatScene flat = Flatten(std::move(scene));
-    std::unique_ptr<Backend> backend = CreateBackend(o.backend);
-    backend->Commit(flat);
     std::vector<TrackedModifier> tracked;
     for (const ModifierSpec &m : o.modifiers) tracked.push_back(m.tracked);
-    ContribIntegrator integrator(flat, *backend, o.contrib, tracked,
-                                 [&o](int k) { return MakeContext(o, o.modifiers[k].params); });
+    const auto make_context = [&o](int k) { return MakeContext(o, o.modifiers[k].params); };
+    // -backend, else DAYFLUX_BACKEND, else embree. The Vulkan integrator takes the run when it
+    // can; otherwise one line says why and Embree does it.
+    std::string backend_name = o.backend;
+    if (backend_name.empty()) {
+        const char *env = std::getenv("DAYFLUX_BACKEND");
+        backend_name = env && *env ? env : "embree";
+    }
+    if (backend_name != "embree" && backend_name != "vulkan")
+        ErrorExit("unknown backend '" + backend_name + "' (embree or vulkan)");
+#ifdef DAYFLUX_HAVE_GPU_CONTRIB
+    std::unique_ptr<VulkanContribIntegrator> gpu;
+    if (backend_name == "vulkan") {
+        bool one_context = true;
+        for (const ModifierSpec &m : o.modifiers)
+            one_context = one_context && m.params == o.modifiers[0].params;
+        std::string why;
+        gpu = VulkanContribIntegrator::Create(flat, o.contrib, tracked, make_context, one_context,
+                                              &why);
+        if (!gpu) Warning("the Vulkan backend cannot take this run (" + why + "); using Embree");
+    }
+    std::mutex gpu_mutex;
+#else
+    if (backend_name == "vulkan") Warning("this build has no Vulkan backend; using Embree");
+#endif
+    std::unique_ptr<Backend> backend = CreateBackend("embree");
+    backend->Commit(flat);
+    ContribIntegrator integrator(flat, *backend, o.contrib, tracked, make_context);
+    std::string backend_label = backend->Name();
+#ifdef DAYFLUX_HAVE_GPU_CONTRIB
+    if (gpu) backend_label = "vulkan: " + gpu->DeviceName();
+#endif
     const int ncols = integrator.Columns();
 
     // Outputs, in the order RADIANCE opens them: by modifier, then bin.
@@ -427,7 +459,7 @@ int Main(int argc, char **argv) {
             for (std::string &a : header_args) av.push_back(a.data());
             std::string h = HeaderStart(static_cast<int>(av.size()), av.data());
             h.insert(h.find('\n') + 1, octree_header);
-            h += "SOFTWARE= dayflux rcontrib-gpu (" + backend->Name() + ")\n" + DateLines() +
+            h += "SOFTWARE= dayflux rcontrib-gpu (" + backend_label + ")\n" + DateLines() +
                  "NCOMP=3\n";
             if (s.name != "-" && ((s.flags & kByModifier) || reclen == 1))
                 h += "MODIFIER=" + s.modifier + "\n";
@@ -452,7 +484,14 @@ int Main(int argc, char **argv) {
     // records it touches, so -c 0 or -c 10000 still uses every thread. Records end after -c rays
     // or, partial, at the end of input.
     const int accumulate = o.accumulate;
-    constexpr size_t kChunkRays = 2;  // small: one sensor ray can cost millions of rays
+    // Small chunks for the CPU (one sensor ray can cost millions of rays); the GPU takes many
+    // rays per dispatch, within a bound on the records' memory.
+    size_t chunk_rays = 2;
+#ifdef DAYFLUX_HAVE_GPU_CONTRIB
+    if (gpu)
+        chunk_rays =
+            std::clamp<size_t>((size_t(64) << 20) / (24 * static_cast<size_t>(ncols)), 1, 4096);
+#endif
     struct Segment {
         size_t first = 0, count = 0;  // rays of the chunk
         bool ends_record = false;
@@ -498,7 +537,7 @@ int Main(int argc, char **argv) {
                 ++ended;
             };
             double ray[6];
-            while (b->rays.size() / 6 < kChunkRays) {
+            while (b->rays.size() / 6 < chunk_rays) {
                 if (wanted >= 0 && ended >= wanted) {
                     done = true;
                     break;
@@ -536,6 +575,37 @@ int Main(int argc, char **argv) {
             b.sums.resize(b.segments.size());
             b.vars.resize(replicate ? b.segments.size() : 0);
             std::vector<double> one, sq;
+#ifdef DAYFLUX_HAVE_GPU_CONTRIB
+            if (gpu) {  // the whole block in one go (per replica with -se), then per segment
+                const size_t nrays = b.rays.size() / 6;
+                const int reps = replicate ? kReplicas : 1;
+                std::vector<std::vector<double>> rec(reps, std::vector<double>(nrays * n, 0.0));
+                {
+                    std::lock_guard<std::mutex> lock(gpu_mutex);
+                    for (int k = 0; k < reps; ++k)
+                        gpu->Trace(b.rays.data(), nrays, b.first_ray, k, rec[k].data());
+                }
+                for (size_t i = 0; i < b.segments.size(); ++i) {
+                    const Segment &seg = b.segments[i];
+                    b.sums[i].assign(n, 0.0);
+                    if (replicate) b.vars[i].assign(n, 0.0);
+                    for (size_t ray = seg.first; ray < seg.first + seg.count; ++ray)
+                        for (size_t j = 0; j < n; ++j) {
+                            double m = 0, q = 0;
+                            for (int k = 0; k < reps; ++k) {
+                                const double v = rec[k][ray * n + j];
+                                m += v, q += v * v;
+                            }
+                            m /= reps;
+                            b.sums[i][j] += m;
+                            if (replicate)
+                                b.vars[i][j] +=
+                                    std::max(0.0, (q - reps * m * m) / (reps - 1) / reps);
+                        }
+                }
+                return;
+            }
+#endif
             for (size_t i = 0; i < b.segments.size(); ++i) {
                 const Segment &seg = b.segments[i];
                 b.sums[i].assign(n, 0.0);

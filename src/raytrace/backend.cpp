@@ -15,10 +15,9 @@ std::unique_ptr<Backend> CreateBackend(const std::string &requested) {
         name = env && *env ? env : "embree";
     }
     if (name == "embree") return CreateEmbreeBackend();
-    if (name == "vulkan") {
-        Warning("the Vulkan backend is not available yet; using Embree");
-        return CreateEmbreeBackend();
-    }
+    // The Vulkan backend is an integrator of its own (raytrace/vulkan/vulkan_contrib.h), not a
+    // ray caster behind this interface: a program that gets here traces on the CPU.
+    if (name == "vulkan") return CreateEmbreeBackend();
     ErrorExit("unknown backend '" + name + "' (embree or vulkan)");
 }
 

@@ -1,0 +1,641 @@
+#include "raytrace/vulkan/raytracing.h"
+
+#include <vulkan/vulkan.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <shaderc/shaderc.hpp>
+#include <string_view>
+#include <unordered_map>
+
+#include "util/errors.h"
+
+namespace dayflux::vk {
+
+namespace {
+
+// Every Vulkan call is checked; a failure is an internal error with the call named.
+#define VK_CHECK(call)                                                \
+    do {                                                              \
+        VkResult vk_check_result = (call);                            \
+        if (vk_check_result != VK_SUCCESS)                            \
+            ErrorExit(std::string("Vulkan: ") + #call + " failed (" + \
+                      std::to_string(vk_check_result) + ")");         \
+    } while (false)
+
+const char *const kRequiredExtensions[] = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
+                                           VK_KHR_RAY_QUERY_EXTENSION_NAME};
+// VK_KHR_acceleration_structure depends on deferred host operations; buffer device address is
+// core in 1.2, so both are enabled when listed but not demanded.
+const char *const kOptionalExtensions[] = {VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME,
+                                           VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME};
+
+VkDeviceSize AlignUp(VkDeviceSize x, VkDeviceSize a) { return (x + a - 1) / a * a; }
+
+// The feature structures queried and enabled, chained as Vulkan wants them.
+struct FeatureChain {
+    VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    VkPhysicalDeviceAccelerationStructureFeaturesKHR as{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+    VkPhysicalDeviceRayQueryFeaturesKHR rq{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+
+    FeatureChain() {
+        f2.pNext = &v12;
+        v12.pNext = &as;
+        as.pNext = &rq;
+    }
+    FeatureChain(const FeatureChain &) = delete;
+};
+
+struct Buffer {
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkDeviceSize size = 0;
+    void *mapped = nullptr;       // host-visible buffers stay mapped for their lifetime
+    VkDeviceAddress address = 0;  // when created with SHADER_DEVICE_ADDRESS usage
+};
+
+struct Pipeline {
+    std::vector<uint32_t> code;  // to tell hash collisions apart
+    uint32_t buffer_count = 0;
+    VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VkShaderModule module = VK_NULL_HANDLE;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+};
+
+}  // namespace
+
+struct RayQueryDevice::Impl {
+    VkInstance instance = VK_NULL_HANDLE;
+    VkPhysicalDevice physical = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;
+    uint32_t queue_family = 0;
+    VkCommandPool pool = VK_NULL_HANDLE;
+    VkFence fence = VK_NULL_HANDLE;
+    std::string name;
+    VkPhysicalDeviceLimits limits{};
+    VkPhysicalDeviceAccelerationStructurePropertiesKHR as_props{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR};
+
+    PFN_vkGetAccelerationStructureBuildSizesKHR GetBuildSizes = nullptr;
+    PFN_vkCreateAccelerationStructureKHR CreateAccelerationStructure = nullptr;
+    PFN_vkDestroyAccelerationStructureKHR DestroyAccelerationStructure = nullptr;
+    PFN_vkCmdBuildAccelerationStructuresKHR CmdBuildAccelerationStructures = nullptr;
+    PFN_vkGetAccelerationStructureDeviceAddressKHR GetAccelerationStructureAddress = nullptr;
+
+    // The scene: bottom level (absent when empty) and top level with its storage.
+    VkAccelerationStructureKHR blas = VK_NULL_HANDLE, tlas = VK_NULL_HANDLE;
+    Buffer blas_storage, tlas_storage;
+
+    std::unordered_map<size_t, Pipeline> pipelines;
+    std::vector<Buffer> run_buffers;  // grown as needed, reused across runs
+
+    ~Impl() {
+        if (device) {
+            vkDeviceWaitIdle(device);
+            DestroyScene();
+            for (auto &[key, p] : pipelines) DestroyPipeline(p);
+            for (Buffer &b : run_buffers) Destroy(b);
+            if (fence) vkDestroyFence(device, fence, nullptr);
+            if (pool) vkDestroyCommandPool(device, pool, nullptr);
+            vkDestroyDevice(device, nullptr);
+        }
+        if (instance) vkDestroyInstance(instance, nullptr);
+    }
+
+    uint32_t MemoryType(uint32_t bits, VkMemoryPropertyFlags flags) const {
+        VkPhysicalDeviceMemoryProperties mp;
+        vkGetPhysicalDeviceMemoryProperties(physical, &mp);
+        for (uint32_t i = 0; i < mp.memoryTypeCount; ++i)
+            if ((bits & (1u << i)) && (mp.memoryTypes[i].propertyFlags & flags) == flags) return i;
+        return UINT32_MAX;
+    }
+
+    // Host buffers are mapped and coherent; the others (structures, scratch) are never touched
+    // by the host, so they go in device-local memory where there is some (on a discrete GPU,
+    // tracing through host memory would cross the bus).
+    Buffer Create(VkDeviceSize size, VkBufferUsageFlags usage, bool host) {
+        Buffer b;
+        b.size = std::max<VkDeviceSize>(size, 16);
+        VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+        bci.size = b.size;
+        bci.usage = usage;
+        VK_CHECK(vkCreateBuffer(device, &bci, nullptr, &b.buffer));
+        VkMemoryRequirements mr;
+        vkGetBufferMemoryRequirements(device, b.buffer, &mr);
+        VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+        flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+        VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+        if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) mai.pNext = &flags;
+        mai.allocationSize = mr.size;
+        mai.memoryTypeIndex =
+            host ? MemoryType(mr.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                                     VK_MEMORY_PROPERTY_HOST_COHERENT_BIT)
+                 : MemoryType(mr.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+        if (!host && mai.memoryTypeIndex == UINT32_MAX)
+            mai.memoryTypeIndex = MemoryType(mr.memoryTypeBits, 0);
+        if (mai.memoryTypeIndex == UINT32_MAX)
+            ErrorExit(std::string("Vulkan: no ") + (host ? "host-visible " : "") +
+                      "memory type for a buffer on " + name);
+        VK_CHECK(vkAllocateMemory(device, &mai, nullptr, &b.memory));
+        VK_CHECK(vkBindBufferMemory(device, b.buffer, b.memory, 0));
+        if (host) VK_CHECK(vkMapMemory(device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped));
+        if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) {
+            VkBufferDeviceAddressInfo bdai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+            bdai.buffer = b.buffer;
+            b.address = vkGetBufferDeviceAddress(device, &bdai);
+        }
+        return b;
+    }
+
+    void Destroy(Buffer &b) {
+        if (b.buffer) vkDestroyBuffer(device, b.buffer, nullptr);
+        if (b.memory) vkFreeMemory(device, b.memory, nullptr);  // unmaps too
+        b = Buffer{};
+    }
+
+    void DestroyPipeline(Pipeline &p) {
+        vkDestroyPipeline(device, p.pipeline, nullptr);
+        vkDestroyShaderModule(device, p.module, nullptr);
+        vkDestroyPipelineLayout(device, p.layout, nullptr);
+        vkDestroyDescriptorSetLayout(device, p.set_layout, nullptr);
+    }
+
+    void DestroyScene() {
+        if (tlas) DestroyAccelerationStructure(device, tlas, nullptr);
+        if (blas) DestroyAccelerationStructure(device, blas, nullptr);
+        tlas = blas = VK_NULL_HANDLE;
+        Destroy(tlas_storage);
+        Destroy(blas_storage);
+    }
+
+    VkCommandBuffer BeginCommands() {
+        VkCommandBufferAllocateInfo cbai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+        cbai.commandPool = pool;
+        cbai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+        cbai.commandBufferCount = 1;
+        VkCommandBuffer cb;
+        VK_CHECK(vkAllocateCommandBuffers(device, &cbai, &cb));
+        VkCommandBufferBeginInfo cbbi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        cbbi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+        VK_CHECK(vkBeginCommandBuffer(cb, &cbbi));
+        return cb;
+    }
+
+    // Ends, submits and waits for cb, then frees it.
+    void SubmitAndWait(VkCommandBuffer cb) {
+        VK_CHECK(vkEndCommandBuffer(cb));
+        VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+        si.commandBufferCount = 1;
+        si.pCommandBuffers = &cb;
+        VK_CHECK(vkQueueSubmit(queue, 1, &si, fence));
+        VK_CHECK(vkWaitForFences(device, 1, &fence, VK_TRUE, UINT64_MAX));
+        VK_CHECK(vkResetFences(device, 1, &fence));
+        vkFreeCommandBuffers(device, pool, 1, &cb);
+    }
+
+    // Creates an acceleration structure of `type` for `build` (geometry filled in), records its
+    // build into cb with a new scratch buffer that the caller frees after the submission.
+    VkAccelerationStructureKHR RecordBuild(VkCommandBuffer cb, VkAccelerationStructureTypeKHR type,
+                                           VkAccelerationStructureBuildGeometryInfoKHR &build,
+                                           uint32_t primitive_count, Buffer *storage,
+                                           Buffer *scratch) {
+        VkAccelerationStructureBuildSizesInfoKHR sizes{
+            VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
+        GetBuildSizes(device, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &build,
+                      &primitive_count, &sizes);
+        *storage = Create(sizes.accelerationStructureSize,
+                          VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR |
+                              VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                          false);
+        const VkDeviceSize align =
+            std::max<VkDeviceSize>(as_props.minAccelerationStructureScratchOffsetAlignment, 1);
+        *scratch = Create(
+            sizes.buildScratchSize + align,
+            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, false);
+        VkAccelerationStructureCreateInfoKHR asci{
+            VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
+        asci.buffer = storage->buffer;
+        asci.size = storage->size;
+        asci.type = type;
+        VkAccelerationStructureKHR as;
+        VK_CHECK(CreateAccelerationStructure(device, &asci, nullptr, &as));
+        build.dstAccelerationStructure = as;
+        build.scratchData.deviceAddress = AlignUp(scratch->address, align);
+        VkAccelerationStructureBuildRangeInfoKHR range{};
+        range.primitiveCount = primitive_count;
+        const VkAccelerationStructureBuildRangeInfoKHR *ranges = &range;
+        CmdBuildAccelerationStructures(cb, 1, &build, &ranges);
+        return as;
+    }
+};
+
+RayQueryDevice::RayQueryDevice(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+RayQueryDevice::~RayQueryDevice() = default;
+const std::string &RayQueryDevice::Name() const { return impl_->name; }
+
+std::unique_ptr<RayQueryDevice> RayQueryDevice::Open(std::string *why) {
+    auto impl = std::make_unique<Impl>();
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.pApplicationName = "dayflux";
+    app.apiVersion = VK_API_VERSION_1_2;
+    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    ici.pApplicationInfo = &app;
+    if (vkCreateInstance(&ici, nullptr, &impl->instance) != VK_SUCCESS) {
+        *why = "no Vulkan 1.2 driver (vkCreateInstance failed)";
+        return nullptr;
+    }
+    uint32_t n = 0;
+    vkEnumeratePhysicalDevices(impl->instance, &n, nullptr);
+    std::vector<VkPhysicalDevice> devices(n);
+    vkEnumeratePhysicalDevices(impl->instance, &n, devices.data());
+    if (devices.empty()) {
+        *why = "no Vulkan device";
+        return nullptr;
+    }
+    const char *want = std::getenv("DAYFLUX_VULKAN_DEVICE");
+    std::string rejected;  // why each device was passed over, for *why
+    int chosen = -1, score = -1;
+    for (uint32_t i = 0; i < n; ++i) {
+        VkPhysicalDeviceProperties p;
+        vkGetPhysicalDeviceProperties(devices[i], &p);
+        std::string lacks;
+        if (p.apiVersion < VK_API_VERSION_1_2) {
+            lacks = " Vulkan 1.2";
+        } else {
+            uint32_t ne = 0;
+            vkEnumerateDeviceExtensionProperties(devices[i], nullptr, &ne, nullptr);
+            std::vector<VkExtensionProperties> ext(ne);
+            vkEnumerateDeviceExtensionProperties(devices[i], nullptr, &ne, ext.data());
+            for (const char *e : kRequiredExtensions)
+                if (std::none_of(ext.begin(), ext.end(), [&](const VkExtensionProperties &x) {
+                        return std::strcmp(x.extensionName, e) == 0;
+                    }))
+                    lacks += std::string(" ") + e;
+            if (lacks.empty()) {
+                FeatureChain f;
+                vkGetPhysicalDeviceFeatures2(devices[i], &f.f2);
+                if (!f.v12.bufferDeviceAddress) lacks += " bufferDeviceAddress";
+                if (!f.as.accelerationStructure) lacks += " accelerationStructure";
+                if (!f.rq.rayQuery) lacks += " rayQuery";
+                if (!f.f2.features.shaderFloat64) lacks += " shaderFloat64";
+            }
+        }
+        if (!lacks.empty()) {
+            rejected += std::string(rejected.empty() ? "" : "; ") + p.deviceName + " lacks" + lacks;
+            continue;
+        }
+        int s = p.deviceType == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU ? 3
+                : p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU        ? 1
+                                                                     : 2;
+        if (want && *want) {
+            char *end;
+            long idx = std::strtol(want, &end, 10);
+            const bool match = *end == '\0' ? idx == static_cast<long>(i)
+                                            : std::strstr(p.deviceName, want) != nullptr;
+            s = match ? 10 : -1;
+        }
+        if (s > score) score = s, chosen = static_cast<int>(i);
+    }
+    if (chosen < 0 || score < 0) {
+        *why =
+            want && *want
+                ? std::string("no Vulkan device with ray queries matches DAYFLUX_VULKAN_DEVICE=") +
+                      want
+                : std::string("no Vulkan device with ray queries");
+        if (!rejected.empty()) *why += " (" + rejected + ")";
+        return nullptr;
+    }
+    impl->physical = devices[chosen];
+    VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    props.pNext = &impl->as_props;
+    vkGetPhysicalDeviceProperties2(impl->physical, &props);
+    impl->as_props.pNext = nullptr;
+    impl->name = props.properties.deviceName;
+    impl->limits = props.properties.limits;
+    uint32_t nq = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(impl->physical, &nq, nullptr);
+    std::vector<VkQueueFamilyProperties> qf(nq);
+    vkGetPhysicalDeviceQueueFamilyProperties(impl->physical, &nq, qf.data());
+    bool found = false;
+    for (uint32_t i = 0; i < nq && !found; ++i)
+        if (qf[i].queueFlags & VK_QUEUE_COMPUTE_BIT) impl->queue_family = i, found = true;
+    if (!found) {
+        *why = impl->name + " has no compute queue";
+        return nullptr;
+    }
+    const float priority = 1.f;
+    VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    qci.queueFamilyIndex = impl->queue_family;
+    qci.queueCount = 1;
+    qci.pQueuePriorities = &priority;
+
+    FeatureChain available;
+    vkGetPhysicalDeviceFeatures2(impl->physical, &available.f2);
+    FeatureChain enable;
+    enable.f2.features.shaderFloat64 = VK_TRUE;
+    enable.f2.features.shaderInt64 = available.f2.features.shaderInt64;
+    enable.v12.bufferDeviceAddress = VK_TRUE;
+    enable.as.accelerationStructure = VK_TRUE;
+    enable.rq.rayQuery = VK_TRUE;
+
+    uint32_t ne = 0;
+    vkEnumerateDeviceExtensionProperties(impl->physical, nullptr, &ne, nullptr);
+    std::vector<VkExtensionProperties> ext(ne);
+    vkEnumerateDeviceExtensionProperties(impl->physical, nullptr, &ne, ext.data());
+    std::vector<const char *> extensions(std::begin(kRequiredExtensions),
+                                         std::end(kRequiredExtensions));
+    for (const char *e : kOptionalExtensions)
+        for (const auto &x : ext)
+            if (std::strcmp(x.extensionName, e) == 0) extensions.push_back(e);
+
+    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    dci.pNext = &enable.f2;
+    dci.queueCreateInfoCount = 1;
+    dci.pQueueCreateInfos = &qci;
+    dci.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
+    dci.ppEnabledExtensionNames = extensions.data();
+    VK_CHECK(vkCreateDevice(impl->physical, &dci, nullptr, &impl->device));
+    vkGetDeviceQueue(impl->device, impl->queue_family, 0, &impl->queue);
+
+    // Extension entry points are not exported by the loader; fetch them from the device.
+    auto load = [&](const char *fn) {
+        PFN_vkVoidFunction f = vkGetDeviceProcAddr(impl->device, fn);
+        if (!f) ErrorExit(std::string("Vulkan: ") + impl->name + " does not provide " + fn);
+        return f;
+    };
+    impl->GetBuildSizes = reinterpret_cast<PFN_vkGetAccelerationStructureBuildSizesKHR>(
+        load("vkGetAccelerationStructureBuildSizesKHR"));
+    impl->CreateAccelerationStructure = reinterpret_cast<PFN_vkCreateAccelerationStructureKHR>(
+        load("vkCreateAccelerationStructureKHR"));
+    impl->DestroyAccelerationStructure = reinterpret_cast<PFN_vkDestroyAccelerationStructureKHR>(
+        load("vkDestroyAccelerationStructureKHR"));
+    impl->CmdBuildAccelerationStructures =
+        reinterpret_cast<PFN_vkCmdBuildAccelerationStructuresKHR>(
+            load("vkCmdBuildAccelerationStructuresKHR"));
+    impl->GetAccelerationStructureAddress =
+        reinterpret_cast<PFN_vkGetAccelerationStructureDeviceAddressKHR>(
+            load("vkGetAccelerationStructureDeviceAddressKHR"));
+
+    VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    pci.queueFamilyIndex = impl->queue_family;
+    VK_CHECK(vkCreateCommandPool(impl->device, &pci, nullptr, &impl->pool));
+    VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VK_CHECK(vkCreateFence(impl->device, &fci, nullptr, &impl->fence));
+    return std::unique_ptr<RayQueryDevice>(new RayQueryDevice(std::move(impl)));
+}
+
+std::vector<uint32_t> RayQueryDevice::CompileGlsl(const std::string &source,
+                                                  const std::string &name) {
+    shaderc::Compiler compiler;
+    shaderc::CompileOptions options;
+    options.SetOptimizationLevel(shaderc_optimization_level_performance);
+    options.SetTargetEnvironment(shaderc_target_env_vulkan, shaderc_env_version_vulkan_1_2);
+    // Ray queries need SPIR-V 1.4 (SPV_KHR_ray_query), which Vulkan 1.2 accepts.
+    options.SetTargetSpirv(shaderc_spirv_version_1_4);
+    auto result = compiler.CompileGlslToSpv(source, shaderc_compute_shader, name.c_str(), options);
+    if (result.GetCompilationStatus() != shaderc_compilation_status_success)
+        ErrorExit("GLSL compilation of " + name + " failed:\n" + result.GetErrorMessage());
+    return {result.cbegin(), result.cend()};
+}
+
+void RayQueryDevice::BuildScene(const std::vector<float> &positions,
+                                const std::vector<uint32_t> &indices) {
+    Impl &d = *impl_;
+    CHECK(positions.size() % 3 == 0);
+    CHECK(indices.size() % 3 == 0);
+    const size_t vertex_count = positions.size() / 3;
+    for (uint32_t i : indices) CHECK(i < vertex_count);
+    const size_t triangle_count = indices.size() / 3;
+    if (triangle_count > d.as_props.maxPrimitiveCount)
+        ErrorExit("scene has " + std::to_string(triangle_count) + " triangles; " + d.name +
+                  " takes at most " + std::to_string(d.as_props.maxPrimitiveCount) +
+                  " in one structure");
+
+    // A structure may be in use by an earlier run until the device is idle.
+    VK_CHECK(vkDeviceWaitIdle(d.device));
+    d.DestroyScene();
+
+    constexpr VkBufferUsageFlags kInput =
+        VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR |
+        VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+    // Inputs and scratch are only needed during the builds and freed after them.
+    Buffer vertices, triangles, instances, blas_scratch, tlas_scratch;
+    VkCommandBuffer cb = d.BeginCommands();
+
+    VkAccelerationStructureInstanceKHR instance{};
+    if (triangle_count > 0) {
+        vertices = d.Create(positions.size() * sizeof(float), kInput, true);
+        std::memcpy(vertices.mapped, positions.data(), positions.size() * sizeof(float));
+        triangles = d.Create(indices.size() * sizeof(uint32_t), kInput, true);
+        std::memcpy(triangles.mapped, indices.data(), indices.size() * sizeof(uint32_t));
+
+        VkAccelerationStructureGeometryKHR geometry{
+            VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
+        geometry.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
+        geometry.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
+        auto &tri = geometry.geometry.triangles;
+        tri.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
+        tri.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
+        tri.vertexData.deviceAddress = vertices.address;
+        tri.vertexStride = 3 * sizeof(float);
+        tri.maxVertex = static_cast<uint32_t>(vertex_count - 1);
+        tri.indexType = VK_INDEX_TYPE_UINT32;
+        tri.indexData.deviceAddress = triangles.address;
+        VkAccelerationStructureBuildGeometryInfoKHR build{
+            VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
+        build.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
+        build.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_BUILD_BIT_KHR;
+        build.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
+        build.geometryCount = 1;
+        build.pGeometries = &geometry;
+        d.blas = d.RecordBuild(cb, build.type, build, static_cast<uint32_t>(triangle_count),
+                               &d.blas_storage, &blas_scratch);
+
+        // The top-level build reads the bottom level.
+        VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        barrier.srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
+        barrier.dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+                             VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, 0, 1, &barrier,
+                             0, nullptr, 0, nullptr);
+
+        VkAccelerationStructureDeviceAddressInfoKHR asdai{
+            VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
+        asdai.accelerationStructure = d.blas;
+        const float identity[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+        std::memcpy(instance.transform.matrix, identity, sizeof identity);
+        instance.mask = 0xff;
+        // Both sides of every surface are hit; materials decide what a back face means.
+        instance.flags = VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR;
+        instance.accelerationStructureReference =
+            d.GetAccelerationStructureAddress(d.device, &asdai);
+    }
+
+    // An empty scene is a top level with no instances, which every ray misses.
+    const uint32_t instance_count = triangle_count > 0 ? 1 : 0;
+    instances = d.Create(sizeof instance, kInput, true);
+    CHECK(instances.address % 16 == 0);  // required of instance data
+    std::memcpy(instances.mapped, &instance, sizeof instance);
+    VkAccelerationStructureGeometryKHR geometry{
+        VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
+    geometry.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
+    geometry.geometry.instances.sType =
+        VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR;
+    geometry.geometry.instances.data.deviceAddress = instances.address;
+    VkAccelerationStructureBuildGeometryInfoKHR build{
+        VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
+    build.type = VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR;
+    build.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_BUILD_BIT_KHR;
+    build.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
+    build.geometryCount = 1;
+    build.pGeometries = &geometry;
+    d.tlas = d.RecordBuild(cb, build.type, build, instance_count, &d.tlas_storage, &tlas_scratch);
+    d.SubmitAndWait(cb);
+
+    for (Buffer *b : {&vertices, &triangles, &instances, &blas_scratch, &tlas_scratch})
+        d.Destroy(*b);
+}
+
+void RayQueryDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations,
+                         uint32_t local_size_x,
+                         const std::vector<std::vector<uint8_t> *> &buffers) {
+    Impl &d = *impl_;
+    VkDevice dev = d.device;
+    CHECK(d.tlas != VK_NULL_HANDLE);  // BuildScene first
+    CHECK(local_size_x > 0);
+    if (invocations == 0) return;
+    const uint32_t nb = static_cast<uint32_t>(buffers.size());
+
+    // The pipeline, from the cache when this code ran before.
+    size_t key = std::hash<std::string_view>{}(std::string_view(
+        reinterpret_cast<const char *>(spirv.data()), spirv.size() * sizeof(uint32_t)));
+    key ^= nb + 0x9e3779b97f4a7c15ull + (key << 6) + (key >> 2);
+    auto it = d.pipelines.find(key);
+    if (it != d.pipelines.end() && (it->second.code != spirv || it->second.buffer_count != nb)) {
+        VK_CHECK(vkDeviceWaitIdle(dev));
+        d.DestroyPipeline(it->second);
+        d.pipelines.erase(it);
+        it = d.pipelines.end();
+    }
+    if (it == d.pipelines.end()) {
+        Pipeline p;
+        p.code = spirv;
+        p.buffer_count = nb;
+        std::vector<VkDescriptorSetLayoutBinding> bindings(nb + 1);
+        bindings[0] = {0, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1,
+                       VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+        for (uint32_t i = 0; i < nb; ++i)
+            bindings[i + 1] = {i + 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1,
+                               VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+        VkDescriptorSetLayoutCreateInfo dslci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+        dslci.bindingCount = nb + 1;
+        dslci.pBindings = bindings.data();
+        VK_CHECK(vkCreateDescriptorSetLayout(dev, &dslci, nullptr, &p.set_layout));
+        VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+        plci.setLayoutCount = 1;
+        plci.pSetLayouts = &p.set_layout;
+        VK_CHECK(vkCreatePipelineLayout(dev, &plci, nullptr, &p.layout));
+        VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+        smci.codeSize = spirv.size() * sizeof(uint32_t);
+        smci.pCode = spirv.data();
+        VK_CHECK(vkCreateShaderModule(dev, &smci, nullptr, &p.module));
+        VkComputePipelineCreateInfo cpci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+        cpci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+        cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+        cpci.stage.module = p.module;
+        cpci.stage.pName = "main";
+        cpci.layout = p.layout;
+        VK_CHECK(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &cpci, nullptr, &p.pipeline));
+        it = d.pipelines.emplace(key, std::move(p)).first;
+    }
+    const Pipeline &p = it->second;
+
+    // Storage buffers, kept between runs and grown when too small.
+    if (d.run_buffers.size() < nb) d.run_buffers.resize(nb);
+    for (uint32_t i = 0; i < nb; ++i) {
+        const size_t size = buffers[i]->size();
+        if (size > d.limits.maxStorageBufferRange)
+            ErrorExit("Vulkan: a buffer of " + std::to_string(size) + " bytes exceeds " + d.name +
+                      "'s maxStorageBufferRange of " +
+                      std::to_string(d.limits.maxStorageBufferRange));
+        Buffer &b = d.run_buffers[i];
+        if (!b.buffer || b.size < size) {
+            d.Destroy(b);
+            b = d.Create(size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
+        }
+        if (size > 0) std::memcpy(b.mapped, buffers[i]->data(), size);
+    }
+
+    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1},
+                                     {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, nb}};
+    VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    dpci.maxSets = 1;
+    dpci.poolSizeCount = nb > 0 ? 2 : 1;
+    dpci.pPoolSizes = sizes;
+    VkDescriptorPool dpool;
+    VK_CHECK(vkCreateDescriptorPool(dev, &dpci, nullptr, &dpool));
+    VkDescriptorSetAllocateInfo dsai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    dsai.descriptorPool = dpool;
+    dsai.descriptorSetCount = 1;
+    dsai.pSetLayouts = &p.set_layout;
+    VkDescriptorSet set;
+    VK_CHECK(vkAllocateDescriptorSets(dev, &dsai, &set));
+    VkWriteDescriptorSetAccelerationStructureKHR as_write{
+        VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR};
+    as_write.accelerationStructureCount = 1;
+    as_write.pAccelerationStructures = &d.tlas;
+    std::vector<VkDescriptorBufferInfo> infos(nb);
+    std::vector<VkWriteDescriptorSet> writes(nb + 1, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET});
+    writes[0].pNext = &as_write;
+    writes[0].dstSet = set;
+    writes[0].dstBinding = 0;
+    writes[0].descriptorCount = 1;
+    writes[0].descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
+    for (uint32_t i = 0; i < nb; ++i) {
+        // The range is the caller's size, not the buffer's capacity, so .length() in the shader
+        // is right (a range may not be 0: empty buffers get 16 bytes, the least Create makes).
+        const size_t size = buffers[i]->size();
+        infos[i] = {d.run_buffers[i].buffer, 0, size > 0 ? size : 16};
+        writes[i + 1].dstSet = set;
+        writes[i + 1].dstBinding = i + 1;
+        writes[i + 1].descriptorCount = 1;
+        writes[i + 1].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        writes[i + 1].pBufferInfo = &infos[i];
+    }
+    vkUpdateDescriptorSets(dev, nb + 1, writes.data(), 0, nullptr);
+
+    // Groups beyond the x limit go in y (see the header for how the shader indexes then).
+    const uint64_t groups = (uint64_t{invocations} + local_size_x - 1) / local_size_x;
+    const uint32_t gx =
+        static_cast<uint32_t>(std::min<uint64_t>(groups, d.limits.maxComputeWorkGroupCount[0]));
+    const uint64_t gy = (groups + gx - 1) / gx;
+    if (gy > d.limits.maxComputeWorkGroupCount[1])
+        ErrorExit("Vulkan: " + std::to_string(invocations) + " invocations in groups of " +
+                  std::to_string(local_size_x) + " exceed " + d.name + "'s work group limits");
+
+    VkCommandBuffer cb = d.BeginCommands();
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &set, 0, nullptr);
+    vkCmdDispatch(cb, gx, static_cast<uint32_t>(gy), 1);
+    // A fence makes device writes available but not visible to the host; this barrier does.
+    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
+                         &barrier, 0, nullptr, 0, nullptr);
+    d.SubmitAndWait(cb);
+    vkDestroyDescriptorPool(dev, dpool, nullptr);
+
+    for (uint32_t i = 0; i < nb; ++i)
+        if (!buffers[i]->empty())
+            std::memcpy(buffers[i]->data(), d.run_buffers[i].mapped, buffers[i]->size());
+}
+
+}  // namespace dayflux::vk

@@ -1,0 +1,54 @@
+// A Vulkan device with ray queries (VK_KHR_ray_query) holding one scene's acceleration
+// structures: an explicit build, then compute dispatches that trace against it, as with Embree.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dayflux::vk {
+
+// A Vulkan device with ray queries, holding one scene's acceleration structures.
+class RayQueryDevice {
+  public:
+    // Same device choice as ComputeDevice::Open (DAYFLUX_VULKAN_DEVICE by name substring or index,
+    // else a discrete GPU first, else any), but only among Vulkan 1.2 devices with
+    // VK_KHR_acceleration_structure, VK_KHR_ray_query, bufferDeviceAddress and shaderFloat64 (our
+    // generated GLSL uses doubles). Returns nullptr and sets *why when none qualifies.
+    static std::unique_ptr<RayQueryDevice> Open(std::string *why);
+    ~RayQueryDevice();
+    RayQueryDevice(const RayQueryDevice &) = delete;
+    RayQueryDevice &operator=(const RayQueryDevice &) = delete;
+
+    const std::string &Name() const;
+
+    // Compiles a GLSL compute shader (source includes its #version line and
+    // #extension GL_EXT_ray_query : require) to SPIR-V 1.4 for Vulkan 1.2; errors name `name`.
+    static std::vector<uint32_t> CompileGlsl(const std::string &source, const std::string &name);
+
+    // Builds (or rebuilds) one bottom-level structure with all triangles (positions: xyz floats
+    // per vertex; indices: 3 per triangle) flagged OPAQUE and not culled, and a top-level
+    // structure with one identity instance. Triangle i is primitive index i in the shader
+    // (rayQueryGetIntersectionPrimitiveIndexEXT). With no triangles, rays miss everything.
+    void BuildScene(const std::vector<float> &positions, const std::vector<uint32_t> &indices);
+
+    // Runs spirv over `invocations` invocations in groups of local_size_x (which must match the
+    // shader's), with the top-level structure at set 0 binding 0 (accelerationStructureEXT) and
+    // storage buffers at bindings 1, 2, ... in the order given; they are copied in before and out
+    // after the run. No push constants. When the groups needed exceed maxComputeWorkGroupCount[0]
+    // (65535 on lavapipe) they are laid out in y as well, so a shader that may see that many
+    // should index with gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x *
+    // gl_WorkGroupSize.x (y is 0 otherwise). Every shader must ignore indices >= invocations.
+    // Pipelines are cached by code, so running the same spirv again is cheap.
+    void Run(const std::vector<uint32_t> &spirv, uint32_t invocations, uint32_t local_size_x,
+             const std::vector<std::vector<uint8_t> *> &buffers);
+
+    struct Impl;
+
+  private:
+    explicit RayQueryDevice(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dayflux::vk

@@ -1,0 +1,337 @@
+#include "raytrace/vulkan/vulkan_contrib.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+
+#include "cal/glsl.h"
+#include "raytrace/materials.h"
+#include "raytrace/vulkan/raytracing.h"
+#include "shaders/common.h"
+#include "shaders/embedded.h"
+#include "util/errors.h"
+
+namespace dayflux {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kLocalSize = 64;
+constexpr int kStackSize = 32;
+constexpr size_t kAccumBudget = size_t(256) << 20;  // bytes of results per dispatch
+constexpr uint32_t kMaxTasksPerRun = 65535u * kLocalSize;
+// Rows of the first hemisphere with RADIANCE's collision rule (-ad up to 65536); beyond, none.
+constexpr int kMaxRows = 256;
+
+gpu::vec4 Vec4(double x, double y, double z, double w = 0) {
+    return gpu::vec4{static_cast<float>(x), static_cast<float>(y), static_cast<float>(z),
+                     static_cast<float>(w)};
+}
+
+template <class T>
+std::vector<uint8_t> Bytes(const std::vector<T> &v) {
+    std::vector<uint8_t> b(std::max<size_t>(v.size() * sizeof(T), 16), 0);
+    if (!v.empty()) std::memcpy(b.data(), v.data(), v.size() * sizeof(T));
+    return b;
+}
+
+// SPIR-V cached on disk by the source's hash, so a second run does not compile again.
+std::vector<uint32_t> CompileCached(const std::string &source) {
+    const size_t key = std::hash<std::string>{}(source);
+    char name[32];
+    std::snprintf(name, sizeof name, "contrib-%016zx.spv", key);
+    fs::path dir;
+    if (const char *x = std::getenv("XDG_CACHE_HOME"); x && *x)
+        dir = fs::path(x) / "dayflux";
+    else if (const char *h = std::getenv("HOME"); h && *h)
+        dir = fs::path(h) / ".cache" / "dayflux";
+    if (!dir.empty()) {
+        std::ifstream in(dir / name, std::ios::binary);
+        std::vector<uint32_t> spirv;
+        uint32_t word;
+        while (in.read(reinterpret_cast<char *>(&word), sizeof word)) spirv.push_back(word);
+        if (!spirv.empty() && spirv[0] == 0x07230203u) return spirv;  // SPIR-V magic
+    }
+    std::vector<uint32_t> spirv = vk::RayQueryDevice::CompileGlsl(source, "contrib.comp");
+    if (!dir.empty()) {  // best effort: a read-only home only costs the next run a compile
+        std::error_code ec;
+        fs::create_directories(dir, ec);
+        const fs::path temp = dir / (std::string(name) + ".tmp");
+        std::ofstream out(temp, std::ios::binary);
+        out.write(reinterpret_cast<const char *>(spirv.data()),
+                  static_cast<std::streamsize>(spirv.size() * sizeof(uint32_t)));
+        out.close();
+        if (out) fs::rename(temp, dir / name, ec);
+    }
+    return spirv;
+}
+
+}  // namespace
+
+struct VulkanContribIntegrator::Impl {
+    std::unique_ptr<vk::RayQueryDevice> device;
+    ContribOptions o;
+    std::vector<uint32_t> spirv;
+    double centre[3] = {0, 0, 0};
+    double extent = 0;
+    int nsources = 0;
+    int columns = 0;
+    int max_rows = 1;  // divisions along one side of the first hemisphere (slices are rows)
+    std::vector<uint8_t> positions, indices, triangles, surfaces, sources;
+};
+
+VulkanContribIntegrator::VulkanContribIntegrator(std::unique_ptr<Impl> impl, int columns)
+    : impl_(std::move(impl)), columns_(columns) {}
+VulkanContribIntegrator::~VulkanContribIntegrator() = default;
+const std::string &VulkanContribIntegrator::DeviceName() const { return impl_->device->Name(); }
+
+std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
+    const FlatScene &scene, const ContribOptions &options,
+    const std::vector<TrackedModifier> &tracked,
+    const std::function<std::unique_ptr<cal::Context>(int)> &make_context, bool one_context,
+    std::string *why) {
+    // What the GPU integrator does not do yet.
+    for (const AnalyticShape &sh : scene.shapes)
+        if (sh.kind != AnalyticShape::kSource) {
+            *why =
+                "analytic surfaces (spheres, cones, cylinders, rings) are traced on the CPU only";
+            return nullptr;
+        }
+    if (!one_context) {
+        *why = "modifiers with different -p parameters";
+        return nullptr;
+    }
+    SceneMaterials table(scene, tracked);
+    const auto unsupported = [&](const Material &m) -> std::string {
+        if (m.kind == Material::kMix) return "mixfunc";
+        if (m.pattern && !(m.kind == Material::kGlow && !options.contributions))
+            return "patterns (brightfunc, colorfunc) on materials";
+        if (m.kind == Material::kDiffuse && m.alpha2 > kTiny && m.spec > kTiny)
+            return "rough specular reflection";
+        return "";
+    };
+
+    auto impl = std::make_unique<Impl>();
+    impl->o = options;
+    int columns = 0;
+    for (const TrackedModifier &t : tracked) columns = std::max(columns, t.first_column + t.nbins);
+    impl->columns = columns;
+
+    // Surfaces: one entry per (material, tracked modifier) the triangles use.
+    std::vector<gpu::GpuSurface> surfaces;
+    std::map<std::pair<const Material *, int>, int> surface_of;
+    const auto surface = [&](const Material &m, int k) {
+        auto [it, added] = surface_of.emplace(std::make_pair(&m, k), int(surfaces.size()));
+        if (added) {
+            gpu::GpuSurface s{};
+            s.color = Vec4(m.color[0], m.color[1], m.color[2], m.rindex);
+            s.params = Vec4(m.spec, m.trans, m.tspec, m.metal ? 1 : 0);
+            s.kind = m.kind;
+            s.tracked = k;
+            surfaces.push_back(s);
+        }
+        return it->second;
+    };
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    for (const Vec3 &v : scene.vertices)
+        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], v[k]), hi[k] = std::max(hi[k], v[k]);
+    double extent = 0;
+    if (!scene.vertices.empty())
+        for (int k = 0; k < 3; ++k) {
+            impl->centre[k] = .5 * (lo[k] + hi[k]);
+            extent = std::max(extent, hi[k] - lo[k]);
+        }
+    std::vector<float> pos;
+    pos.reserve(scene.vertices.size() * 3);
+    for (const Vec3 &v : scene.vertices)
+        for (int k = 0; k < 3; ++k) pos.push_back(static_cast<float>(v[k] - impl->centre[k]));
+    std::vector<uint32_t> idx;
+    std::vector<gpu::GpuTriangle> tris;
+    idx.reserve(scene.triangles.size() * 3);
+    tris.reserve(scene.triangles.size());
+    for (size_t i = 0; i < scene.triangles.size(); ++i) {
+        const auto &t = scene.triangles[i];
+        idx.insert(idx.end(), t.begin(), t.end());
+        const int object = scene.triangle_object[i];
+        const int mat = scene.triangle_material[i];
+        const Material &m = mat >= 0 ? table.OfMeshMaterial(mat) : table.OfObject(object);
+        const int k = mat >= 0 ? table.TrackedOfMeshMaterial(mat) : table.TrackedOfObject(object);
+        if (std::string u = unsupported(m); !u.empty()) {
+            *why = u + " (" + scene.scene.objects[object].name + ") is traced on the CPU only";
+            return nullptr;
+        }
+        const Vec3 &a = scene.vertices[t[0]], &b = scene.vertices[t[1]], &c = scene.vertices[t[2]];
+        const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+                     w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                       u[0] * w[1] - u[1] * w[0]};
+        const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        gpu::GpuTriangle gt{};
+        gt.normal = len > 0 ? Vec4(n[0] / len, n[1] / len, n[2] / len) : Vec4(0, 0, 1);
+        gt.surface = surface(m, k);
+        gt.object = object;
+        tris.push_back(gt);
+    }
+    std::vector<gpu::GpuSource> srcs;
+    for (const Source &s : table.Sources()) {
+        const Material &m = table.OfObject(s.object);
+        if (std::string u = unsupported(m); !u.empty()) {
+            *why = u + " (" + scene.scene.objects[s.object].name + ") is traced on the CPU only";
+            return nullptr;
+        }
+        gpu::GpuSource g{};
+        g.dir = Vec4(s.dir[0], s.dir[1], s.dir[2], s.solid_angle);
+        g.colour = Vec4(s.colour[0], s.colour[1], s.colour[2], s.skip ? 1 : 0);
+        g.u = Vec4(s.u[0], s.u[1], s.u[2]);
+        g.v = Vec4(s.v[0], s.v[1], s.v[2]);
+        g.object = s.object;
+        g.tracked = table.TrackedOfObject(s.object);
+        g.kind = m.kind;
+        srcs.push_back(g);
+    }
+
+    // The bins, compiled from calcomp to GLSL.
+    std::unique_ptr<cal::Context> cx = make_context(0);
+    std::vector<cal::Expression> bins;
+    for (const TrackedModifier &t : tracked)
+        bins.push_back(cx->Compile(t.bin_expression, FileLoc{"-b", 0}));
+    std::vector<cal::GlslEntry> entries;
+    for (size_t k = 0; k < tracked.size(); ++k)
+        entries.push_back({"cal_bin" + std::to_string(k), &bins[k]});
+    std::string cal_glsl;
+    try {
+        cal_glsl = cal::GenerateGlsl(*cx, entries);
+    } catch (const UserError &e) {
+        *why = std::string("a bin expression GLSL cannot express: ") + e.what();
+        return nullptr;
+    }
+
+    impl->device = vk::RayQueryDevice::Open(why);
+    if (!impl->device) return nullptr;
+
+    const auto &o = options;
+    impl->max_rows = std::max(1, static_cast<int>(std::sqrt(double(o.ambient_divisions)) + 1.5));
+    impl->extent = extent;
+    impl->nsources = static_cast<int>(srcs.size());
+    std::string src = "#version 460\n#extension GL_EXT_ray_query : require\n";
+    const auto define = [&](const char *name, const std::string &value) {
+        src += std::string("#define ") + name + " " + value + "\n";
+    };
+    // The options are read from the tasks buffer (common.h), so runs that differ only in them
+    // share one compiled shader.
+    define("AB", "tasks.ab");
+    define("AD", "tasks.ad");
+    define("LW", "tasks.lw");
+    define("LR", "tasks.lr");
+    define("IRRADIANCE", "tasks.irradiance");
+    define("FIRST_HIT", "tasks.first_hit");
+    define("CONTRIBUTIONS", "tasks.contributions");
+    define("NSOURCES", "tasks.nsources");
+    define("DJ", "tasks.dj");
+    define("SEED", "tasks.seed");
+    define("TMIN", "tasks.tmin");
+    define("CENTRE_X", "tasks.centre_x");
+    define("CENTRE_Y", "tasks.centre_y");
+    define("CENTRE_Z", "tasks.centre_z");
+    define("NCOLS", std::to_string(columns));
+    define("NTRACKED", std::to_string(tracked.size()));
+    define("MAXN", std::to_string(kMaxRows));
+    define("LOCAL_SIZE", std::to_string(kLocalSize));
+    define("STACK_SIZE", std::to_string(kStackSize));
+    src += kShaderCommon;
+    src += cal_glsl;
+    src += "double EvalBin(int k) {\n";
+    for (size_t k = 0; k < tracked.size(); ++k)
+        src +=
+            "    if (k == " + std::to_string(k) + ") return cal_bin" + std::to_string(k) + "();\n";
+    src += "    return -1.0LF;\n}\n";
+    std::string first = "const int kFirstColumn[NTRACKED] = int[](",
+                nbins = "const int kBins[NTRACKED] = int[](";
+    for (size_t k = 0; k < tracked.size(); ++k) {
+        first += (k ? ", " : "") + std::to_string(tracked[k].first_column);
+        nbins += (k ? ", " : "") + std::to_string(tracked[k].nbins);
+    }
+    src += first + ");\n" + nbins + ");\n";
+    src += kShaderContrib;
+    if (const char *dump = std::getenv("DAYFLUX_DUMP_SHADER")) std::ofstream(dump) << src;
+    impl->spirv = CompileCached(src);
+
+    impl->device->BuildScene(pos, idx);
+    impl->positions = Bytes(pos);
+    impl->indices = Bytes(idx);
+    impl->triangles = Bytes(tris);
+    impl->surfaces = Bytes(surfaces);
+    impl->sources = Bytes(srcs);
+    return std::unique_ptr<VulkanContribIntegrator>(
+        new VulkanContribIntegrator(std::move(impl), columns));
+}
+
+void VulkanContribIntegrator::Trace(const double *rays, size_t n, uint64_t first_index, int replica,
+                                    double *records) const {
+    Impl &d = *impl_;
+    if (n == 0) return;
+    std::vector<gpu::vec4> in(2 * n);
+    for (size_t i = 0; i < n; ++i) {
+        const double *r = rays + 6 * i;
+        const bool zero = r[3] == 0 && r[4] == 0 && r[5] == 0;
+        in[2 * i] = Vec4(r[0] - d.centre[0], r[1] - d.centre[1], r[2] - d.centre[2]);
+        in[2 * i + 1] = Vec4(r[3], r[4], r[5], zero ? -1 : 0);
+    }
+    // -I rays split their first hemisphere's rows between several tasks, enough to keep the
+    // device busy; other rays are one task each.
+    const size_t want_tasks = 1 << 16;
+    int slices = 1;
+    if (d.o.irradiance)
+        slices = static_cast<int>(
+            std::clamp<size_t>((want_tasks + n - 1) / n, 1, static_cast<size_t>(d.max_rows)));
+    const size_t record = 3 * static_cast<size_t>(d.columns);
+    const size_t total = n * static_cast<size_t>(slices);
+    const size_t per_run =
+        std::clamp<size_t>(kAccumBudget / (record * sizeof(double)), 1, kMaxTasksPerRun);
+    std::vector<uint8_t> ray_bytes = Bytes(in);
+    for (size_t offset = 0; offset < total; offset += per_run) {
+        const size_t count = std::min(per_run, total - offset);
+        gpu::GpuTasks tasks{};
+        tasks.rays = static_cast<int>(n);
+        tasks.slices = slices;
+        tasks.first_ray = static_cast<int>(first_index);
+        tasks.replica = replica;
+        tasks.task_offset = static_cast<int>(offset);
+        tasks.count = static_cast<int>(count);
+        tasks.ab = d.o.ambient_bounces;
+        tasks.ad = d.o.ambient_divisions;
+        tasks.lr = d.o.limit_reflections;
+        tasks.irradiance = d.o.irradiance;
+        tasks.first_hit = d.o.first_hit_irradiance;
+        tasks.contributions = d.o.contributions;
+        tasks.nsources = d.nsources;
+        tasks.seed = static_cast<uint32_t>(d.o.seed ^ (d.o.seed >> 32));
+        tasks.lw = static_cast<float>(d.o.limit_weight);
+        tasks.dj = static_cast<float>(d.o.source_jitter);
+        tasks.tmin = static_cast<float>(std::max(1e-6 * d.extent, 1e-9));
+        tasks.centre_x = d.centre[0];
+        tasks.centre_y = d.centre[1];
+        tasks.centre_z = d.centre[2];
+        std::vector<uint8_t> task_bytes(sizeof tasks);
+        std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
+        std::vector<uint8_t> accum(count * record * sizeof(double), 0);
+        d.device->Run(d.spirv, static_cast<uint32_t>(count), kLocalSize,
+                      {&ray_bytes, &d.positions, &d.indices, &d.triangles, &d.surfaces, &d.sources,
+                       &accum, &task_bytes});
+        const double *a = reinterpret_cast<const double *>(accum.data());
+        for (size_t t = 0; t < count; ++t) {
+            double *dst = records + ((offset + t) / slices) * record;
+            const double *src = a + t * record;
+            for (size_t j = 0; j < record; ++j) dst[j] += src[j];
+        }
+    }
+}
+
+}  // namespace dayflux

@@ -1,0 +1,88 @@
+// Bindings and struct layouts shared by the C++ host (src/raytrace/vulkan) and the GLSL
+// integrator (contrib.comp). Every struct is made of vec4s and ints in multiples of four, so the
+// std430 layout and the C++ layout agree without padding rules.
+#ifdef __cplusplus
+#pragma once
+#include <cstdint>
+namespace dayflux::gpu {
+using uint = uint32_t;
+struct alignas(16) vec4 {
+    float x = 0, y = 0, z = 0, w = 0;
+};
+#define DAYFLUX_GPU_CONST inline constexpr int
+#else
+#define DAYFLUX_GPU_CONST const int
+#endif
+
+// Set 0 bindings. The acceleration structure is binding 0 (RayQueryDevice::Run).
+DAYFLUX_GPU_CONST kBindingRays = 1;       // vec4 org (xyz, recentred), vec4 dir per input ray
+DAYFLUX_GPU_CONST kBindingPositions = 2;  // float xyz per vertex, recentred
+DAYFLUX_GPU_CONST kBindingIndices = 3;    // uint, 3 per triangle
+DAYFLUX_GPU_CONST kBindingTriangles = 4;  // GpuTriangle per triangle
+DAYFLUX_GPU_CONST kBindingSurfaces = 5;   // GpuSurface per surface kind
+DAYFLUX_GPU_CONST kBindingSources = 6;    // GpuSource per distant source
+DAYFLUX_GPU_CONST kBindingAccum = 7;      // double, tasks x columns x 3
+DAYFLUX_GPU_CONST kBindingTasks = 8;      // GpuTasks: what this dispatch does
+
+// Material kinds, as raytrace/materials.h's Material::Kind (no mixfunc on the GPU yet).
+DAYFLUX_GPU_CONST kMatBlack = 0;
+DAYFLUX_GPU_CONST kMatDiffuse = 1;
+DAYFLUX_GPU_CONST kMatGlass = 2;
+DAYFLUX_GPU_CONST kMatMirror = 3;
+DAYFLUX_GPU_CONST kMatGlow = 4;
+DAYFLUX_GPU_CONST kMatLight = 5;
+
+struct GpuTriangle {
+    vec4 normal;  // unit geometric normal (triangle winding); w unused
+    int surface;  // index into the surfaces
+    int object;   // scene object (sources' objects are compared with it)
+    int pad0, pad1;
+};
+
+// A material as the integrator needs it, with the tracked modifier it counts for.
+struct GpuSurface {
+    vec4 color;   // rgb; w: glass refractive index
+    vec4 params;  // x: specularity, y: transmissivity, z: transmitted specular fraction, w: metal
+    int kind;     // kMat*
+    int tracked;  // -m index, or -1
+    int pad0, pad1;
+};
+
+// A distant source (RADIANCE's 'source'): direction, size, what it is made of.
+struct GpuSource {
+    vec4 dir;     // xyz unit direction, w: solid angle (2 pi (1 - cos(half angle)))
+    vec4 colour;  // rgb radiance of its material; w: 1 for glow (found only by escaping rays)
+    vec4 u;       // half side of the square -dj jitters over, along one axis; w unused
+    vec4 v;       // and the other
+    int object;   // scene object
+    int tracked;  // -m index, or -1
+    int kind;     // its material's kMat*
+    int pad0;
+};
+
+// One dispatch: tasks [task_offset, task_offset + count) of rays x slices; a slice traces a
+// share of the rows of the first hemisphere (the rest of a path follows the cell that started
+// it). Results: count x columns x 3 doubles. The run's options are here too, not compiled in,
+// so one compiled shader serves every run with the same bins (compiling is slow on lavapipe).
+struct GpuTasks {
+    int rays;         // input rays in the batch (the rays buffer)
+    int slices;       // tasks per ray
+    int first_ray;    // index of the batch's first ray in the whole input (random numbers)
+    int replica;      // -se replica (random numbers)
+    int task_offset;  // first task of this dispatch
+    int count;        // tasks in this dispatch
+    int ab, ad;       // -ab, -ad
+    int lr;           // -lr
+    int irradiance;   // -I
+    int first_hit;    // -i
+    int contributions;  // -V
+    int nsources;
+    uint seed;
+    int pad0, pad1;
+    float lw, dj, tmin, pad2;  // -lw, -dj, the ray start offset
+    double centre_x, centre_y, centre_z, pad3;  // added back to positions for the bins
+};
+
+#ifdef __cplusplus
+}  // namespace dayflux::gpu
+#endif

@@ -1,0 +1,556 @@
+// rcontrib's estimator on the GPU: the same ray tree as src/raytrace/contrib.cpp (rayorigin's
+// weights and Russian roulette, n x n stratified cosine hemispheres with RADIANCE's collision
+// rule, Fresnel-estimated plastic and metal, trans, glass, mirror, glow, distant light sources
+// with shadow rays), walked with an explicit stack since GLSL has no recursion.
+//
+// The host prepends: #version and extensions, the constants below as #defines, common.h, the
+// generated calcomp functions and EvalBin(k), kFirstColumn[] and kBins[]:
+//   AB AD LW LR NCOLS IRRADIANCE FIRST_HIT CONTRIBUTIONS NTRACKED NSOURCES DJ SEED TMIN
+//   CENTRE_X CENTRE_Y CENTRE_Z MAXN LOCAL_SIZE STACK_SIZE
+
+layout(local_size_x = LOCAL_SIZE) in;
+layout(set = 0, binding = 0) uniform accelerationStructureEXT scene;
+layout(std430, set = 0, binding = kBindingRays) readonly buffer Rays { vec4 rays[]; };
+layout(std430, set = 0, binding = kBindingPositions) readonly buffer Positions { float positions[]; };
+layout(std430, set = 0, binding = kBindingIndices) readonly buffer Indices { uint indices[]; };
+layout(std430, set = 0, binding = kBindingTriangles) readonly buffer Triangles { GpuTriangle triangles[]; };
+layout(std430, set = 0, binding = kBindingSurfaces) readonly buffer Surfaces { GpuSurface surfaces[]; };
+layout(std430, set = 0, binding = kBindingSources) readonly buffer Sources { GpuSource sources[]; };
+layout(std430, set = 0, binding = kBindingAccum) buffer Accum { double accum[]; };
+layout(std430, set = 0, binding = kBindingTasks) readonly buffer Tasks { GpuTasks tasks; };
+
+const float kTiny = 1e-6;  // RADIANCE's FTINY
+const float kPi = 3.14159265358979;
+const float kFresnelThreshold = 0.017999;
+
+// Ray types as RADIANCE's ray.h numbers them.
+const int kPrimary = 1, kShadow = 2, kReflected = 4, kTrans = 16, kAmbient = 32, kSpecular = 64;
+const int kReflectionTypes = kShadow | kReflected | kAmbient | kSpecular;
+
+// ---- random numbers: counter-based (PCG hash), so a cell's draws can be replayed anywhere.
+uint Pcg(uint v) {
+    uint state = v * 747796405u + 2891336453u;
+    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+uint Key(uint a, uint b, uint c, uint d) { return Pcg(a ^ Pcg(b ^ Pcg(c ^ Pcg(d)))); }
+uint rng;
+float Rand() {
+    rng = Pcg(rng);
+    return float(rng >> 8) * (1.0 / 16777216.0);
+}
+
+float Max3(vec3 c) { return max(c.x, max(c.y, c.z)); }
+float Bright(vec3 c) { return dot(c, vec3(0.2651058, 0.6701058, 0.0647884)); }
+float FresnelEstimate(float cosi) { return exp(-5.85 * cosi) - 0.00287989916; }
+
+void Tangents(vec3 n, out vec3 u, out vec3 v) {
+    vec3 e = abs(n.x) < 0.6 ? vec3(1, 0, 0) : (abs(n.y) < 0.6 ? vec3(0, 1, 0) : vec3(0, 0, 1));
+    u = normalize(cross(e, n));
+    v = cross(n, u);
+}
+
+// Shirley-Chiu square to disk (RADIANCE's square2disk()).
+vec2 SquareToDisk(float sx, float sy) {
+    float a = 2 * sx - 1, b = 2 * sy - 1, r, phi;
+    if (a > -b) {
+        if (a > b) { r = a; phi = kPi / 4 * (b / a); }
+        else { r = b; phi = kPi / 4 * (2 - a / b); }
+    } else {
+        if (a < b) { r = -a; phi = kPi / 4 * (4 + b / a); }
+        else { r = -b; phi = b != 0 ? kPi / 4 * (6 - a / b) : 0; }
+    }
+    return vec2(r * cos(phi), r * sin(phi));
+}
+
+// ---- the ray stack
+const int kItemTrace = 0, kItemAmbient = 1, kItemDirect = 2;
+struct Ray {
+    vec3 org, dir;
+    vec3 coef;    // product of the coefficients from the input ray down to this ray
+    float weight; // RADIANCE's rweight
+    int rlvl, crtype, adepth, aimed;
+};
+struct Item {
+    Ray r;
+    int kind;
+    // kItemAmbient: a hemisphere about normal at point, cells next .. cells_end in RADIANCE's
+    // order (i, j from n - 1 down); kItemDirect: sources next .. NSOURCES - 1.
+    vec3 point, normal, colour;  // colour: the hemisphere's coefficient (already / n^2), or the
+                                 // surface colour for the direct part
+    float rdiff, tdiff, trans;
+    int n, next, end, fresnel;
+};
+Item stack[STACK_SIZE];
+int top = 0;
+uint dropped = 0;
+void Push(Item it) {
+    if (top < STACK_SIZE) stack[top++] = it; else ++dropped;
+}
+
+// ---- where this task's results go
+uint acc_base;
+void Contribute(int k, Ray r, vec3 point, vec3 normal, float t, vec3 radiance) {
+    // The ray variables $1..$27 (rayinit.cal): direction, normal, point (world), distance, Rdot,
+    // scale, identity transform.
+    cal_chan[1] = r.dir.x; cal_chan[2] = r.dir.y; cal_chan[3] = r.dir.z;
+    cal_chan[4] = normal.x; cal_chan[5] = normal.y; cal_chan[6] = normal.z;
+    cal_chan[7] = double(point.x) + CENTRE_X;
+    cal_chan[8] = double(point.y) + CENTRE_Y;
+    cal_chan[9] = double(point.z) + CENTRE_Z;
+    cal_chan[10] = t;
+    cal_chan[11] = -dot(r.dir, normal);
+    cal_chan[12] = 1;
+    for (int i = 13; i <= 27; ++i) cal_chan[i] = 0;
+    cal_chan[16] = 1; cal_chan[20] = 1; cal_chan[24] = 1;
+    double b = EvalBin(k);
+    if (b < -0.5) return;
+    int bin = int(floor(b + 0.5));
+    if (bin >= kBins[k]) return;
+    uint at = acc_base + 3u * uint(kFirstColumn[k] + bin);
+    vec3 v = CONTRIBUTIONS != 0 ? r.coef * radiance : r.coef;
+    accum[at] += double(v.x);
+    accum[at + 1] += double(v.y);
+    accum[at + 2] += double(v.z);
+}
+
+// rayorigin(): the child's coefficient and weight, Russian roulette. False if it dies.
+bool Spawn(Ray parent, int type, vec3 rc, out Ray child) {
+    float rw = min(1.0, Max3(rc));
+    child = parent;
+    child.rlvl = parent.rlvl + ((type & kReflectionTypes) != 0 ? 1 : 0);
+    child.crtype = parent.crtype | type;
+    child.weight = parent.weight * rw;
+    child.coef = parent.coef * rc;
+    child.aimed = (type & kReflectionTypes) != 0 ? -1 : parent.aimed;
+    if (child.weight <= 0) return false;
+    if ((child.crtype & kShadow) != 0) return true;
+    if (LR <= 0) {
+        if (LR < 0 && child.rlvl > -LR) return false;
+        if (child.weight >= LW) return true;
+        if (Rand() > child.weight / LW) return false;
+        child.coef *= float(LW) / child.weight;
+        child.weight = float(LW);
+        return true;
+    }
+    return child.weight >= LW && child.rlvl <= LR;
+}
+
+// ---- tracing
+vec3 Vertex(uint i) { return vec3(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]); }
+
+// The point of triangle abc closest to p (the CPU backend's refinement: new rays never start
+// outside a closed room).
+vec3 ClosestPointOnTriangle(vec3 p, vec3 a, vec3 b, vec3 c) {
+    vec3 ab = b - a, ac = c - a, ap = p - a;
+    float d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return a;
+    vec3 bp = p - b;
+    float d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return b;
+    float vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+    vec3 cp = p - c;
+    float d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return c;
+    float vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+    float va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+        return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+    float denom = 1 / (va + vb + vc);
+    return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+bool Closest(vec3 org, vec3 dir, out float t, out int prim) {
+    rayQueryEXT q;
+    rayQueryInitializeEXT(q, scene, gl_RayFlagsOpaqueEXT, 0xFF, org, TMIN, dir, 1e30);
+    while (rayQueryProceedEXT(q)) {
+    }
+    if (rayQueryGetIntersectionTypeEXT(q, true) != gl_RayQueryCommittedIntersectionTriangleEXT)
+        return false;
+    t = rayQueryGetIntersectionTEXT(q, true);
+    prim = rayQueryGetIntersectionPrimitiveIndexEXT(q, true);
+    return true;
+}
+
+void ShadeMaterial(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t);
+
+// A ray reaches something (tracked modifier k, material m); normal faces the ray afterwards.
+void Shade(Ray r, int object, int k, GpuSurface m, vec3 point, vec3 geo_normal, float t) {
+    float rod = -dot(r.dir, geo_normal);
+    vec3 normal = rod < 0 ? -geo_normal : geo_normal;
+    rod = abs(rod);
+    if (r.aimed >= 0 && object != sources[r.aimed].object) k = -1;
+    bool light = m.kind == kMatLight;
+    bool bad = light && (r.crtype & (kAmbient | kSpecular)) != 0 && (r.crtype & kShadow) == 0;
+    if (k >= 0 && !bad) Contribute(k, r, point, normal, t, m.color.rgb);
+    if (FIRST_HIT != 0 && (r.crtype & ~(kPrimary | kTrans)) == 0 && !light && m.kind != kMatGlow) {
+        if (m.kind == kMatGlass || m.params.y > 0) {
+            Ray c;
+            if (Spawn(r, kTrans, vec3(1), c)) {
+                c.org = point;
+                Item it; it.r = c; it.kind = kItemTrace; Push(it);
+            }
+            return;
+        }
+        // raytirrad(): a Lambertian surface of reflectance pi.
+        m.kind = kMatDiffuse;
+        m.color = vec4(kPi, kPi, kPi, 0);
+        m.params = vec4(0);
+    }
+    ShadeMaterial(r, m, point, normal, rod, t);
+}
+
+void PushHemisphere(Ray r, vec3 colour, vec3 point, vec3 normal) {
+    if (r.adepth >= AB || AD <= 0) return;
+    if (Bright(colour) <= kTiny) return;
+    float wt = r.weight;
+    float d = 0.8 * Max3(colour) * r.weight / float(AD * LW);
+    if (wt > d) wt = d;
+    int n = int(sqrt(float(AD) * wt) + 0.5);
+    if (n < 1) n = 1;
+    Item it;
+    it.r = r;
+    it.kind = kItemAmbient;
+    it.point = point;
+    it.normal = normal;
+    it.colour = colour / float(n * n);
+    it.n = n;
+    it.next = 0;
+    it.end = n * n;
+    Push(it);
+}
+
+void PushDirect(Ray r, vec3 colour, float rdiff, float tdiff, float trans, bool fresnel,
+                vec3 point, vec3 normal) {
+    if (NSOURCES == 0) return;
+    if (Max3(colour) <= 0 || (rdiff <= kTiny && tdiff <= kTiny)) return;
+    Item it;
+    it.r = r;
+    it.kind = kItemDirect;
+    it.point = point;
+    it.normal = normal;
+    it.colour = colour;
+    it.rdiff = rdiff;
+    it.tdiff = tdiff;
+    it.trans = trans;
+    it.fresnel = fresnel ? 1 : 0;
+    it.next = 0;
+    it.end = NSOURCES;
+    Push(it);
+}
+
+void PushChild(Ray r, int type, vec3 coef, vec3 org, vec3 dir) {
+    Ray c;
+    if (!Spawn(r, type, coef, c)) return;
+    c.org = org;
+    c.dir = dir;
+    Item it;
+    it.r = c;
+    it.kind = kItemTrace;
+    Push(it);
+}
+
+void ShadeMaterial(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t) {
+    if (m.kind == kMatBlack || m.kind == kMatGlow || m.kind == kMatLight) return;
+    vec3 c = m.color.rgb;
+    if (m.kind == kMatMirror) {
+        if ((r.crtype & kShadow) != 0) return;
+        PushChild(r, kReflected, c, point, normalize(r.dir + 2 * rod * normal));
+        return;
+    }
+    if (m.kind == kMatGlass) {
+        vec3 mc = max(c, vec3(1e-15));
+        bool hastrans = Max3(c) > 1e-15;
+        float n = m.color.w, pdot = rod;
+        float cos2 = sqrt((1.0 - 1.0 / (n * n)) + pdot * pdot / (n * n));
+        if (hastrans) mc = pow(mc, vec3(1.0 / cos2));
+        float r1e = (pdot - n * cos2) / (pdot + n * cos2);
+        r1e *= r1e;
+        float r1m = (1.0 / pdot - n / cos2) / (1.0 / pdot + n / cos2);
+        r1m *= r1m;
+        if (hastrans) {
+            vec3 tr = .5 * (1.0 - r1e) * (1.0 - r1e) * mc / (1.0 - r1e * r1e * mc * mc) +
+                      .5 * (1.0 - r1m) * (1.0 - r1m) * mc / (1.0 - r1m * r1m * mc * mc);
+            PushChild(r, kTrans, tr, point, r.dir);
+        }
+        if ((r.crtype & kShadow) != 0) return;
+        vec3 dd = mc * mc;
+        vec3 refl = .5 * r1e * (1.0 + (1.0 - 2.0 * r1e) * dd) / (1.0 - r1e * r1e * dd) +
+                    .5 * r1m * (1.0 + (1.0 - 2.0 * r1m) * dd) / (1.0 - r1m * r1m * dd);
+        PushChild(r, kReflected, refl, point, normalize(r.dir + 2 * pdot * normal));
+        return;
+    }
+    // plastic, metal, trans with pure specular parts (rough ones stay on the CPU backend).
+    float spec = m.params.x;
+    bool metal = m.params.w > 0.5;
+    float rspec = spec, fest = 0;
+    float pdot = max(rod, .001);
+    if (rspec >= kFresnelThreshold) {
+        fest = FresnelEstimate(pdot);
+        rspec += fest * (1. - rspec);
+    }
+    float trans = m.params.y * (1. - rspec), tspec = trans * m.params.z;
+    float tdiff = trans - tspec;
+    if (tspec > kTiny) PushChild(r, kTrans, c * tspec, point, r.dir);
+    if ((r.crtype & kShadow) != 0) return;
+    if (rspec > kTiny) {
+        vec3 sc = vec3(rspec);
+        if (metal) sc = fest > kTiny ? fest + c * spec * (1. - fest) : c * rspec;
+        PushChild(r, kReflected, sc, point, normalize(r.dir + 2 * pdot * normal));
+    }
+    float rdiff = 1.0 - trans - rspec;
+    if (rdiff <= kTiny && tdiff <= kTiny) return;
+    PushDirect(r, c, rdiff, tdiff, trans, spec >= kFresnelThreshold, point, normal);
+    if (tdiff > kTiny) PushHemisphere(r, c * tdiff, point, -normal);
+    if (rdiff > kTiny) PushHemisphere(r, c * rdiff, point, normal);
+}
+
+// Where a ray ends: a triangle, or a distant source for rays that hit nothing (sourcehit()).
+struct Hit {
+    int object, tracked;
+    GpuSurface m;
+    vec3 point, normal;
+    float t;
+};
+
+bool Escape(Ray r, out Hit h) {
+    int glow = -1, chosen = -1;
+    int first = r.aimed >= 0 ? r.aimed : 0, last = r.aimed >= 0 ? r.aimed + 1 : NSOURCES;
+    for (int i = first; i < last; ++i) {
+        float c = dot(sources[i].dir.xyz, r.dir);
+        if (2. * kPi * (1. - c) > sources[i].dir.w) continue;
+        if (sources[i].colour.w > 0.5 && r.aimed < 0) {
+            if (glow < 0) glow = i;
+            continue;
+        }
+        chosen = i;
+        break;
+    }
+    if (chosen < 0) chosen = glow;
+    if (chosen < 0) return false;
+    GpuSource s = sources[chosen];
+    h.object = s.object;
+    h.tracked = s.tracked;
+    h.m.color = vec4(s.colour.rgb, 0);
+    h.m.params = vec4(0);
+    h.m.kind = s.kind;
+    h.m.tracked = s.tracked;
+    h.point = r.dir * 1e30;
+    h.normal = -r.dir;
+    h.t = 1e30;
+    return true;
+}
+
+bool FindHit(Ray r, out Hit h) {
+    float t;
+    int prim;
+    if (!Closest(r.org, r.dir, t, prim)) return Escape(r, h);
+    GpuTriangle tri = triangles[prim];
+    // On the triangle's plane, then into the triangle (see ClosestPointOnTriangle).
+    vec3 a = Vertex(indices[3 * prim]), b = Vertex(indices[3 * prim + 1]),
+         c = Vertex(indices[3 * prim + 2]);
+    float dn = dot(r.dir, tri.normal.xyz);
+    if (dn != 0) {
+        float tp = dot(a - r.org, tri.normal.xyz) / dn;
+        if (tp > 0) t = tp;
+    }
+    h.point = ClosestPointOnTriangle(r.org + t * r.dir, a, b, c);
+    h.m = surfaces[tri.surface];
+    h.object = tri.object;
+    h.tracked = h.m.tracked;
+    h.normal = tri.normal.xyz;
+    h.t = t;
+    return true;
+}
+
+// One shadow ray toward source i (direct() with dirnorm() and rcontrib's -dt 0).
+void DirectStep(Item it, int i) {
+    GpuSource s = sources[i];
+    if (s.colour.w > 0.5) return;  // glow: found only by escaping rays
+    vec3 dir = s.dir.xyz;
+    if (DJ > kTiny) {
+        float pu = DJ * (1. - 2. * Rand()), pv = DJ * (1. - 2. * Rand());
+        if (DJ > 0.7) {
+            float c = 1.12837917;
+            float tu = c * sqrt(1. - .5 * pv * pv), tv = c * sqrt(1. - .5 * pu * pu);
+            pu *= tu;
+            pv *= tv;
+        }
+        dir = normalize(dir + pu * s.u.xyz + pv * s.v.xyz);
+    }
+    float ldot = dot(it.normal, dir);
+    if (ldot < 0 ? it.trans <= kTiny : it.trans >= 1 - kTiny) return;
+    float lrdiff = it.rdiff, ltdiff = it.tdiff;
+    if (it.fresnel != 0 && (lrdiff > kTiny || ltdiff > kTiny)) {
+        float f = 1. - FresnelEstimate(abs(ldot));
+        lrdiff *= f;
+        ltdiff *= f;
+    }
+    float k = 0;
+    if (ldot > kTiny && lrdiff > kTiny) k = ldot * s.dir.w * lrdiff / kPi;
+    if (ldot < -kTiny && ltdiff > kTiny) k = -ldot * s.dir.w * ltdiff / kPi;
+    vec3 coef = it.colour * k;
+    if (Max3(coef) <= 0 || Bright(coef * s.colour.rgb) <= 0) return;
+    Ray c = it.r;
+    c.rlvl = it.r.rlvl + 1;
+    c.crtype = it.r.crtype | kShadow;
+    c.aimed = i;
+    c.coef = it.r.coef * coef;
+    c.org = it.point;
+    c.dir = dir;
+    Item sh;
+    sh.r = c;
+    sh.kind = kItemTrace;
+    Push(sh);
+}
+
+// The first hemisphere of a path (ambient depth 0) follows RADIANCE's ambcollision(): a
+// direction within a quarter division of an earlier neighbour's is drawn again in its cell.
+// Its cells' random numbers are keyed by the cell, so a task tracing rows [end of the range)
+// replays the directions of the rows before it without tracing them.
+vec3 prev_row[MAXN], cur_row[MAXN];
+
+bool CellDirection(Item it, int i, int j, float cos_thresh, bool check, out Ray child,
+                   out vec3 dir) {
+    Ray r = it.r;
+    if (!Spawn(r, kAmbient, it.colour, child)) return false;
+    child.adepth = r.adepth + 1;
+    vec3 ux, uy;
+    Tangents(it.normal, ux, uy);
+    float u = Rand(), v = Rand();
+    for (int tries = 0;; ++tries) {
+        vec2 xy = SquareToDisk((j + v) / it.n, (i + u) / it.n);
+        float z = sqrt(max(0.0, 1. - dot(xy, xy)));
+        dir = normalize(xy.x * ux + xy.y * uy + z * it.normal);
+        if (!check || it.n == 1 || tries == 1000) break;
+        bool hit = (j + 1 < it.n && dot(cur_row[j + 1], dir) >= cos_thresh) ||
+                   (i + 1 < it.n && ((j > 0 && dot(prev_row[j - 1], dir) >= cos_thresh) ||
+                                     dot(prev_row[j], dir) >= cos_thresh ||
+                                     (j + 1 < it.n && dot(prev_row[j + 1], dir) >= cos_thresh)));
+        if (!hit) break;
+        u = Rand();
+        v = Rand();
+    }
+    return true;
+}
+
+uint cell_key;  // the path's random numbers: key of the input ray, then of the cell
+
+// Returns true if it pushed the cell's ray.
+bool AmbientStep(inout Item it) {
+    // Cells in RADIANCE's order: k = 0 is (n - 1, n - 1), then j, then i, downward.
+    int k = it.next++;
+    int i = it.n - 1 - k / it.n, j = it.n - 1 - k % it.n;
+    bool first_level = it.r.adepth == 0 && it.n <= MAXN;
+    float spacing = (kPi / 4.) / it.n;
+    float cos_thresh = 1. - .5 * spacing * spacing;
+    if (first_level) {
+        if (j == it.n - 1) {  // a new row: the last one becomes the previous
+            for (int x = 0; x < it.n; ++x) {
+                prev_row[x] = cur_row[x];
+                cur_row[x] = vec3(0);
+            }
+        }
+        // The cell's own random numbers (and those of the path it starts), so that any task
+        // can replay it.
+        rng = Key(cell_key, uint(k), 0x9e3779b9u, 3u);
+    }
+    Ray child;
+    vec3 dir;
+    bool ok = CellDirection(it, i, j, cos_thresh, first_level, child, dir);
+    if (first_level) cur_row[j] = ok ? dir : vec3(0);
+    if (!ok) return false;
+    child.org = it.point;
+    child.dir = dir;
+    Item c;
+    c.r = child;
+    c.kind = kItemTrace;
+    Push(c);
+    return true;
+}
+
+void RunStack() {
+    while (top > 0) {
+        Item it = stack[--top];
+        if (it.kind == kItemTrace) {
+            Hit h;
+            if (FindHit(it.r, h)) Shade(it.r, h.object, h.tracked, h.m, h.point, h.normal, h.t);
+        } else if (it.kind == kItemAmbient) {
+            if (it.next < it.end) {
+                Item rest = it;
+                if (AmbientStep(rest) && rest.next < rest.end && top < STACK_SIZE) {
+                    // the loop goes back under the cell's ray, which runs first
+                    Item child = stack[top - 1];
+                    stack[top - 1] = rest;
+                    stack[top++] = child;
+                } else if (rest.next < rest.end) {
+                    Push(rest);
+                }
+            }
+        } else {  // kItemDirect
+            if (it.next < it.end) {
+                int i = it.next++;
+                if (it.next < it.end) Push(it);
+                DirectStep(it, i);
+            }
+        }
+    }
+}
+
+void main() {
+    uint local_task = gl_GlobalInvocationID.x;
+    if (local_task >= uint(tasks.count)) return;
+    uint task = uint(tasks.task_offset) + local_task;
+    uint ray_in = task / uint(tasks.slices), slice = task % uint(tasks.slices);
+    acc_base = local_task * uint(NCOLS * 3);
+    vec3 org = rays[2 * ray_in].xyz, dir = normalize(rays[2 * ray_in + 1].xyz);
+    uint ray_index = uint(tasks.first_ray) + ray_in;
+    cell_key = Key(SEED, ray_index, uint(tasks.replica), 0x2545f491u);
+    rng = Key(cell_key, slice, 17u, 5u);
+    for (int x = 0; x < MAXN; ++x) cur_row[x] = vec3(0);
+    Ray r;
+    r.org = org;
+    r.dir = dir;
+    r.coef = vec3(1);
+    r.weight = 1;
+    r.rlvl = 0;
+    r.crtype = kPrimary;
+    r.adepth = 0;
+    r.aimed = -1;
+    if (IRRADIANCE != 0) {
+        // -I: a Lambertian surface of reflectance pi at the origin, facing the ray direction.
+        vec3 point = org + 1e-4 * dir;
+        vec3 lamb = vec3(kPi);
+        if (slice == 0u) {
+            PushDirect(r, lamb, 1.0, 0.0, 0.0, false, point, dir);
+            RunStack();
+        }
+        PushHemisphere(r, lamb, point, dir);
+        if (top == 0) return;
+        // This slice's share of the rows; the rows before it are replayed without tracing.
+        Item h = stack[--top];
+        int rows = h.n, per = (rows + tasks.slices - 1) / tasks.slices;
+        int row_first = int(slice) * per, row_end = min(rows, row_first + per);
+        if (row_first >= row_end) return;
+        for (int k = 0; k < row_first * h.n; ++k) {
+            Item replay = h;
+            replay.next = k;
+            AmbientStep(replay);
+            top = 0;  // the cell's ray is dropped: replayed, not traced
+        }
+        h.next = row_first * h.n;
+        h.end = row_end * h.n;
+        Push(h);
+        RunStack();
+        return;
+    }
+    if (slice == 0u) {
+        Item it;
+        it.r = r;
+        it.kind = kItemTrace;
+        Push(it);
+        RunStack();
+    }
+}

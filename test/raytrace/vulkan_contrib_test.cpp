@@ -1,0 +1,194 @@
+// The Vulkan integrator (rcontrib-gpu -backend vulkan) on lavapipe or any device with ray queries:
+// analytic answers, and agreement with the Embree backend within the standard errors. Every
+// test bins with reinhart.cal at MF:1 and tracks one modifier, so one compiled shader serves
+// them all (compiling it takes lavapipe most of a minute; it is cached on disk afterwards).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#include "test_util.h"
+
+namespace dayflux::test {
+namespace fs = std::filesystem;
+namespace {
+
+const std::string kBins = " -e MF:1 -f reinhart.cal -b rbin -bn Nrbins ";
+
+std::vector<double> Floats(const std::string &bytes) {
+    std::vector<double> v(bytes.size() / 4);
+    for (size_t i = 0; i < v.size(); ++i) {
+        float f;
+        std::memcpy(&f, bytes.data() + 4 * i, 4);
+        v[i] = f;
+    }
+    return v;
+}
+
+class VulkanContrib : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        WriteFile(tmp_.path() / "sky.rad",
+                  "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 180\n");
+        CommandResult r = RunCommand(
+            "echo '0 0 0 0 0 1' | rcontrib-gpu -backend vulkan -h -I+ "
+            "-ab 1 -ad 16" +
+                kBins + "-m skyglow sky.rad",
+            tmp_.path());
+        ASSERT_EQ(r.status, 0) << r.err;
+        if (r.err.find("using Embree") != std::string::npos) GTEST_SKIP() << r.err;
+    }
+    // Runs rcontrib-gpu (float output, no header) on a backend; with -se, se gets the errors.
+    std::vector<double> Run(const std::string &backend, const std::string &args,
+                            const fs::path &dir, std::vector<double> *se = nullptr) {
+        const fs::path se_file = tmp_.path() / ("se_" + backend);
+        const std::string cmd = "rcontrib-gpu -backend " + backend + " -h -faf" +
+                                (se ? " -se '" + se_file.string() + "'" : std::string()) + " " +
+                                args;
+        CommandResult r = RunCommand(cmd, dir);
+        EXPECT_EQ(r.status, 0) << cmd << "\n" << r.err;
+        EXPECT_EQ(r.err.find("using Embree"), std::string::npos) << r.err;
+        if (se) *se = Floats(ReadFile(se_file));
+        return Floats(r.out);
+    }
+    TempDir tmp_;
+};
+
+// Under a uniform sky (radiance 1) every sample of a horizontal sensor reaches the sky: the
+// total is pi exactly, and each Reinhart MF:1 bin is its cosine-weighted solid angle, within
+// the bin's own standard error (-se: samples straddling the bin's edges).
+TEST_F(VulkanContrib, UniformSkyGivesPiAndItsBins) {
+    WriteFile(tmp_.path() / "rays", "0 0 0 0 0 1\n");
+    std::vector<double> se;
+    const std::vector<double> v =
+        Run("vulkan", "-I+ -ab 1 -ad 4096 -lw 1e-6" + kBins + "-m skyglow sky.rad < rays",
+            tmp_.path(), &se);
+    ASSERT_EQ(v.size(), 146u * 3);
+    double total = 0;
+    for (size_t b = 0; b < 146; ++b) {
+        total += v[3 * b];
+        EXPECT_EQ(v[3 * b], v[3 * b + 2]);
+    }
+    EXPECT_NEAR(total, M_PI, 1e-5);
+    EXPECT_EQ(v[0], 0) << "nothing from below the horizon";
+    static const int per_row[] = {30, 30, 24, 24, 18, 12, 6};
+    int b = 1;
+    for (int row = 0; row <= 7; ++row) {
+        const int n = row == 7 ? 1 : per_row[row];
+        const double a1 = row * 12 * M_PI / 180, a2 = (row + 1) * 12 * M_PI / 180;
+        const double exact =
+            row == 7 ? M_PI * std::pow(std::cos(84 * M_PI / 180), 2)
+                     : M_PI / n * (std::pow(std::sin(a2), 2) - std::pow(std::sin(a1), 2));
+        for (int k = 0; k < n; ++k, ++b)
+            EXPECT_NEAR(v[3 * b], exact, 5 * se[3 * b] + 2e-6 * exact) << "bin " << b;
+    }
+}
+
+// A sensor in a closed box of reflectance .5 with its walls tracked: pi (1 + rho + rho^2)
+// exactly without Russian roulette, and on average with it (4 standard errors of the mean).
+TEST_F(VulkanContrib, FurnaceSumsTheSeries) {
+    std::string box = "void plastic wall 0 0 5 .5 .5 .5 0 0\n";
+    const char *faces[6] = {"-1 -1 -1  -1 1 -1  1 1 -1  1 -1 -1", "-1 -1 1  1 -1 1  1 1 1  -1 1 1",
+                            "-1 -1 -1  1 -1 -1  1 -1 1  -1 -1 1", "-1 1 -1  -1 1 1  1 1 1  1 1 -1",
+                            "-1 -1 -1  -1 -1 1  -1 1 1  -1 1 -1", "1 -1 -1  1 1 -1  1 1 1  1 -1 1"};
+    for (int f = 0; f < 6; ++f)
+        box += "wall polygon f" + std::to_string(f) + " 0 0 12 " + faces[f] + "\n";
+    WriteFile(tmp_.path() / "box.rad", box);
+    std::string rays;
+    for (int i = 0; i < 400; ++i) rays += "0 0 0 0 0 1\n";
+    WriteFile(tmp_.path() / "rays", rays);
+    WriteFile(tmp_.path() / "four", "0 0 0 0 0 1\n0 0 0 0 0 1\n0 0 0 0 0 1\n0 0 0 0 0 1\n");
+    const auto totals = [](const std::vector<double> &v, size_t rows) {
+        std::vector<double> t(rows, 0.0);
+        const size_t per = v.size() / rows;
+        for (size_t r = 0; r < rows; ++r)
+            for (size_t k = 0; k < per; k += 3) t[r] += v[r * per + k];
+        return t;
+    };
+    const double rho = .5;
+    const auto exact = totals(
+        Run("vulkan", "-I+ -ab 3 -ad 64 -lw 1e-9" + kBins + "-m wall box.rad < four", tmp_.path()),
+        4);
+    for (double t : exact) EXPECT_NEAR(t, M_PI * (1 + rho + rho * rho), 1e-5);
+    const auto roulette = totals(
+        Run("vulkan", "-I+ -ab 6 -ad 16 -lw 0.05" + kBins + "-m wall box.rad < rays", tmp_.path()),
+        400);
+    double mean = 0, ss = 0;
+    for (double t : roulette) mean += t / roulette.size();
+    for (double t : roulette) ss += (t - mean) * (t - mean);
+    const double se = std::sqrt(ss / (roulette.size() - 1) / roulette.size());
+    EXPECT_GT(se, 0);
+    EXPECT_NEAR(mean, M_PI * (1 - std::pow(rho, 6)) / (1 - rho), 4 * se);
+}
+
+// The tutorial room's daylight coefficients from both backends: per-entry z-scores from the
+// two standard errors stay within what 7000 entries explain, and so does the total.
+TEST_F(VulkanContrib, TutorialRoomAgreesWithEmbree) {
+    const fs::path room = DataDir() / "scene" / "models" / "room";
+    const std::string args = "-I+ -ab 2 -ad 512 -lw 1e-3" + kBins +
+                             "-m skyglow materials.rad room.rad objects/Glazing.rad "
+                             "skyDomes/skyglow.rad < '" +
+                             (DataDir() / "rcontrib" / "points.txt").string() + "'";
+    std::vector<double> se_gpu, se_cpu;
+    const std::vector<double> gpu = Run("vulkan", args, room, &se_gpu);
+    const std::vector<double> cpu = Run("embree", args, room, &se_cpu);
+    ASSERT_EQ(gpu.size(), 100u * 146 * 3);
+    ASSERT_EQ(cpu.size(), gpu.size());
+    int beyond = 0, compared = 0;
+    double sum_gpu = 0, sum_cpu = 0, var = 0;
+    for (size_t i = 0; i < gpu.size(); ++i) {
+        sum_gpu += gpu[i], sum_cpu += cpu[i];
+        const double s2 = se_gpu[i] * se_gpu[i] + se_cpu[i] * se_cpu[i];
+        var += s2;
+        if (s2 == 0) {
+            EXPECT_EQ(gpu[i], cpu[i]) << "entry " << i;
+            continue;
+        }
+        ++compared;
+        if (std::fabs(gpu[i] - cpu[i]) > 4.5 * std::sqrt(s2)) ++beyond;
+    }
+    EXPECT_GT(compared, 5000);
+    EXPECT_LE(beyond, 2) << "of " << compared;  // 4.5 sigma: 7e-6 each, 0.05 expected
+    EXPECT_NEAR(sum_gpu, sum_cpu, 4 * std::sqrt(var));
+}
+
+// Sun coefficients through the tutorial room's glazing (RADIANCE's octree with 5185 suns,
+// direct only, no jitter): no sampling at all, so each sensor's total equals Embree's to float
+// rounding. (Per bin, suns lying on a bin's edge may fall either side.)
+TEST_F(VulkanContrib, SunsThroughGlassAsEmbree) {
+    const fs::path dir = DataDir() / "rcontrib";
+    const std::string args =
+        "-I+ -ab 0 -dc 1 -dt 0 -dj 0" + kBins + "-m solar cds.oct < points.txt";
+    const std::vector<double> gpu = Run("vulkan", args, dir), cpu = Run("embree", args, dir);
+    ASSERT_EQ(gpu.size(), 100u * 146 * 3);
+    ASSERT_EQ(cpu.size(), gpu.size());
+    double all = 0;
+    for (size_t r = 0; r < 100; ++r) {
+        double g = 0, c = 0;
+        for (size_t k = 0; k < 146 * 3; ++k) g += gpu[r * 438 + k], c += cpu[r * 438 + k];
+        EXPECT_NEAR(g, c, 1e-5 * c + 1e-9) << "sensor " << r;
+        all += c;
+    }
+    EXPECT_GT(all, 0);
+}
+
+// What the GPU integrator does not trace yet goes to Embree, with one line saying why, and the
+// results are Embree's.
+TEST_F(VulkanContrib, AnalyticSurfacesFallBackToEmbree) {
+    WriteFile(tmp_.path() / "ball.rad",
+              "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
+              "grey sphere ball 0 0 4 0 0 3 1\n");
+    WriteFile(tmp_.path() / "rays", "0 0 0 0 0 1\n");
+    const std::string args = "-h -faa -I+ -ab 2 -ad 64" + kBins + "-m skyglow ball.rad sky.rad";
+    CommandResult gpu = RunCommand("rcontrib-gpu -backend vulkan " + args + " < rays", tmp_.path());
+    CommandResult cpu = RunCommand("rcontrib-gpu " + args + " < rays", tmp_.path());
+    ASSERT_EQ(gpu.status, 0) << gpu.err;
+    EXPECT_NE(gpu.err.find("the Vulkan backend cannot take this run (analytic surfaces"),
+              std::string::npos)
+        << gpu.err;
+    EXPECT_EQ(gpu.out, cpu.out);
+}
+
+}  // namespace
+}  // namespace dayflux::test
