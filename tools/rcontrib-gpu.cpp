@@ -75,7 +75,8 @@ struct Options {
     ErrorExit(std::string("Usage: ") + prog +
               " [-n nprocs][-V][-c count][-fo][-r][-e expr][-f source][-o ospec][-p "
               "p1=V1,p2=V2][-b binv][-bn N]"
-              " {-m mod | -M file} [rtrace options] [-seed N][-backend name][-progress] octree");
+              " {-m mod | -M file} [rtrace options] [-seed N][-backend name][-device "
+              "name][-progress] octree");
 }
 
 // Applies "a=1,b=2" (separators , : ;) to a context, as RADIANCE's set_eparams().
@@ -321,6 +322,11 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
             o.contrib.seed = static_cast<uint64_t>(number(a));
         } else if (a == "-backend") {
             o.backend = value(a);
+        } else if (a == "-device") {
+            // The Vulkan device, by name or index (as DAYFLUX_VULKAN_DEVICE); it implies
+            // -backend vulkan and is the way to run on lavapipe.
+            setenv("DAYFLUX_VULKAN_DEVICE", value(a).c_str(), 1);
+            if (o.backend.empty()) o.backend = "vulkan";
         } else if (a.rfind("-V", 0) == 0) {
             o.contrib.contributions = Flag(a, o.contrib.contributions);
         } else if (a.rfind("-I", 0) == 0) {

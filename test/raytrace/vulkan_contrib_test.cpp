@@ -15,6 +15,8 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::string kBins = " -e MF:1 -f reinhart.cal -b rbin -bn Nrbins ";
+// lavapipe unless the environment names another device (lavapipe is used only when named).
+const std::string kDevice = "DAYFLUX_VULKAN_DEVICE=${DAYFLUX_VULKAN_DEVICE:-llvmpipe} ";
 
 std::vector<double> Floats(const std::string &bytes) {
     std::vector<double> v(bytes.size() / 4);
@@ -31,11 +33,11 @@ class VulkanContrib : public ::testing::Test {
     void SetUp() override {
         WriteFile(tmp_.path() / "sky.rad",
                   "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 180\n");
-        CommandResult r = RunCommand(
-            "echo '0 0 0 0 0 1' | rcontrib-gpu -backend vulkan -h -I+ "
-            "-ab 1 -ad 16" +
-                kBins + "-m skyglow sky.rad",
-            tmp_.path());
+        CommandResult r = RunCommand("echo '0 0 0 0 0 1' | " + kDevice +
+                                         "rcontrib-gpu -backend vulkan -h -I+ "
+                                         "-ab 1 -ad 16" +
+                                         kBins + "-m skyglow sky.rad",
+                                     tmp_.path());
         ASSERT_EQ(r.status, 0) << r.err;
         if (r.err.find("using Embree") != std::string::npos) GTEST_SKIP() << r.err;
     }
@@ -43,7 +45,7 @@ class VulkanContrib : public ::testing::Test {
     std::vector<double> Run(const std::string &backend, const std::string &args,
                             const fs::path &dir, std::vector<double> *se = nullptr) {
         const fs::path se_file = tmp_.path() / ("se_" + backend);
-        const std::string cmd = "rcontrib-gpu -backend " + backend + " -h -faf" +
+        const std::string cmd = kDevice + "rcontrib-gpu -backend " + backend + " -h -faf" +
                                 (se ? " -se '" + se_file.string() + "'" : std::string()) + " " +
                                 args;
         CommandResult r = RunCommand(cmd, dir);
@@ -174,20 +176,30 @@ TEST_F(VulkanContrib, SunsThroughGlassAsEmbree) {
 }
 
 // What the GPU integrator does not trace yet goes to Embree, with one line saying why, and the
-// results are Embree's.
+// results are Embree's. So does a machine whose only device is a CPU one, unless it is named.
 TEST_F(VulkanContrib, AnalyticSurfacesFallBackToEmbree) {
     WriteFile(tmp_.path() / "ball.rad",
               "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
               "grey sphere ball 0 0 4 0 0 3 1\n");
     WriteFile(tmp_.path() / "rays", "0 0 0 0 0 1\n");
     const std::string args = "-h -faa -I+ -ab 2 -ad 64" + kBins + "-m skyglow ball.rad sky.rad";
-    CommandResult gpu = RunCommand("rcontrib-gpu -backend vulkan " + args + " < rays", tmp_.path());
+    CommandResult gpu =
+        RunCommand(kDevice + "rcontrib-gpu -backend vulkan " + args + " < rays", tmp_.path());
     CommandResult cpu = RunCommand("rcontrib-gpu " + args + " < rays", tmp_.path());
     ASSERT_EQ(gpu.status, 0) << gpu.err;
     EXPECT_NE(gpu.err.find("the Vulkan backend cannot take this run (analytic surfaces"),
               std::string::npos)
         << gpu.err;
     EXPECT_EQ(gpu.out, cpu.out);
+    CommandResult unnamed = RunCommand(
+        "DAYFLUX_VULKAN_DEVICE= rcontrib-gpu -backend vulkan -h "
+        "-I+ -ab 1 -ad 16" +
+            kBins + "-m skyglow sky.rad < rays",
+        tmp_.path());
+    ASSERT_EQ(unnamed.status, 0) << unnamed.err;
+    if (unnamed.err.find("cannot take this run") != std::string::npos) {
+        EXPECT_NE(unnamed.err.find("CPU device"), std::string::npos) << unnamed.err;
+    }
 }
 
 }  // namespace

@@ -240,7 +240,7 @@ RayQueryDevice::RayQueryDevice(std::unique_ptr<Impl> impl) : impl_(std::move(imp
 RayQueryDevice::~RayQueryDevice() = default;
 const std::string &RayQueryDevice::Name() const { return impl_->name; }
 
-std::unique_ptr<RayQueryDevice> RayQueryDevice::Open(std::string *why) {
+std::unique_ptr<RayQueryDevice> RayQueryDevice::Open(std::string *why, bool allow_cpu) {
     auto impl = std::make_unique<Impl>();
     VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
     app.pApplicationName = "dayflux";
@@ -294,6 +294,11 @@ std::unique_ptr<RayQueryDevice> RayQueryDevice::Open(std::string *why) {
         int s = p.deviceType == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU ? 3
                 : p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU        ? 1
                                                                      : 2;
+        if (p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU && !allow_cpu) {
+            s = -1;
+            rejected += std::string(rejected.empty() ? "" : "; ") + p.deviceName +
+                        " is a CPU device (DAYFLUX_VULKAN_DEVICE or -device can name it)";
+        }
         if (want && *want) {
             char *end;
             long idx = std::strtol(want, &end, 10);
@@ -451,7 +456,7 @@ void RayQueryDevice::BuildScene(const std::vector<float> &positions,
         VkAccelerationStructureBuildGeometryInfoKHR build{
             VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
         build.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
-        build.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_BUILD_BIT_KHR;
+        build.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR;
         build.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
         build.geometryCount = 1;
         build.pGeometries = &geometry;
@@ -492,7 +497,7 @@ void RayQueryDevice::BuildScene(const std::vector<float> &positions,
     VkAccelerationStructureBuildGeometryInfoKHR build{
         VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
     build.type = VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR;
-    build.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_BUILD_BIT_KHR;
+    build.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR;
     build.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
     build.geometryCount = 1;
     build.pGeometries = &geometry;

@@ -15,8 +15,10 @@ class RayQueryDevice {
     // Same device choice as ComputeDevice::Open (DAYFLUX_VULKAN_DEVICE by name substring or index,
     // else a discrete GPU first, else any), but only among Vulkan 1.2 devices with
     // VK_KHR_acceleration_structure, VK_KHR_ray_query, bufferDeviceAddress and shaderFloat64 (our
-    // generated GLSL uses doubles). Returns nullptr and sets *why when none qualifies.
-    static std::unique_ptr<RayQueryDevice> Open(std::string *why);
+    // generated GLSL uses doubles). CPU devices (lavapipe) count only with allow_cpu or when
+    // DAYFLUX_VULKAN_DEVICE names them: they are slower than our Embree backend. Returns nullptr
+    // and sets *why when none qualifies.
+    static std::unique_ptr<RayQueryDevice> Open(std::string *why, bool allow_cpu = true);
     ~RayQueryDevice();
     RayQueryDevice(const RayQueryDevice &) = delete;
     RayQueryDevice &operator=(const RayQueryDevice &) = delete;

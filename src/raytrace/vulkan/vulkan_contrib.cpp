@@ -25,7 +25,8 @@ namespace {
 
 constexpr int kLocalSize = 64;
 constexpr int kStackSize = 32;
-constexpr size_t kAccumBudget = size_t(256) << 20;  // bytes of results per dispatch
+// Bytes of results per dispatch: within every device's maxStorageBufferRange (lavapipe: 128 MiB).
+constexpr size_t kAccumBudget = size_t(64) << 20;
 constexpr uint32_t kMaxTasksPerRun = 65535u * kLocalSize;
 // Rows of the first hemisphere with RADIANCE's collision rule (-ad up to 65536); beyond, none.
 constexpr int kMaxRows = 256;
@@ -213,7 +214,9 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         return nullptr;
     }
 
-    impl->device = vk::RayQueryDevice::Open(why);
+    // lavapipe only when asked for: on a CPU, the Embree backend is faster.
+    const char *named = std::getenv("DAYFLUX_VULKAN_DEVICE");
+    impl->device = vk::RayQueryDevice::Open(why, named && *named);
     if (!impl->device) return nullptr;
 
     const auto &o = options;
