@@ -43,9 +43,10 @@ struct GpuTriangle {
 struct GpuSurface {
     vec4 color;   // rgb; w: glass refractive index
     vec4 params;  // x: specularity, y: transmissivity, z: transmitted specular fraction, w: metal
-    int kind;     // kMat*
-    int tracked;  // -m index, or -1
-    int pad0, pad1;
+    int kind;      // kMat*
+    int tracked;   // -m index, or -1
+    float alpha2;  // roughness squared (0: pure specular)
+    int pad0;
 };
 
 // A distant source (RADIANCE's 'source'): direction, size, what it is made of.
@@ -79,8 +80,9 @@ struct GpuTasks {
     int nsources;
     uint seed;
     int pad0, pad1;
-    float lw, dj, tmin, pad2;  // -lw, -dj, the ray start offset
-    double centre_x, centre_y, centre_z, pad3;  // added back to positions for the bins
+    float lw, dj, tmin, st;  // -lw, -dj, the ray start offset, -st
+    float ss, pad2, pad3, pad4;  // -ss
+    double centre_x, centre_y, centre_z, pad5;  // added back to positions for the bins
 };
 
 #ifdef __cplusplus

@@ -80,6 +80,8 @@ struct Item {
                                  // surface colour for the direct part
     float rdiff, tdiff, trans;
     int n, next, end, fresnel;
+    vec3 spec, incident;  // kItemDirect: rough specular colour and the ray's direction
+    float alpha2;         // kItemDirect: its roughness squared (0: none)
 };
 Item stack[STACK_SIZE];
 int top = 0;
@@ -198,6 +200,7 @@ void Shade(Ray r, int object, int k, GpuSurface m, vec3 point, vec3 geo_normal, 
         m.kind = kMatDiffuse;
         m.color = vec4(kPi, kPi, kPi, 0);
         m.params = vec4(0);
+        m.alpha2 = 0;
     }
     ShadeMaterial(r, m, point, normal, rod, t);
 }
@@ -223,9 +226,10 @@ void PushHemisphere(Ray r, vec3 colour, vec3 point, vec3 normal) {
 }
 
 void PushDirect(Ray r, vec3 colour, float rdiff, float tdiff, float trans, bool fresnel,
-                vec3 point, vec3 normal) {
+                vec3 point, vec3 normal, vec3 spec, float alpha2) {
     if (NSOURCES == 0) return;
-    if (Max3(colour) <= 0 || (rdiff <= kTiny && tdiff <= kTiny)) return;
+    bool rough = alpha2 > 0 && Max3(spec) > 0;
+    if ((Max3(colour) <= 0 || (rdiff <= kTiny && tdiff <= kTiny)) && !rough) return;
     Item it;
     it.r = r;
     it.kind = kItemDirect;
@@ -236,6 +240,9 @@ void PushDirect(Ray r, vec3 colour, float rdiff, float tdiff, float trans, bool 
     it.tdiff = tdiff;
     it.trans = trans;
     it.fresnel = fresnel ? 1 : 0;
+    it.spec = spec;
+    it.alpha2 = rough ? alpha2 : 0;
+    it.incident = r.dir;
     it.next = 0;
     it.end = NSOURCES;
     Push(it);
@@ -250,6 +257,31 @@ void PushChild(Ray r, int type, vec3 coef, vec3 org, vec3 dir) {
     it.r = c;
     it.kind = kItemTrace;
     Push(it);
+}
+
+// gaussamp() for reflection with -ss 1 or less: one SPECULAR ray about the mirror direction, its
+// half vector drawn from the Gaussian of roughness^2 alpha2; up to 10 tries to leave above.
+void PushGaussianReflection(Ray r, vec3 scolor, float alpha2, vec3 point, vec3 normal) {
+    Ray c;
+    if (!Spawn(r, kSpecular, scolor, c)) return;
+    vec3 u, v;
+    Tangents(normal, u, v);
+    for (int trial = 0; trial < 10; ++trial) {
+        float phi = 2. * kPi * Rand();
+        float rv1 = Rand();
+        if (SS >= 0 && SS < 1) rv1 = 1. - SS * rv1;
+        float d = rv1 <= kTiny ? 1. : sqrt(alpha2 * -log(rv1));
+        vec3 h = normal + d * (cos(phi) * u + sin(phi) * v);
+        vec3 dir = r.dir + (-2. * dot(h, r.dir) / (1. + d * d)) * h;
+        if (dot(dir, normal) <= kTiny) continue;
+        c.org = point;
+        c.dir = normalize(dir);
+        Item it;
+        it.r = c;
+        it.kind = kItemTrace;
+        Push(it);
+        return;
+    }
 }
 
 void ShadeMaterial(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t) {
@@ -282,12 +314,15 @@ void ShadeMaterial(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, floa
         PushChild(r, kReflected, refl, point, normalize(r.dir + 2 * pdot * normal));
         return;
     }
-    // plastic, metal, trans with pure specular parts (rough ones stay on the CPU backend).
+    // plastic, metal, trans (m_normal()): pure specular reflection with RADIANCE's Fresnel
+    // estimate, or rough (Gaussian) reflection sampled or, below -st, folded into the diffuse
+    // part; pure specular and diffuse transmission.
     float spec = m.params.x;
     bool metal = m.params.w > 0.5;
+    bool pure = m.alpha2 <= kTiny;
     float rspec = spec, fest = 0;
     float pdot = max(rod, .001);
-    if (rspec >= kFresnelThreshold) {
+    if (pure && rspec >= kFresnelThreshold) {
         fest = FresnelEstimate(pdot);
         rspec += fest * (1. - rspec);
     }
@@ -295,16 +330,24 @@ void ShadeMaterial(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, floa
     float tdiff = trans - tspec;
     if (tspec > kTiny) PushChild(r, kTrans, c * tspec, point, r.dir);
     if ((r.crtype & kShadow) != 0) return;
+    vec3 sc = vec3(0);
+    bool rough_below_threshold = false;
     if (rspec > kTiny) {
-        vec3 sc = vec3(rspec);
+        sc = vec3(rspec);
         if (metal) sc = fest > kTiny ? fest + c * spec * (1. - fest) : c * rspec;
-        PushChild(r, kReflected, sc, point, normalize(r.dir + 2 * pdot * normal));
+        if (pure)
+            PushChild(r, kReflected, sc, point, normalize(r.dir + 2 * pdot * normal));
+        else if (ST >= rspec - kTiny)
+            rough_below_threshold = true;
+        else
+            PushGaussianReflection(r, sc, m.alpha2, point, normal);
     }
     float rdiff = 1.0 - trans - rspec;
-    if (rdiff <= kTiny && tdiff <= kTiny) return;
-    PushDirect(r, c, rdiff, tdiff, trans, spec >= kFresnelThreshold, point, normal);
+    if (pure && rdiff <= kTiny && tdiff <= kTiny) return;
+    PushDirect(r, c, rdiff, tdiff, trans, pure && spec >= kFresnelThreshold, point, normal, sc,
+               pure || rspec <= kTiny ? 0.0 : m.alpha2);
     if (tdiff > kTiny) PushHemisphere(r, c * tdiff, point, -normal);
-    if (rdiff > kTiny) PushHemisphere(r, c * rdiff, point, normal);
+    if (rdiff > kTiny) PushHemisphere(r, c * rdiff + (rough_below_threshold ? sc : vec3(0)), point, normal);
 }
 
 // Where a ray ends: a triangle, or a distant source for rays that hit nothing (sourcehit()).
@@ -335,6 +378,7 @@ bool Escape(Ray r, out Hit h) {
     h.tracked = s.tracked;
     h.m.color = vec4(s.colour.rgb, 0);
     h.m.params = vec4(0);
+    h.m.alpha2 = 0;
     h.m.kind = s.kind;
     h.m.tracked = s.tracked;
     h.point = r.dir * 1e30;
@@ -392,6 +436,17 @@ void DirectStep(Item it, int i) {
     if (ldot > kTiny && lrdiff > kTiny) k = ldot * s.dir.w * lrdiff / kPi;
     if (ldot < -kTiny && ltdiff > kTiny) k = -ldot * s.dir.w * ltdiff / kPi;
     vec3 coef = it.colour * k;
+    if (it.alpha2 > 0 && ldot > kTiny) {
+        // The Gaussian lobe toward the source, widened by the source's size.
+        float a2 = it.alpha2 + s.dir.w * (0.25 / kPi);
+        vec3 h = dir - it.incident;
+        float d2 = dot(h, it.normal);
+        d2 *= d2;
+        float d3 = dot(h, h);
+        float d4 = (d3 - d2) / d2;
+        float g = exp(-d4 / a2) * d3 / (kPi * d2 * d2 * a2);
+        if (g > kTiny) coef += it.spec * g * ldot * s.dir.w;
+    }
     if (Max3(coef) <= 0 || Bright(coef * s.colour.rgb) <= 0) return;
     Ray c = it.r;
     c.rlvl = it.r.rlvl + 1;
@@ -524,7 +579,7 @@ void main() {
         vec3 point = org + 1e-4 * dir;
         vec3 lamb = vec3(kPi);
         if (slice == 0u) {
-            PushDirect(r, lamb, 1.0, 0.0, 0.0, false, point, dir);
+            PushDirect(r, lamb, 1.0, 0.0, 0.0, false, point, dir, vec3(0), 0.0);
             RunStack();
         }
         PushHemisphere(r, lamb, point, dir);

@@ -45,7 +45,7 @@ class VulkanContrib : public ::testing::Test {
     std::vector<double> Run(const std::string &backend, const std::string &args,
                             const fs::path &dir, std::vector<double> *se = nullptr) {
         const fs::path se_file = tmp_.path() / ("se_" + backend);
-        const std::string cmd = kDevice + "rcontrib-gpu -backend " + backend + " -h -faf" +
+        const std::string cmd = kDevice + "rcontrib-gpu -backend " + backend + " -fo+ -h -faf" +
                                 (se ? " -se '" + se_file.string() + "'" : std::string()) + " " +
                                 args;
         CommandResult r = RunCommand(cmd, dir);
@@ -173,6 +173,39 @@ TEST_F(VulkanContrib, SunsThroughGlassAsEmbree) {
         all += c;
     }
     EXPECT_GT(all, 0);
+}
+
+// Rough specular reflection (sampled, and as a lobe toward the sun) and a rough surface below
+// -st folded into the diffuse part: a sensor facing a rough metal floor and a rough plastic wall
+// under a sky and a sun, both backends within their standard errors.
+TEST_F(VulkanContrib, RoughSpecularAsEmbree) {
+    WriteFile(tmp_.path() / "scene.rad",
+              "void metal brushed 0 0 5 .8 .7 .6 .9 .1\n"
+              "void plastic satin 0 0 5 .5 .5 .5 .015 .08\n"
+              "brushed polygon floor 0 0 12 -5 -5 0  5 -5 0  5 5 0  -5 5 0\n"
+              "satin polygon wall 0 0 12 -5 5 0  5 5 0  5 5 4  -5 5 4\n"
+              "void light solar 0 0 3 1e4 1e4 1e4\nsolar source sun 0 0 4 0 -.6 .8 .533\n");
+    WriteFile(tmp_.path() / "rays", "0 -1 1 0 .4 -1\n1 0 1 0 .2 -1\n-1 2 1 .1 .3 -1\n");
+    for (const char *mod : {"skyglow", "solar"}) {
+        const std::string args = std::string("-I+ -ab 2 -ad 1024 -lw 1e-4 -dj .5") + kBins + "-m " +
+                                 mod + " scene.rad sky.rad < rays";
+        std::vector<double> se_gpu, se_cpu;
+        const std::vector<double> gpu = Run("vulkan", args, tmp_.path(), &se_gpu);
+        const std::vector<double> cpu = Run("embree", args, tmp_.path(), &se_cpu);
+        ASSERT_EQ(gpu.size(), 3u * 146 * 3);
+        ASSERT_EQ(cpu.size(), gpu.size());
+        double sum_gpu = 0, sum_cpu = 0, var = 0;
+        int beyond = 0;
+        for (size_t i = 0; i < gpu.size(); ++i) {
+            sum_gpu += gpu[i], sum_cpu += cpu[i];
+            const double s2 = se_gpu[i] * se_gpu[i] + se_cpu[i] * se_cpu[i];
+            var += s2;
+            if (s2 > 0 && std::fabs(gpu[i] - cpu[i]) > 4.5 * std::sqrt(s2)) ++beyond;
+        }
+        EXPECT_GT(sum_cpu, 0) << mod;
+        EXPECT_LE(beyond, 1) << mod;
+        EXPECT_NEAR(sum_gpu, sum_cpu, 4 * std::sqrt(var) + 1e-9 * sum_cpu) << mod;
+    }
 }
 
 // What the GPU integrator does not trace yet goes to Embree, with one line saying why, and the

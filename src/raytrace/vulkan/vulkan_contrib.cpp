@@ -114,8 +114,6 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         if (m.kind == Material::kMix) return "mixfunc";
         if (m.pattern && !(m.kind == Material::kGlow && !options.contributions))
             return "patterns (brightfunc, colorfunc) on materials";
-        if (m.kind == Material::kDiffuse && m.alpha2 > kTiny && m.spec > kTiny)
-            return "rough specular reflection";
         return "";
     };
 
@@ -136,6 +134,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             s.params = Vec4(m.spec, m.trans, m.tspec, m.metal ? 1 : 0);
             s.kind = m.kind;
             s.tracked = k;
+            s.alpha2 = static_cast<float>(m.alpha2);
             surfaces.push_back(s);
         }
         return it->second;
@@ -240,6 +239,8 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     define("DJ", "tasks.dj");
     define("SEED", "tasks.seed");
     define("TMIN", "tasks.tmin");
+    define("ST", "tasks.st");
+    define("SS", "tasks.ss");
     define("CENTRE_X", "tasks.centre_x");
     define("CENTRE_Y", "tasks.centre_y");
     define("CENTRE_Z", "tasks.centre_z");
@@ -319,6 +320,8 @@ void VulkanContribIntegrator::Trace(const double *rays, size_t n, uint64_t first
         tasks.lw = static_cast<float>(d.o.limit_weight);
         tasks.dj = static_cast<float>(d.o.source_jitter);
         tasks.tmin = static_cast<float>(std::max(1e-6 * d.extent, 1e-9));
+        tasks.st = static_cast<float>(d.o.specular_threshold);
+        tasks.ss = static_cast<float>(d.o.specular_jitter);
         tasks.centre_x = d.centre[0];
         tasks.centre_y = d.centre[1];
         tasks.centre_z = d.centre[2];

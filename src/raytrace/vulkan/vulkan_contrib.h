@@ -19,7 +19,7 @@ class VulkanContribIntegrator {
   public:
     // Returns nullptr and says why when there is no Vulkan device with ray queries or the run
     // needs what the GPU integrator does not do yet (analytic surfaces, patterns on materials,
-    // mixfunc, rough specular reflection, bin expressions GLSL cannot express); the caller then
+    // mixfunc, bin expressions GLSL cannot express); the caller then
     // uses the CPU integrator. make_context(0) gives the context the bins are compiled in:
     // one_context says every modifier's is the same (no differing -p).
     static std::unique_ptr<VulkanContribIntegrator> Create(
