@@ -560,6 +560,7 @@ void main() {
     uint task = uint(tasks.task_offset) + local_task;
     uint ray_in = task / uint(tasks.slices), slice = task % uint(tasks.slices);
     acc_base = local_task * uint(NCOLS * 3);
+    if (rays[2 * ray_in + 1].w < 0) return;  // a zero direction: counts, contributes nothing
     vec3 org = rays[2 * ray_in].xyz, dir = normalize(rays[2 * ray_in + 1].xyz);
     uint ray_index = uint(tasks.first_ray) + ray_in;
     cell_key = Key(SEED, ray_index, uint(tasks.replica), 0x2545f491u);

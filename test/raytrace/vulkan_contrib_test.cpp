@@ -208,6 +208,22 @@ TEST_F(VulkanContrib, RoughSpecularAsEmbree) {
     }
 }
 
+// Records as rcontrib makes them: -c 2 averages two rays, a zero direction counts as a ray that
+// contributes nothing, and a partial last record is averaged over its rays.
+TEST_F(VulkanContrib, AccumulatedRecordsAsEmbree) {
+    WriteFile(tmp_.path() / "rays",
+              "0 0 0 0 0 1\n0 0 0 0 0 1\n0 0 1 0 0 1\n0 0 0 0 0 0\n0 0 1 0 0 1\n");
+    const std::string args = "-c 2 -I+ -ab 1 -ad 64" + kBins + "-m skyglow sky.rad < rays";
+    const std::vector<double> gpu = Run("vulkan", args, tmp_.path());
+    ASSERT_EQ(gpu.size(), 3u * 146 * 3);
+    const double expected[3] = {M_PI, M_PI / 2, M_PI};
+    for (int r = 0; r < 3; ++r) {
+        double total = 0;
+        for (int k = 0; k < 146 * 3; k += 3) total += gpu[r * 438 + k];
+        EXPECT_NEAR(total, expected[r], 1e-5) << "record " << r;
+    }
+}
+
 // What the GPU integrator does not trace yet goes to Embree, with one line saying why, and the
 // results are Embree's. So does a machine whose only device is a CPU one, unless it is named.
 TEST_F(VulkanContrib, AnalyticSurfacesFallBackToEmbree) {
