@@ -12,6 +12,7 @@
 #include "sky/weather.h"
 #include "util/errors.h"
 #include "util/files.h"
+#include "util/options.h"
 #include "util/strings.h"
 
 namespace dayflux {
@@ -42,13 +43,7 @@ struct Options {
     std::string total, direct;
 };
 
-double Number(int argc, char **argv, int *i) {
-    if (*i + 1 >= argc) Usage(argv[0]);
-    double v;
-    if (!ParseNumber(argv[++*i], &v))
-        ErrorExit(std::string(argv[*i - 1]) + ": '" + argv[*i] + "' is not a number");
-    return v;
-}
+double Number(int argc, char **argv, int *i) { return OptionNumber(argc, argv, i, Usage); }
 
 Options ParseOptions(int argc, char **argv) {
     Options o;

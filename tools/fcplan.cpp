@@ -9,6 +9,7 @@
 #include "matrix/reader.h"
 #include "util/errors.h"
 #include "util/files.h"
+#include "util/options.h"
 #include "util/strings.h"
 
 namespace dayflux {
@@ -30,13 +31,7 @@ struct Options {
     bool scale_given = false;
 };
 
-double Number(int argc, char **argv, int *i) {
-    if (*i + 1 >= argc) Usage(argv[0]);
-    double v;
-    if (!ParseNumber(argv[++*i], &v))
-        ErrorExit(std::string(argv[*i - 1]) + ": '" + argv[*i] + "' is not a number");
-    return v;
-}
+double Number(int argc, char **argv, int *i) { return OptionNumber(argc, argv, i, Usage); }
 
 Options ParseOptions(int argc, char **argv) {
     Options o;

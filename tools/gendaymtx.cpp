@@ -14,6 +14,7 @@
 #include "sky/perez.h"
 #include "sky/weather.h"
 #include "util/errors.h"
+#include "util/options.h"
 #include "util/pipeline.h"
 #include "util/strings.h"
 
@@ -44,13 +45,7 @@ struct Options {
     std::string suns_file, mods_file, weather = "-";
 };
 
-double Number(int argc, char **argv, int *i) {
-    if (*i + 1 >= argc) Usage(argv[0]);
-    double v;
-    if (!ParseNumber(argv[++*i], &v))
-        ErrorExit(std::string("bad number '") + argv[*i] + "' for option " + argv[*i - 1]);
-    return v;
-}
+double Number(int argc, char **argv, int *i) { return OptionNumber(argc, argv, i, Usage); }
 
 Options ParseOptions(int argc, char **argv) {
     Options o;
@@ -191,8 +186,8 @@ int Main(int argc, char **argv) {
     while (weather.Next(&rec)) {
         const SunTrack::Position pos = sun.Next(rec.month, rec.day, rec.hour);
         if (o.sun_hours_only && !pos.in_sky) continue;
-        Pending p{rec, pos.day_of_year, pos.altitude,
-                  pos.azimuth + M_PI - Rad(o.sky.rotation_deg), pos.in_sky};
+        Pending p{rec, pos.day_of_year, pos.altitude, pos.azimuth + M_PI - Rad(o.sky.rotation_deg),
+                  pos.in_sky};
         pending.push_back(p);
     }
     if (pending.empty()) ErrorExit(weather.Name() + ": no valid time steps on input");

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <shaderc/shaderc.hpp>
 
+#include "raytrace/vulkan/devices.h"
 #include "util/errors.h"
 
 namespace dayflux::vk {
@@ -57,49 +58,16 @@ const std::string &ComputeDevice::Name() const { return impl_->name; }
 std::unique_ptr<ComputeDevice> ComputeDevice::Open(const DeviceRequirements &req,
                                                    std::string *why) {
     auto impl = std::make_unique<Impl>();
-    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-    app.pApplicationName = "dayflux";
-    app.apiVersion = VK_API_VERSION_1_2;
-    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-    ici.pApplicationInfo = &app;
-    if (vkCreateInstance(&ici, nullptr, &impl->instance) != VK_SUCCESS) {
-        *why = "no Vulkan driver (vkCreateInstance failed)";
-        return nullptr;
-    }
-    uint32_t n = 0;
-    vkEnumeratePhysicalDevices(impl->instance, &n, nullptr);
-    std::vector<VkPhysicalDevice> devices(n);
-    vkEnumeratePhysicalDevices(impl->instance, &n, devices.data());
-    if (devices.empty()) {
-        *why = "no Vulkan device";
-        return nullptr;
-    }
-    const char *want = std::getenv("DAYFLUX_VULKAN_DEVICE");
-    int chosen = -1, score = -1;
-    for (uint32_t i = 0; i < n; ++i) {
-        VkPhysicalDeviceProperties p;
-        vkGetPhysicalDeviceProperties(devices[i], &p);
+    impl->instance = CreateInstance(why);
+    if (!impl->instance) return nullptr;
+    const auto lacks = [&req](VkPhysicalDevice device) {
         VkPhysicalDeviceFeatures f;
-        vkGetPhysicalDeviceFeatures(devices[i], &f);
-        if (req.float64 && !f.shaderFloat64) continue;
-        int s = p.deviceType == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU ? 3
-                : p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU        ? 1
-                                                                     : 2;
-        if (want && *want) {
-            char *end;
-            long idx = std::strtol(want, &end, 10);
-            const bool match = *end == '\0' ? idx == static_cast<long>(i)
-                                            : std::strstr(p.deviceName, want) != nullptr;
-            s = match ? 10 : -1;
-        }
-        if (s > score) score = s, chosen = static_cast<int>(i);
-    }
-    if (chosen < 0 || score < 0) {
-        *why = want ? std::string("no Vulkan device matches DAYFLUX_VULKAN_DEVICE=") + want
-                    : std::string("no Vulkan device with the features needed");
-        return nullptr;
-    }
-    impl->physical = devices[chosen];
+        vkGetPhysicalDeviceFeatures(device, &f);
+        return req.float64 && !f.shaderFloat64 ? std::string(" shaderFloat64") : std::string();
+    };
+    // The GLSL generator's tests run here on lavapipe, so CPU devices count.
+    impl->physical = ChooseDevice(impl->instance, lacks, true, "with the features needed", why);
+    if (!impl->physical) return nullptr;
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(impl->physical, &props);
     impl->name = props.deviceName;

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <unordered_map>
 
+#include "raytrace/vulkan/devices.h"
 #include "util/errors.h"
 
 namespace dayflux::vk {
@@ -242,37 +243,19 @@ const std::string &RayQueryDevice::Name() const { return impl_->name; }
 
 std::unique_ptr<RayQueryDevice> RayQueryDevice::Open(std::string *why, bool allow_cpu) {
     auto impl = std::make_unique<Impl>();
-    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-    app.pApplicationName = "dayflux";
-    app.apiVersion = VK_API_VERSION_1_2;
-    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-    ici.pApplicationInfo = &app;
-    if (vkCreateInstance(&ici, nullptr, &impl->instance) != VK_SUCCESS) {
-        *why = "no Vulkan 1.2 driver (vkCreateInstance failed)";
-        return nullptr;
-    }
-    uint32_t n = 0;
-    vkEnumeratePhysicalDevices(impl->instance, &n, nullptr);
-    std::vector<VkPhysicalDevice> devices(n);
-    vkEnumeratePhysicalDevices(impl->instance, &n, devices.data());
-    if (devices.empty()) {
-        *why = "no Vulkan device";
-        return nullptr;
-    }
-    const char *want = std::getenv("DAYFLUX_VULKAN_DEVICE");
-    std::string rejected;  // why each device was passed over, for *why
-    int chosen = -1, score = -1;
-    for (uint32_t i = 0; i < n; ++i) {
+    impl->instance = CreateInstance(why);
+    if (!impl->instance) return nullptr;
+    const auto lacks = [](VkPhysicalDevice device) {
         VkPhysicalDeviceProperties p;
-        vkGetPhysicalDeviceProperties(devices[i], &p);
+        vkGetPhysicalDeviceProperties(device, &p);
         std::string lacks;
         if (p.apiVersion < VK_API_VERSION_1_2) {
             lacks = " Vulkan 1.2";
         } else {
             uint32_t ne = 0;
-            vkEnumerateDeviceExtensionProperties(devices[i], nullptr, &ne, nullptr);
+            vkEnumerateDeviceExtensionProperties(device, nullptr, &ne, nullptr);
             std::vector<VkExtensionProperties> ext(ne);
-            vkEnumerateDeviceExtensionProperties(devices[i], nullptr, &ne, ext.data());
+            vkEnumerateDeviceExtensionProperties(device, nullptr, &ne, ext.data());
             for (const char *e : kRequiredExtensions)
                 if (std::none_of(ext.begin(), ext.end(), [&](const VkExtensionProperties &x) {
                         return std::strcmp(x.extensionName, e) == 0;
@@ -280,44 +263,17 @@ std::unique_ptr<RayQueryDevice> RayQueryDevice::Open(std::string *why, bool allo
                     lacks += std::string(" ") + e;
             if (lacks.empty()) {
                 FeatureChain f;
-                vkGetPhysicalDeviceFeatures2(devices[i], &f.f2);
+                vkGetPhysicalDeviceFeatures2(device, &f.f2);
                 if (!f.v12.bufferDeviceAddress) lacks += " bufferDeviceAddress";
                 if (!f.as.accelerationStructure) lacks += " accelerationStructure";
                 if (!f.rq.rayQuery) lacks += " rayQuery";
                 if (!f.f2.features.shaderFloat64) lacks += " shaderFloat64";
             }
         }
-        if (!lacks.empty()) {
-            rejected += std::string(rejected.empty() ? "" : "; ") + p.deviceName + " lacks" + lacks;
-            continue;
-        }
-        int s = p.deviceType == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU ? 3
-                : p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU        ? 1
-                                                                     : 2;
-        if (p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU && !allow_cpu) {
-            s = -1;
-            rejected += std::string(rejected.empty() ? "" : "; ") + p.deviceName +
-                        " is a CPU device (DAYFLUX_VULKAN_DEVICE or -device can name it)";
-        }
-        if (want && *want) {
-            char *end;
-            long idx = std::strtol(want, &end, 10);
-            const bool match = *end == '\0' ? idx == static_cast<long>(i)
-                                            : std::strstr(p.deviceName, want) != nullptr;
-            s = match ? 10 : -1;
-        }
-        if (s > score) score = s, chosen = static_cast<int>(i);
-    }
-    if (chosen < 0 || score < 0) {
-        *why =
-            want && *want
-                ? std::string("no Vulkan device with ray queries matches DAYFLUX_VULKAN_DEVICE=") +
-                      want
-                : std::string("no Vulkan device with ray queries");
-        if (!rejected.empty()) *why += " (" + rejected + ")";
-        return nullptr;
-    }
-    impl->physical = devices[chosen];
+        return lacks;
+    };
+    impl->physical = ChooseDevice(impl->instance, lacks, allow_cpu, "with ray queries", why);
+    if (!impl->physical) return nullptr;
     VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
     props.pNext = &impl->as_props;
     vkGetPhysicalDeviceProperties2(impl->physical, &props);

@@ -1,0 +1,23 @@
+// Choosing a Vulkan device, the same way for every dayflux device class: the one
+// DAYFLUX_VULKAN_DEVICE names (an index or part of the name), else a discrete GPU, else an
+// integrated one, else a CPU device (lavapipe) where those are allowed.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <functional>
+#include <string>
+
+namespace dayflux::vk {
+
+// A Vulkan 1.2 instance; VK_NULL_HANDLE with *why when there is no driver.
+VkInstance CreateInstance(std::string *why);
+
+// lacks(device) says what a device is missing for the caller ("" when it has everything).
+// Returns VK_NULL_HANDLE and sets *why (with each device's shortcoming) when none qualifies; a
+// device DAYFLUX_VULKAN_DEVICE names counts even when it is a CPU device.
+VkPhysicalDevice ChooseDevice(VkInstance instance,
+                              const std::function<std::string(VkPhysicalDevice)> &lacks,
+                              bool allow_cpu, const std::string &what, std::string *why);
+
+}  // namespace dayflux::vk
