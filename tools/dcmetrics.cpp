@@ -13,13 +13,11 @@
 #include "util/errors.h"
 #include "util/files.h"
 #include "util/options.h"
+#include "util/photometry.h"
 #include "util/strings.h"
 
 namespace dayflux {
 namespace {
-
-// RADIANCE's conversion of RGB irradiance to illuminance (rmtxop -c 47.4 119.9 11.6).
-constexpr double kLuxPerRgb[3] = {47.4, 119.9, 11.6};
 
 [[noreturn]] void Usage(const char *prog) {
     ErrorExit(std::string("Usage: ") + prog +
@@ -171,8 +169,7 @@ void Stream(MatrixReader &r, const Options &o, const Calendar &calendar, bool di
         r.ReadRow(row.data());
         for (int j = 0; j < r.Cols(); ++j) {
             const double *v = &row[static_cast<size_t>(j) * nc];
-            const double e =
-                nc == 1 ? v[0] : kLuxPerRgb[0] * v[0] + kLuxPerRgb[1] * v[1] + kLuxPerRgb[2] * v[2];
+            const double e = nc == 1 ? v[0] : IlluminanceFromRgb(v);
             if (!std::isfinite(e))
                 ErrorExit(r.Name() + ": row " + std::to_string(i + 1) + " column " +
                           std::to_string(j + 1) + " is not a finite number");

@@ -10,13 +10,11 @@
 #include "util/errors.h"
 #include "util/files.h"
 #include "util/options.h"
+#include "util/photometry.h"
 #include "util/strings.h"
 
 namespace dayflux {
 namespace {
-
-constexpr double kLuxPerRgb[3] = {47.4, 119.9, 11.6};  // rmtxop -c 47.4 119.9 11.6
-constexpr double kLuminousEfficacy = 179;              // RADIANCE's white-light efficacy
 
 [[noreturn]] void Usage(const char *prog) {
     ErrorExit(std::string("Usage: ") + prog +

@@ -71,14 +71,7 @@ std::unique_ptr<ComputeDevice> ComputeDevice::Open(const DeviceRequirements &req
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(impl->physical, &props);
     impl->name = props.deviceName;
-    uint32_t nq = 0;
-    vkGetPhysicalDeviceQueueFamilyProperties(impl->physical, &nq, nullptr);
-    std::vector<VkQueueFamilyProperties> qf(nq);
-    vkGetPhysicalDeviceQueueFamilyProperties(impl->physical, &nq, qf.data());
-    bool found = false;
-    for (uint32_t i = 0; i < nq && !found; ++i)
-        if (qf[i].queueFlags & VK_QUEUE_COMPUTE_BIT) impl->queue_family = i, found = true;
-    if (!found) {
+    if (!ComputeQueueFamily(impl->physical, &impl->queue_family)) {
         *why = impl->name + " has no compute queue";
         return nullptr;
     }

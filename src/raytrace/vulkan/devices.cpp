@@ -69,4 +69,17 @@ VkPhysicalDevice ChooseDevice(VkInstance instance,
     return devices[chosen];
 }
 
+bool ComputeQueueFamily(VkPhysicalDevice device, uint32_t *family) {
+    uint32_t n = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(device, &n, nullptr);
+    std::vector<VkQueueFamilyProperties> qf(n);
+    vkGetPhysicalDeviceQueueFamilyProperties(device, &n, qf.data());
+    for (uint32_t i = 0; i < n; ++i)
+        if (qf[i].queueFlags & VK_QUEUE_COMPUTE_BIT) {
+            *family = i;
+            return true;
+        }
+    return false;
+}
+
 }  // namespace dayflux::vk

@@ -20,4 +20,7 @@ VkPhysicalDevice ChooseDevice(VkInstance instance,
                               const std::function<std::string(VkPhysicalDevice)> &lacks,
                               bool allow_cpu, const std::string &what, std::string *why);
 
+// The first queue family with compute; false when there is none.
+bool ComputeQueueFamily(VkPhysicalDevice device, uint32_t *family);
+
 }  // namespace dayflux::vk

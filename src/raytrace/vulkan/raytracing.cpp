@@ -280,14 +280,7 @@ std::unique_ptr<RayQueryDevice> RayQueryDevice::Open(std::string *why, bool allo
     impl->as_props.pNext = nullptr;
     impl->name = props.properties.deviceName;
     impl->limits = props.properties.limits;
-    uint32_t nq = 0;
-    vkGetPhysicalDeviceQueueFamilyProperties(impl->physical, &nq, nullptr);
-    std::vector<VkQueueFamilyProperties> qf(nq);
-    vkGetPhysicalDeviceQueueFamilyProperties(impl->physical, &nq, qf.data());
-    bool found = false;
-    for (uint32_t i = 0; i < nq && !found; ++i)
-        if (qf[i].queueFlags & VK_QUEUE_COMPUTE_BIT) impl->queue_family = i, found = true;
-    if (!found) {
+    if (!ComputeQueueFamily(impl->physical, &impl->queue_family)) {
         *why = impl->name + " has no compute queue";
         return nullptr;
     }
