@@ -129,9 +129,7 @@ std::vector<double> ReadMatrixColumn(const std::string &spec, const std::string 
     while (r.Rows() == 0 || static_cast<int>(v.size()) < r.Rows()) {
         if (!r.ReadRow(row.data())) break;
         const double *e = &row[static_cast<size_t>(col) * r.Comps()];
-        v.push_back(r.Comps() == 1
-                        ? e[0]
-                        : kLuxPerRgb[0] * e[0] + kLuxPerRgb[1] * e[1] + kLuxPerRgb[2] * e[2]);
+        v.push_back(r.Comps() == 1 ? e[0] : IlluminanceFromRgb(e));
     }
     r.Finish();
     return v;
