@@ -73,6 +73,10 @@ Options ParseOptions(int argc, char **argv) {
             o.areas = argv[++i];
         } else if (a == "-g" && i + 2 < argc) {
             Grid g{argv[i + 1], 0};
+            if (g.name.empty() || g.name.find_first_of(",\"\n\r") != std::string::npos)
+                ErrorExit("-g '" + g.name +
+                          "': a grid name must be non-empty, without commas, quotes or newlines "
+                          "(it is a CSV field)");
             if (!ParseInt(argv[i + 2], &g.count) || g.count <= 0)
                 ErrorExit(std::string("-g ") + argv[i + 1] + ": '" + argv[i + 2] +
                           "' is not a positive sensor count");
@@ -99,6 +103,7 @@ struct Calendar {
     std::vector<TimeStep> steps;
     std::vector<int> step_of_column;
     std::string description;
+    double hours_per_step = 1;
 };
 
 Calendar ReadCalendar(const Options &o, int matrix_steps, const std::string &matrix_name) {
@@ -119,7 +124,14 @@ Calendar ReadCalendar(const Options &o, int matrix_steps, const std::string &mat
         Site{wh.latitude * M_PI / 180., wh.longitude * M_PI / 180., wh.time_zone * M_PI / 180.});
     WeatherRecord rec;
     int sun_up = 0;
+    double step = 1;  // hours between records of one day, for .wea files with sub-hourly data
+    bool step_known = false;
     while (weather.Next(&rec)) {
+        if (!step_known && !c.steps.empty() && c.steps.back().month == rec.month &&
+            c.steps.back().day == rec.day && rec.hour > c.steps.back().hour) {
+            step = std::min(1.0, rec.hour - c.steps.back().hour);
+            step_known = true;
+        }
         const bool up = sun.Next(rec.month, rec.day, rec.hour).in_sky;
         if (up) ++sun_up;
         if (!o.sun_up_only || up) c.step_of_column.push_back(static_cast<int>(c.steps.size()));
@@ -133,6 +145,9 @@ Calendar ReadCalendar(const Options &o, int matrix_steps, const std::string &mat
         ErrorExit(matrix_name + ": " + std::to_string(matrix_steps) + " time steps, but " +
                   weather.Name() + " gives " + std::to_string(c.step_of_column.size()) + hint);
     }
+    // Sub-hourly weather: each step counts for its share of an hour, so occupied hours and ASE's
+    // 250 hours stay hours.
+    c.hours_per_step = wh.records_per_hour > 1 ? 1.0 / wh.records_per_hour : step;
     c.description = weather.Name();
     return c;
 }
@@ -193,7 +208,7 @@ std::vector<double> ReadAreas(const std::string &path, int sensors) {
         const FileLoc loc = in->Loc();
         if (!in->NextWord(&word)) break;
         double v;
-        if (!ParseNumber(word, &v) || !(v > 0))
+        if (!ParseNumber(word, &v) || !(v > 0) || !std::isfinite(v))
             ErrorExit(&loc, "sensor area '" + std::string(word) + "' is not a positive number");
         a.push_back(v);
     }
@@ -304,6 +319,7 @@ int Main(int argc, char **argv) {
     std::vector<double> occupancy = o.schedule.empty()
                                         ? DailySchedule(cal.steps, o.occ_start, o.occ_end)
                                         : ReadSchedule(o.schedule, cal.steps.size());
+    for (double &w : occupancy) w *= cal.hours_per_step;
     AnnualMetrics metrics(shape.sensors, std::move(occupancy), o.t);
     if (metrics.OccupiedHours() <= 0) ErrorExit("the schedule has no occupied hours");
 

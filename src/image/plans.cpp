@@ -35,7 +35,7 @@ std::vector<SensorPoint> ReadSensorPoints(const std::string &path) {
             if (pos == std::string::npos) break;
             const size_t end = line.find_first_of(" \t\r", pos);
             const std::string word = line.substr(pos, end - pos);
-            if (!ParseNumber(word, &v[n]))
+            if (!ParseNumber(word, &v[n]) || !std::isfinite(v[n]))
                 ErrorExit(&loc, "'" + word + "' in a sensor point is not a number");
             ++n;
             pos = end;
@@ -79,7 +79,8 @@ PlanRaster RasterizePlan(const std::vector<SensorPoint> &points,
     if (r.cell_x == 0) r.cell_x = r.cell_y;
     if (r.cell_y == 0) r.cell_y = r.cell_x;
     if (r.cell_x == 0) r.cell_x = r.cell_y = 1;  // a single sensor
-    const double w = std::round((x1 - x0) / r.cell_x) + 1, h = std::round((y1 - y0) / r.cell_y) + 1;
+    const double w = std::floor((x1 - x0) / r.cell_x + 0.5 + 1e-6) + 1,
+                 h = std::floor((y1 - y0) / r.cell_y + 0.5 + 1e-6) + 1;
     if (w > 4096 || h > 4096)
         ErrorExit("the sensors do not lie on a grid that fits a picture (" +
                   std::to_string(static_cast<long>(w)) + " x " +
@@ -89,8 +90,11 @@ PlanRaster RasterizePlan(const std::vector<SensorPoint> &points,
     r.values.assign(static_cast<size_t>(r.width) * r.height, 0.f);
     r.filled.assign(r.values.size(), 0);
     for (size_t i = 0; i < points.size(); ++i) {
-        const int col = static_cast<int>(std::lround((points[i].x - x0) / r.cell_x));
-        const int row = r.height - 1 - static_cast<int>(std::lround((points[i].y - y0) / r.cell_y));
+        // Offices side by side can sit on exact half cells: round those one way, whatever the
+        // rounding error of each coordinate.
+        const int col = static_cast<int>(std::floor((points[i].x - x0) / r.cell_x + 0.5 + 1e-6));
+        const int row =
+            r.height - 1 - static_cast<int>(std::floor((points[i].y - y0) / r.cell_y + 0.5 + 1e-6));
         const size_t k = static_cast<size_t>(row) * r.width + col;
         if (r.filled[k])
             ErrorExit("sensors " + std::to_string(i + 1) +

@@ -93,8 +93,10 @@ GridMetrics AnnualMetrics::Grid(const std::string &name, int first, int count,
         const double a = areas.empty() ? 1. : areas[i];
         const SensorMetrics m = Sensor(i);
         g.area += a;
-        if (m.da >= t_.sda_percent) sda += a;
-        if (m.ase_hours > t_.ase_hours) ase += a;
+        // Shares of hours are sums of weights divided by another sum: compare with a little
+        // slack, so that exactly half of 2610 hours, or of 0.1-weighted hours, counts as half.
+        if (m.da >= t_.sda_percent - 1e-9 * std::max(1.0, t_.sda_percent)) sda += a;
+        if (m.ase_hours > t_.ase_hours + 1e-9 * std::max(1.0, t_.ase_hours)) ase += a;
         g.mean_da += a * m.da;
         g.mean_cda += a * m.cda;
         g.mean_udi_lower += a * m.udi_lower;

@@ -123,6 +123,30 @@ TEST(AnnualMetrics, SdaAndAseEdges) {
     EXPECT_DOUBLE_EQ(tail.sda, 0);
 }
 
+TEST(AnnualMetrics, ThresholdsSurviveRounding) {
+    // Weekdays 08:00-18:00 of a year starting on a Monday: 261 days, 2610 hours. Exactly half of
+    // them bright gives DA 50 % after division, which must still pass sDA's >= 50 %; with every
+    // hour weighted 0.1, 250 weighted hours of direct sun must not count as more than 250.
+    const auto steps = HourlyYear(false);
+    std::vector<double> weekdays = DailySchedule(steps, 8, 18);
+    for (size_t t = 0; t < steps.size(); ++t)
+        if ((t / 24) % 7 >= 5) weekdays[t] = 0;
+    AnnualMetrics m(1, weekdays, {});
+    ASSERT_DOUBLE_EQ(m.OccupiedHours(), 2610);
+    int occupied = 0;
+    for (int t = 0; t < 8760; ++t)
+        if (weekdays[t] > 0) m.AddTotal(0, t, occupied++ < 1305 ? 500 : 0);
+    EXPECT_EQ(m.Grid("g", 0, 1, {}).sda, 100);
+    std::vector<double> tenth(8760, 0.1);
+    AnnualMetrics f(1, tenth, {});
+    for (int t = 0; t < 8760; ++t) f.AddTotal(0, t, t < 4380 ? 500 : 0);
+    for (int t = 0; t < 2500; ++t) f.AddDirect(0, t, 2000);
+    EXPECT_EQ(f.Grid("g", 0, 1, {}).sda, 100);
+    EXPECT_EQ(f.Grid("g", 0, 1, {}).ase, 0) << f.Sensor(0).ase_hours;
+    f.AddDirect(0, 2500, 2000);
+    EXPECT_EQ(f.Grid("g", 0, 1, {}).ase, 100);
+}
+
 TEST(AnnualMetrics, FractionalOccupancyWeightsHours) {
     // Half-occupied hours count half: DA is the weighted share of hours.
     std::vector<double> w = {1, 0.5, 0.5, 0};

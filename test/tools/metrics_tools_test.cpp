@@ -100,15 +100,34 @@ TEST_F(DcmetricsTest, WeatherCalendarWithSunUpSteps) {
         for (int h = 0; h < 24; ++h)
             wea += "2 " + std::to_string(d) + " " + std::to_string(h) + ".5 100 100\n";
     WriteFile(tmp_.path() / "two.wea", wea);
-    // Boston in late February: 11 steps a day have the sun up (RADIANCE 5.4's gendaymtx -u
-    // writes 22 columns for this file).
-    WriteFile(tmp_.path() / "up.mtx", AsciiMatrix(1, 22, 1, false, [](int, int) { return 500.; }));
-    CommandResult r = Run("dcmetrics -w two.wea -u -occ 0 24 -o m up.mtx");
+    // Boston in late February: 11 steps a day have the sun up, 06:30 to 16:30 (RADIANCE 5.4's
+    // gendaymtx -u writes 22 columns for this file). Column j holds 190 + 50 (j % 11) lux, so with
+    // 08:00-18:00 occupancy each day has 08:30 at 290 lux, 09:30-16:30 at 340-640 lux, and
+    // 17:30 (sun down, not in the matrix) dark: DA 80 %, cDA (8 + 290/300) / 10, UDI 90 %.
+    WriteFile(tmp_.path() / "up.mtx",
+              AsciiMatrix(1, 22, 1, false, [](int, int j) { return 190. + 50. * (j % 11); }));
+    CommandResult r = Run("dcmetrics -w two.wea -u -occ 8 18 -o m up.mtx");
     ASSERT_EQ(r.status, 0) << r.err;
-    EXPECT_NE(r.out.find("48 occupied hours"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("20 occupied hours"), std::string::npos) << r.out;
     EXPECT_NE(ReadFile(tmp_.path() / "m.csv")
-                  .find("grid,0,1.000000,45.8333,45.8333,54.1667,45.8333,0.0000,\n"),
-              std::string::npos);
+                  .find("grid,0,1.000000,80.0000,89.6667,10.0000,90.0000,0.0000,\n"),
+              std::string::npos)
+        << ReadFile(tmp_.path() / "m.csv");
+    // Sub-hourly weather: 96 quarter-hour steps, each counting a quarter of an hour.
+    std::string quarter =
+        "place test\nlatitude 42.37\nlongitude 71.03\ntime_zone 75\n"
+        "site_elevation 5\nweather_data_file_units 1\n";
+    for (int q = 0; q < 96; ++q)
+        quarter += "3 1 " + std::to_string((q + 0.5) * 0.25) + " 100 100\n";
+    WriteFile(tmp_.path() / "quarter.wea", quarter);
+    WriteFile(tmp_.path() / "q.mtx", AsciiMatrix(1, 96, 1, false, [](int, int j) {
+                  return j < 48 ? 500. : 50.;  // bright until noon
+              }));
+    CommandResult qr = Run("dcmetrics -w quarter.wea -o q q.mtx");
+    ASSERT_EQ(qr.status, 0) << qr.err;
+    EXPECT_NE(qr.out.find("10 occupied hours"), std::string::npos) << qr.out;
+    EXPECT_NE(ReadFile(tmp_.path() / "q.csv").find("grid,0,1.000000,40.0000,"), std::string::npos)
+        << ReadFile(tmp_.path() / "q.csv");
     // Without -u the counts disagree, and the message says why.
     CommandResult bad = Run("dcmetrics -w two.wea up.mtx");
     EXPECT_NE(bad.status, 0);
@@ -129,17 +148,21 @@ TEST_F(DcmetricsTest, BadInput) {
     WriteFile(tmp_.path() / "short.mtx", shortm);
     WriteFile(tmp_.path() / "sched.txt", "1\n0\n");
     WriteFile(tmp_.path() / "areas.txt", "1 -2\n");
+    WriteFile(tmp_.path() / "inf.txt", "inf 1\n");
     struct Case {
         std::string cmd, message;
     };
     const Case cases[] = {
-        {"dcmetrics small.mtx", "small.mtx: 100 time steps is not an hourly year"},
-        {"dcmetrics total.mtx direct3.mtx",
+        {"dcmetrics -o m small.mtx", "small.mtx: 100 time steps is not an hourly year"},
+        {"dcmetrics -o m total.mtx direct3.mtx",
          "direct3.mtx: 3 sensors x 8760 time steps, but the illuminance matrix has 2 x 8760"},
-        {"dcmetrics ragged.mtx", "more than the header's size"},
+        {"dcmetrics -o m ragged.mtx", "more than the header's size"},
         {"dcmetrics short.mtx", "short.mtx"},
-        {"dcmetrics -s sched.txt total.mtx", "sched.txt: 2 occupancy values for 8760 time steps"},
+        {"dcmetrics -o m -s sched.txt total.mtx",
+         "sched.txt: 2 occupancy values for 8760 time steps"},
         {"dcmetrics -g a 0 total.mtx", "-g a: '0' is not a positive sensor count"},
+        {"dcmetrics -o m -g a,b 2 total.mtx", "a grid name must be non-empty, without commas"},
+        {"dcmetrics -o m -a inf.txt total.mtx", "inf.txt:1: sensor area 'inf' is not a positive"},
         {"dcmetrics -g a 1 total.mtx", "the grids (-g) hold 1 sensors, but total.mtx has 2"},
         {"dcmetrics -a areas.txt total.mtx", "areas.txt:1: sensor area '-2' is not a positive"},
         {"dcmetrics missing.mtx", "missing.mtx"},
