@@ -66,6 +66,7 @@ def main():
         "void metal blind_mat 0 0 5 0.7 0.7 0.7 0 0\n",
     ]
     geo = ["# Reference office geometry, written by make_office.py\n"]
+    blinds = ["# Exterior blinds of the reference office, written by make_office.py\n"]
     pitch = W + T  # offices side by side, each with its own partition walls
     x_win0 = (W - a.window_width) / 2
     for k in range(a.offices):
@@ -99,22 +100,30 @@ def main():
             box_faces(geo, "wall_mat", f"{n}_partition", x1, x1 + T, 0, D, 0, H)
         if a.blinds:
             # Exterior venetian blinds: 80 mm slats every 70 mm, tilted 45 degrees (outer edge
-            # down), 1 mm thick, 50 mm in front of the facade, across the window's width.
+            # down), 1 mm thick, their inner edges 50 mm in front of the facade, across the
+            # window's width, with a head box above and side guides, so no sun passes around
+            # them. They go to blinds.rad: LM-83's ASE is computed without them.
             slat, spacing, tilt, thick = 0.08, 0.07, math.radians(45), 0.001
-            yc = -T - 0.05 - slat / 2
+            dy, dz = slat / 2 * math.cos(tilt), slat / 2 * math.sin(tilt)
+            yc = -T - 0.05 - dy  # slat centre: the inner edge is 50 mm off the facade
+            y_out = yc - dy - 0.01  # the outer edge, and 10 mm beyond for the guides
             count = int(math.ceil(win_h / spacing))
+            nx, nz = -math.sin(tilt), math.cos(tilt)  # slat normal
             for i in range(count):
                 zc = wz1 - (i + 0.5) * spacing
-                dy, dz = slat / 2 * math.cos(tilt), slat / 2 * math.sin(tilt)
-                # A thin box: two faces a slat apart by `thick`, normal to the slat.
                 for side, off in (("top", thick / 2), ("bot", -thick / 2)):
-                    ny, nz = -math.sin(tilt), math.cos(tilt)  # slat normal
-                    yo, zo = ny * off, nz * off
+                    yo, zo = nx * off, nz * off
                     pts = [(wx0, yc - dy + yo, zc - dz + zo), (wx1, yc - dy + yo, zc - dz + zo),
                            (wx1, yc + dy + yo, zc + dz + zo), (wx0, yc + dy + yo, zc + dz + zo)]
                     if side == "top":
                         pts.reverse()
-                    polygon(geo, "blind_mat", f"{n}_slat{i}_{side}", pts)
+                    polygon(blinds, "blind_mat", f"{n}_slat{i}_{side}", pts)
+            z_low = wz1 - count * spacing - dz
+            box_faces(blinds, "blind_mat", f"{n}_headbox", wx0 - 0.02, wx1 + 0.02, y_out, -T - 0.001,
+                      wz1, wz1 + 0.06)
+            for side, x in (("w", wx0 - 0.02), ("e", wx1)):
+                box_faces(blinds, "blind_mat", f"{n}_guide_{side}", x, x + 0.02, y_out, -T - 0.001,
+                          z_low, wz1)
 
     sky = [
         "# The sky and ground as one glow sphere, binned by reinhart.cal (bin 0 is the ground)\n",
@@ -151,6 +160,7 @@ def main():
 
     write("materials.rad", mat)
     write("office.rad", geo)
+    write("blinds.rad", blinds)
     write("sky.rad", sky)
     write("suns.rad", suns)
     write("sensors.pts", pts)

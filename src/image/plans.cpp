@@ -151,7 +151,20 @@ void WritePlanPng(const std::string &path, const PlanRaster &plan, const PlanSty
     const int plan_w = plan.width * ppc, plan_h = plan.height * ppc;
     const int margin = 16, title_h = style.title.empty() ? 0 : 30, scale_w = 120;
     const int bar_h = std::max(plan_h, 200);
-    const int width = margin + plan_w + margin + scale_w, height = title_h + margin + bar_h + 40;
+    int width = margin + plan_w + margin + scale_w;
+    const int height = title_h + margin + bar_h + 40;
+    if (!style.title.empty()) {  // wide enough for the title (measured on a scratch surface)
+        cairo_surface_t *probe = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 1, 1);
+        cairo_t *pc = cairo_create(probe);
+        cairo_select_font_face(pc, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL,
+                               CAIRO_FONT_WEIGHT_NORMAL);
+        cairo_set_font_size(pc, 15);
+        cairo_text_extents_t ext;
+        cairo_text_extents(pc, style.title.c_str(), &ext);
+        width = std::max(width, 2 * margin + static_cast<int>(std::ceil(ext.x_advance)));
+        cairo_destroy(pc);
+        cairo_surface_destroy(probe);
+    }
     cairo_surface_t *surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, width, height);
     cairo_t *cr = cairo_create(surface);
     cairo_set_source_rgb(cr, 1, 1, 1);

@@ -11,6 +11,18 @@ namespace dayflux::test {
 namespace fs = std::filesystem;
 namespace {
 
+// The fields of a text's last non-empty line.
+std::vector<std::string> LastLineFields(const std::string &text) {
+    std::istringstream in(text);
+    std::string line, last;
+    while (std::getline(in, line))
+        if (!line.empty()) last = line;
+    std::istringstream f(last);
+    std::vector<std::string> fields;
+    for (std::string w; f >> w;) fields.push_back(w);
+    return fields;
+}
+
 TEST(ReferenceOfficeExample, TinyRunIsStableAndPlausible) {
     const fs::path example = DataDir() / ".." / ".." / "examples" / "reference-office";
     ASSERT_TRUE(fs::exists(example / "Makefile"));
@@ -57,7 +69,24 @@ TEST(ReferenceOfficeExample, TinyRunIsStableAndPlausible) {
     EXPECT_GT(front_da, 50);
     const std::string txt = ReadFile(tmp.path() / "n1" / "metrics.txt");
     EXPECT_NE(txt.find("3650 occupied hours"), std::string::npos) << txt;
-    EXPECT_NE(txt.find(" 20.0%"), std::string::npos) << txt;
+    const std::vector<std::string> whole = LastLineFields(txt);
+    ASSERT_EQ(whole.size(), 8u) << txt;
+    EXPECT_EQ(whole[3], "20.0%") << txt;
+
+    // Two offices with exterior blinds: a line per office and one for the whole; the blinds
+    // shade the daylight (sDA no higher) but not ASE, which LM-83 computes without them.
+    const fs::path shaded = tmp.path() / "shaded";
+    CommandResult r =
+        RunCommand(common + " OFFICES=2 BLINDS=1 OUT='" + shaded.string() + "'", tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string two = ReadFile(shaded / "metrics.txt");
+    EXPECT_NE(two.find("office1"), std::string::npos) << two;
+    const std::vector<std::string> all = LastLineFields(two);
+    ASSERT_EQ(all.size(), 8u) << two;
+    EXPECT_EQ(all[0], "all");
+    EXPECT_EQ(all[1], "30");
+    EXPECT_EQ(all[3], "20.0%") << two;
+    EXPECT_LE(std::stod(all[2]), std::stod(whole[2])) << two;
 }
 
 }  // namespace
