@@ -61,8 +61,9 @@ def main():
         "void plastic ceiling_mat 0 0 5 0.8 0.8 0.8 0 0\n",
         "void plastic facade_mat 0 0 5 0.35 0.35 0.35 0 0\n",
         "void plastic mullion_mat 0 0 5 0.5 0.5 0.5 0 0\n",
-        # Visible transmittance 0.65 at normal incidence: transmissivity = 0.65 * 1.0895.
-        "void glass glass_mat 0 0 3 0.708 0.708 0.708\n",
+        # Visible transmittance 0.65 at normal incidence, as transmissivity by RADIANCE's formula
+        # (sqrt(.8402528435 + .0072522239 T^2) - .9166530661) / .0036261119 / T.
+        "void glass glass_mat 0 0 3 0.7085 0.7085 0.7085\n",
         "void metal blind_mat 0 0 5 0.7 0.7 0.7 0 0\n",
     ]
     geo = ["# Reference office geometry, written by make_office.py\n"]
