@@ -583,14 +583,13 @@ int Main(int argc, char **argv) {
             std::vector<double> one, sq;
 #ifdef DAYFLUX_HAVE_GPU_CONTRIB
             if (gpu) {  // the whole block in one go (per replica with -se), then per segment
+                // One block at a time on the device, its records allocated only then.
+                std::lock_guard<std::mutex> lock(gpu_mutex);
                 const size_t nrays = b.rays.size() / 6;
                 const int reps = replicate ? kReplicas : 1;
                 std::vector<std::vector<double>> rec(reps, std::vector<double>(nrays * n, 0.0));
-                {
-                    std::lock_guard<std::mutex> lock(gpu_mutex);
-                    for (int k = 0; k < reps; ++k)
-                        gpu->Trace(b.rays.data(), nrays, b.first_ray, k, rec[k].data());
-                }
+                for (int k = 0; k < reps; ++k)
+                    gpu->Trace(b.rays.data(), nrays, b.first_ray, k, rec[k].data());
                 for (size_t i = 0; i < b.segments.size(); ++i) {
                     const Segment &seg = b.segments[i];
                     b.sums[i].assign(n, 0.0);

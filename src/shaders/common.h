@@ -23,6 +23,7 @@ DAYFLUX_GPU_CONST kBindingSurfaces = 5;   // GpuSurface per surface kind
 DAYFLUX_GPU_CONST kBindingSources = 6;    // GpuSource per distant source
 DAYFLUX_GPU_CONST kBindingAccum = 7;      // double, tasks x columns x 3
 DAYFLUX_GPU_CONST kBindingTasks = 8;      // GpuTasks: what this dispatch does
+DAYFLUX_GPU_CONST kBindingStats = 9;      // uint: stack items dropped (should stay 0)
 
 // Material kinds, as raytrace/materials.h's Material::Kind (no mixfunc on the GPU yet).
 DAYFLUX_GPU_CONST kMatBlack = 0;
@@ -79,7 +80,8 @@ struct GpuTasks {
     int contributions;  // -V
     int nsources;
     uint seed;
-    int pad0, pad1;
+    int ndirect;  // sources sampled with shadow rays (not glow)
+    int pad1;
     float lw, dj, tmin, st;  // -lw, -dj, the ray start offset, -st
     float ss, pad2, pad3, pad4;  // -ss
     double centre_x, centre_y, centre_z, pad5;  // added back to positions for the bins

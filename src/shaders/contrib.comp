@@ -18,6 +18,7 @@ layout(std430, set = 0, binding = kBindingSurfaces) readonly buffer Surfaces { G
 layout(std430, set = 0, binding = kBindingSources) readonly buffer Sources { GpuSource sources[]; };
 layout(std430, set = 0, binding = kBindingAccum) buffer Accum { double accum[]; };
 layout(std430, set = 0, binding = kBindingTasks) readonly buffer Tasks { GpuTasks tasks; };
+layout(std430, set = 0, binding = kBindingStats) buffer Stats { uint stats_dropped; };
 
 const float kTiny = 1e-6;  // RADIANCE's FTINY
 const float kPi = 3.14159265358979;
@@ -70,7 +71,9 @@ struct Ray {
     vec3 coef;    // product of the coefficients from the input ray down to this ray
     float weight; // RADIANCE's rweight
     int rlvl, crtype, adepth, aimed;
+    int depth;    // rays above it in the tree (the CPU integrator's guard against loops)
 };
+const int kMaxDepth = 200;
 struct Item {
     Ray r;
     int kind;
@@ -120,6 +123,7 @@ void Contribute(int k, Ray r, vec3 point, vec3 normal, float t, vec3 radiance) {
 bool Spawn(Ray parent, int type, vec3 rc, out Ray child) {
     float rw = min(1.0, Max3(rc));
     child = parent;
+    child.depth = parent.depth + 1;
     child.rlvl = parent.rlvl + ((type & kReflectionTypes) != 0 ? 1 : 0);
     child.crtype = parent.crtype | type;
     child.weight = parent.weight * rw;
@@ -227,7 +231,7 @@ void PushHemisphere(Ray r, vec3 colour, vec3 point, vec3 normal) {
 
 void PushDirect(Ray r, vec3 colour, float rdiff, float tdiff, float trans, bool fresnel,
                 vec3 point, vec3 normal, vec3 spec, float alpha2) {
-    if (NSOURCES == 0) return;
+    if (tasks.ndirect == 0) return;  // glow sources are found only by escaping rays
     bool rough = alpha2 > 0 && Max3(spec) > 0;
     if ((Max3(colour) <= 0 || (rdiff <= kTiny && tdiff <= kTiny)) && !rough) return;
     Item it;
@@ -449,6 +453,7 @@ void DirectStep(Item it, int i) {
     }
     if (Max3(coef) <= 0 || Bright(coef * s.colour.rgb) <= 0) return;
     Ray c = it.r;
+    c.depth = it.r.depth + 1;
     c.rlvl = it.r.rlvl + 1;
     c.crtype = it.r.crtype | kShadow;
     c.aimed = i;
@@ -461,11 +466,30 @@ void DirectStep(Item it, int i) {
     Push(sh);
 }
 
-// The first hemisphere of a path (ambient depth 0) follows RADIANCE's ambcollision(): a
-// direction within a quarter division of an earlier neighbour's is drawn again in its cell.
-// Its cells' random numbers are keyed by the cell, so a task tracing rows [end of the range)
-// replays the directions of the rows before it without tracing them.
-vec3 prev_row[MAXN], cur_row[MAXN];
+// Hemispheres follow RADIANCE's ambcollision(): a direction within a quarter division of an
+// earlier neighbour's is drawn again in its cell. The neighbours already drawn are (i, j + 1) and
+// the row before, so each hemisphere keeps two rows of directions: row i in slot i & 1. One
+// hemisphere per ambient depth is active at a time (the stack finishes a hemisphere's cells
+// before a sibling's), so the rows are kept per depth: up to MAXN cells a side at depth 0, 16
+// below it (deeper hemispheres rarely have more than 2), for the first kDeepLevels depths.
+// The first hemisphere's cells have random numbers keyed by the cell, so a task tracing some of
+// its rows replays the directions of the rows before them without tracing them.
+const int kDeepN = 16, kDeepLevels = 12;
+vec3 rows0[2 * MAXN];
+vec3 rowsd[kDeepLevels * 2 * kDeepN];
+
+bool CollisionRule(int depth, int n) {
+    return n > 1 && (depth == 0 ? n <= MAXN : depth <= kDeepLevels && n <= kDeepN);
+}
+vec3 RowDir(int depth, int slot, int j) {
+    return depth == 0 ? rows0[slot * MAXN + j] : rowsd[((depth - 1) * 2 + slot) * kDeepN + j];
+}
+void SetRowDir(int depth, int slot, int j, vec3 d) {
+    if (depth == 0)
+        rows0[slot * MAXN + j] = d;
+    else
+        rowsd[((depth - 1) * 2 + slot) * kDeepN + j] = d;
+}
 
 bool CellDirection(Item it, int i, int j, float cos_thresh, bool check, out Ray child,
                    out vec3 dir) {
@@ -474,16 +498,18 @@ bool CellDirection(Item it, int i, int j, float cos_thresh, bool check, out Ray 
     child.adepth = r.adepth + 1;
     vec3 ux, uy;
     Tangents(it.normal, ux, uy);
+    int d = r.adepth, cur = i & 1, prev = (i + 1) & 1;
     float u = Rand(), v = Rand();
     for (int tries = 0;; ++tries) {
         vec2 xy = SquareToDisk((j + v) / it.n, (i + u) / it.n);
         float z = sqrt(max(0.0, 1. - dot(xy, xy)));
         dir = normalize(xy.x * ux + xy.y * uy + z * it.normal);
-        if (!check || it.n == 1 || tries == 1000) break;
-        bool hit = (j + 1 < it.n && dot(cur_row[j + 1], dir) >= cos_thresh) ||
-                   (i + 1 < it.n && ((j > 0 && dot(prev_row[j - 1], dir) >= cos_thresh) ||
-                                     dot(prev_row[j], dir) >= cos_thresh ||
-                                     (j + 1 < it.n && dot(prev_row[j + 1], dir) >= cos_thresh)));
+        if (!check || tries == 1000) break;
+        bool hit = (j + 1 < it.n && dot(RowDir(d, cur, j + 1), dir) >= cos_thresh) ||
+                   (i + 1 < it.n &&
+                    ((j > 0 && dot(RowDir(d, prev, j - 1), dir) >= cos_thresh) ||
+                     dot(RowDir(d, prev, j), dir) >= cos_thresh ||
+                     (j + 1 < it.n && dot(RowDir(d, prev, j + 1), dir) >= cos_thresh)));
         if (!hit) break;
         u = Rand();
         v = Rand();
@@ -493,29 +519,29 @@ bool CellDirection(Item it, int i, int j, float cos_thresh, bool check, out Ray 
 
 uint cell_key;  // the path's random numbers: key of the input ray, then of the cell
 
+uint hemispheres0 = 0u;  // first-level hemispheres started by this task (random-number keys)
+
 // Returns true if it pushed the cell's ray.
 bool AmbientStep(inout Item it) {
     // Cells in RADIANCE's order: k = 0 is (n - 1, n - 1), then j, then i, downward.
     int k = it.next++;
     int i = it.n - 1 - k / it.n, j = it.n - 1 - k % it.n;
-    bool first_level = it.r.adepth == 0 && it.n <= MAXN;
+    int d = it.r.adepth;
+    bool rule = CollisionRule(d, it.n);
     float spacing = (kPi / 4.) / it.n;
     float cos_thresh = 1. - .5 * spacing * spacing;
-    if (first_level) {
-        if (j == it.n - 1) {  // a new row: the last one becomes the previous
-            for (int x = 0; x < it.n; ++x) {
-                prev_row[x] = cur_row[x];
-                cur_row[x] = vec3(0);
-            }
-        }
+    if (rule && j == it.n - 1)  // a new row: its slot is emptied
+        for (int x = 0; x < it.n; ++x) SetRowDir(d, i & 1, x, vec3(0));
+    if (d == 0) {
         // The cell's own random numbers (and those of the path it starts), so that any task
         // can replay it.
-        rng = Key(cell_key, uint(k), 0x9e3779b9u, 3u);
+        if (k == 0) ++hemispheres0;
+        rng = Key(cell_key, uint(k), 0x9e3779b9u, hemispheres0);
     }
     Ray child;
     vec3 dir;
-    bool ok = CellDirection(it, i, j, cos_thresh, first_level, child, dir);
-    if (first_level) cur_row[j] = ok ? dir : vec3(0);
+    bool ok = CellDirection(it, i, j, cos_thresh, rule, child, dir);
+    if (rule) SetRowDir(d, i & 1, j, ok ? dir : vec3(0));
     if (!ok) return false;
     child.org = it.point;
     child.dir = dir;
@@ -530,6 +556,7 @@ void RunStack() {
     while (top > 0) {
         Item it = stack[--top];
         if (it.kind == kItemTrace) {
+            if (it.r.depth > kMaxDepth) continue;  // pathological specular loops (-lr 0)
             Hit h;
             if (FindHit(it.r, h)) Shade(it.r, h.object, h.tracked, h.m, h.point, h.normal, h.t);
         } else if (it.kind == kItemAmbient) {
@@ -554,7 +581,7 @@ void RunStack() {
     }
 }
 
-void main() {
+void Task() {
     uint local_task = gl_GlobalInvocationID.x;
     if (local_task >= uint(tasks.count)) return;
     uint task = uint(tasks.task_offset) + local_task;
@@ -565,7 +592,6 @@ void main() {
     uint ray_index = uint(tasks.first_ray) + ray_in;
     cell_key = Key(SEED, ray_index, uint(tasks.replica), 0x2545f491u);
     rng = Key(cell_key, slice, 17u, 5u);
-    for (int x = 0; x < MAXN; ++x) cur_row[x] = vec3(0);
     Ray r;
     r.org = org;
     r.dir = dir;
@@ -575,6 +601,7 @@ void main() {
     r.crtype = kPrimary;
     r.adepth = 0;
     r.aimed = -1;
+    r.depth = 0;
     if (IRRADIANCE != 0) {
         // -I: a Lambertian surface of reflectance pi at the origin, facing the ray direction.
         vec3 point = org + 1e-4 * dir;
@@ -609,4 +636,10 @@ void main() {
         Push(it);
         RunStack();
     }
+}
+
+void main() {
+    Task();
+    // Items that did not fit the stack are lost: the host says how many.
+    if (dropped > 0u) atomicAdd(stats_dropped, dropped);
 }

@@ -240,6 +240,7 @@ struct RayQueryDevice::Impl {
 RayQueryDevice::RayQueryDevice(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 RayQueryDevice::~RayQueryDevice() = default;
 const std::string &RayQueryDevice::Name() const { return impl_->name; }
+uint64_t RayQueryDevice::MaxBufferBytes() const { return impl_->limits.maxStorageBufferRange; }
 
 std::unique_ptr<RayQueryDevice> RayQueryDevice::Open(std::string *why, bool allow_cpu) {
     auto impl = std::make_unique<Impl>();

@@ -24,6 +24,8 @@ class RayQueryDevice {
     RayQueryDevice &operator=(const RayQueryDevice &) = delete;
 
     const std::string &Name() const;
+    // The largest storage buffer a dispatch can bind (maxStorageBufferRange).
+    uint64_t MaxBufferBytes() const;
 
     // Compiles a GLSL compute shader (source includes its #version line and
     // #extension GL_EXT_ray_query : require) to SPIR-V 1.4 for Vulkan 1.2; errors name `name`.

@@ -1,5 +1,7 @@
 #include "raytrace/vulkan/vulkan_contrib.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +11,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <random>
 
 #include "cal/glsl.h"
 #include "raytrace/materials.h"
@@ -24,7 +27,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr int kLocalSize = 64;
-constexpr int kStackSize = 32;
+constexpr int kStackSize = 64;
 // Bytes of results per dispatch: within every device's maxStorageBufferRange (lavapipe: 128 MiB).
 constexpr size_t kAccumBudget = size_t(64) << 20;
 constexpr uint32_t kMaxTasksPerRun = 65535u * kLocalSize;
@@ -58,13 +61,15 @@ std::vector<uint32_t> CompileCached(const std::string &source) {
         std::vector<uint32_t> spirv;
         uint32_t word;
         while (in.read(reinterpret_cast<char *>(&word), sizeof word)) spirv.push_back(word);
-        if (!spirv.empty() && spirv[0] == 0x07230203u) return spirv;  // SPIR-V magic
+        if (spirv.size() > 5 && spirv[0] == 0x07230203u) return spirv;  // SPIR-V magic
     }
     std::vector<uint32_t> spirv = vk::RayQueryDevice::CompileGlsl(source, "contrib.comp");
     if (!dir.empty()) {  // best effort: a read-only home only costs the next run a compile
         std::error_code ec;
         fs::create_directories(dir, ec);
-        const fs::path temp = dir / (std::string(name) + ".tmp");
+        // A temporary of its own, renamed into place: readers never see a partial file.
+        const fs::path temp = dir / (std::string(name) + ".tmp" + std::to_string(getpid()) + "-" +
+                                     std::to_string(std::random_device{}()));
         std::ofstream out(temp, std::ios::binary);
         out.write(reinterpret_cast<const char *>(spirv.data()),
                   static_cast<std::streamsize>(spirv.size() * sizeof(uint32_t)));
@@ -82,7 +87,8 @@ struct VulkanContribIntegrator::Impl {
     std::vector<uint32_t> spirv;
     double centre[3] = {0, 0, 0};
     double extent = 0;
-    int nsources = 0;
+    int nsources = 0, ndirect = 0;
+    mutable uint64_t dropped = 0;  // stack items lost, over the run (warned about once)
     int columns = 0;
     int max_rows = 1;  // divisions along one side of the first hemisphere (slices are rows)
     std::vector<uint8_t> positions, indices, triangles, surfaces, sources;
@@ -222,6 +228,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     impl->max_rows = std::max(1, static_cast<int>(std::sqrt(double(o.ambient_divisions)) + 1.5));
     impl->extent = extent;
     impl->nsources = static_cast<int>(srcs.size());
+    for (const gpu::GpuSource &g : srcs) impl->ndirect += g.colour.w > 0.5f ? 0 : 1;
     std::string src = "#version 460\n#extension GL_EXT_ray_query : require\n";
     const auto define = [&](const char *name, const std::string &value) {
         src += std::string("#define ") + name + " " + value + "\n";
@@ -267,6 +274,12 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     if (const char *dump = std::getenv("DAYFLUX_DUMP_SHADER")) std::ofstream(dump) << src;
     impl->spirv = CompileCached(src);
 
+    const uint64_t limit = impl->device->MaxBufferBytes();
+    if (pos.size() * sizeof(float) > limit || tris.size() * sizeof(gpu::GpuTriangle) > limit ||
+        idx.size() * sizeof(uint32_t) > limit) {
+        *why = "the scene is too large for " + impl->device->Name() + "'s storage buffers";
+        return nullptr;
+    }
     impl->device->BuildScene(pos, idx);
     impl->positions = Bytes(pos);
     impl->indices = Bytes(idx);
@@ -316,6 +329,7 @@ void VulkanContribIntegrator::Trace(const double *rays, size_t n, uint64_t first
         tasks.first_hit = d.o.first_hit_irradiance;
         tasks.contributions = d.o.contributions;
         tasks.nsources = d.nsources;
+        tasks.ndirect = d.ndirect;
         tasks.seed = static_cast<uint32_t>(d.o.seed ^ (d.o.seed >> 32));
         tasks.lw = static_cast<float>(d.o.limit_weight);
         tasks.dj = static_cast<float>(d.o.source_jitter);
@@ -327,10 +341,16 @@ void VulkanContribIntegrator::Trace(const double *rays, size_t n, uint64_t first
         tasks.centre_z = d.centre[2];
         std::vector<uint8_t> task_bytes(sizeof tasks);
         std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
-        std::vector<uint8_t> accum(count * record * sizeof(double), 0);
+        std::vector<uint8_t> accum(count * record * sizeof(double), 0), stats(16, 0);
         d.device->Run(d.spirv, static_cast<uint32_t>(count), kLocalSize,
                       {&ray_bytes, &d.positions, &d.indices, &d.triangles, &d.surfaces, &d.sources,
-                       &accum, &task_bytes});
+                       &accum, &task_bytes, &stats});
+        uint32_t lost;
+        std::memcpy(&lost, stats.data(), sizeof lost);
+        if (lost > 0 && d.dropped == 0)
+            Warning("the GPU integrator's ray stack overflowed; " + std::to_string(lost) +
+                    " rays were dropped (results are low): use -backend embree");
+        d.dropped += lost;
         const double *a = reinterpret_cast<const double *>(accum.data());
         for (size_t t = 0; t < count; ++t) {
             double *dst = records + ((offset + t) / slices) * record;

@@ -33,7 +33,8 @@ class VulkanContribIntegrator {
     int Columns() const { return columns_; }
     // Traces n input rays (origin and direction, 6 doubles each; a zero direction contributes
     // nothing) and adds each one's contributions to its record (Columns() x 3 doubles) in
-    // records. first_index keys the random numbers, as does replica (-se).
+    // records. first_index keys the random numbers, as does replica (-se). One call at a time:
+    // the device is not shared between threads.
     void Trace(const double *rays, size_t n, uint64_t first_index, int replica,
                double *records) const;
 
