@@ -15,6 +15,13 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::string kBins = " -e MF:1 -f reinhart.cal -b rbin -bn Nrbins ";
+// Per-entry z-scores use standard errors from -se's 8 replicas, each estimated with 7 degrees of
+// freedom: the difference of two follows Student's t with about 14, whose tails are heavy
+// (P(|t| > 4.5) = 5e-4). Beyond 6, P = 3e-5: 0.25 of 7500 entries. Entries fed by one or two
+// samples (a sky patch seen through a corner of the window) are worse: when all 8 replicas
+// happen to get their sample, the estimated error is far too small, so a few such entries may
+// stand out from either backend.
+constexpr double kZ = 6;
 // lavapipe unless the environment names another device (lavapipe is used only when named).
 const std::string kDevice = "DAYFLUX_VULKAN_DEVICE=${DAYFLUX_VULKAN_DEVICE:-llvmpipe} ";
 
@@ -124,8 +131,8 @@ TEST_F(VulkanContrib, FurnaceSumsTheSeries) {
     EXPECT_NEAR(mean, M_PI * (1 - std::pow(rho, 6)) / (1 - rho), 4 * se);
 }
 
-// The tutorial room's daylight coefficients from both backends: per-entry z-scores from the
-// two standard errors stay within what 7000 entries explain, and so does the total.
+// The tutorial room's daylight coefficients from both backends: per-entry t-scores from the
+// two standard errors stay within what 7500 entries explain, and so does the total.
 TEST_F(VulkanContrib, TutorialRoomAgreesWithEmbree) {
     const fs::path room = DataDir() / "scene" / "models" / "room";
     const std::string args = "-I+ -ab 2 -ad 512 -lw 1e-3" + kBins +
@@ -148,10 +155,10 @@ TEST_F(VulkanContrib, TutorialRoomAgreesWithEmbree) {
             continue;
         }
         ++compared;
-        if (std::fabs(gpu[i] - cpu[i]) > 4.5 * std::sqrt(s2)) ++beyond;
+        if (std::fabs(gpu[i] - cpu[i]) > kZ * std::sqrt(s2)) ++beyond;
     }
     EXPECT_GT(compared, 5000);
-    EXPECT_LE(beyond, 2) << "of " << compared;  // 4.5 sigma: 7e-6 each, 0.05 expected
+    EXPECT_LE(beyond, 2) << "of " << compared;  // about 0.25 expected
     EXPECT_NEAR(sum_gpu, sum_cpu, 4 * std::sqrt(var));
 }
 
@@ -200,7 +207,7 @@ TEST_F(VulkanContrib, RoughSpecularAsEmbree) {
             sum_gpu += gpu[i], sum_cpu += cpu[i];
             const double s2 = se_gpu[i] * se_gpu[i] + se_cpu[i] * se_cpu[i];
             var += s2;
-            if (s2 > 0 && std::fabs(gpu[i] - cpu[i]) > 4.5 * std::sqrt(s2)) ++beyond;
+            if (s2 > 0 && std::fabs(gpu[i] - cpu[i]) > kZ * std::sqrt(s2)) ++beyond;
         }
         EXPECT_GT(sum_cpu, 0) << mod;
         EXPECT_LE(beyond, 1) << mod;
