@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -25,6 +26,11 @@ namespace dayflux {
 namespace fs = std::filesystem;
 
 namespace {
+
+// The std430 layouts the shader sees (common.h): vec4s and 4-byte scalars, doubles 8-aligned.
+static_assert(sizeof(gpu::GpuTriangle) == 32 && sizeof(gpu::GpuSurface) == 48);
+static_assert(sizeof(gpu::GpuSource) == 80 && sizeof(gpu::GpuTasks) == 128);
+static_assert(offsetof(gpu::GpuTasks, lw) == 64 && offsetof(gpu::GpuTasks, centre_x) == 96);
 
 constexpr int kLocalSize = 64;
 constexpr int kStackSize = 64;
