@@ -68,6 +68,7 @@ struct Options {
     std::string ospec;          // -o: empty for the standard output
     bool force_open = false;    // -fo: overwrite existing output files
     std::string backend;
+    bool gpu_float = false;  // -gpu_accum float
     std::vector<std::string> scene;
 };
 
@@ -322,6 +323,11 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
             o.contrib.seed = static_cast<uint64_t>(number(a));
         } else if (a == "-backend") {
             o.backend = value(a);
+        } else if (a == "-gpu_accum") {
+            // The GPU's per-task accumulators: double (the default) or float.
+            const std::string t = value(a);
+            if (t != "float" && t != "double") ErrorExit("-gpu_accum " + t + ": float or double");
+            o.gpu_float = t == "float";
         } else if (a == "-device") {
             // The Vulkan device, by name or index (as DAYFLUX_VULKAN_DEVICE); it implies
             // -backend vulkan and is the way to run on lavapipe.
@@ -414,7 +420,7 @@ int Main(int argc, char **argv) {
             one_context = one_context && m.params == o.modifiers[0].params;
         std::string why;
         gpu = VulkanContribIntegrator::Create(flat, o.contrib, tracked, make_context, one_context,
-                                              &why);
+                                              o.gpu_float, &why);
         if (!gpu) Warning("the Vulkan backend cannot take this run (" + why + "); using Embree");
     }
     std::mutex gpu_mutex;

@@ -6,7 +6,7 @@
 // The host prepends: #version and extensions, the constants below as #defines, common.h, the
 // generated calcomp functions and EvalBin(k), kFirstColumn[] and kBins[]:
 //   AB AD LW LR NCOLS IRRADIANCE FIRST_HIT CONTRIBUTIONS NTRACKED NSOURCES DJ SEED TMIN
-//   CENTRE_X CENTRE_Y CENTRE_Z MAXN LOCAL_SIZE STACK_SIZE
+//   CENTRE_X CENTRE_Y CENTRE_Z MAXN LOCAL_SIZE STACK_SIZE ACCUM_T (float or double)
 
 layout(local_size_x = LOCAL_SIZE) in;
 layout(set = 0, binding = 0) uniform accelerationStructureEXT scene;
@@ -16,7 +16,7 @@ layout(std430, set = 0, binding = kBindingIndices) readonly buffer Indices { uin
 layout(std430, set = 0, binding = kBindingTriangles) readonly buffer Triangles { GpuTriangle triangles[]; };
 layout(std430, set = 0, binding = kBindingSurfaces) readonly buffer Surfaces { GpuSurface surfaces[]; };
 layout(std430, set = 0, binding = kBindingSources) readonly buffer Sources { GpuSource sources[]; };
-layout(std430, set = 0, binding = kBindingAccum) buffer Accum { double accum[]; };
+layout(std430, set = 0, binding = kBindingAccum) buffer Accum { ACCUM_T accum[]; };
 layout(std430, set = 0, binding = kBindingTasks) readonly buffer Tasks { GpuTasks tasks; };
 layout(std430, set = 0, binding = kBindingStats) buffer Stats { uint stats_dropped; };
 
@@ -114,9 +114,9 @@ void Contribute(int k, Ray r, vec3 point, vec3 normal, float t, vec3 radiance) {
     if (bin >= kBins[k]) return;
     uint at = acc_base + 3u * uint(kFirstColumn[k] + bin);
     vec3 v = CONTRIBUTIONS != 0 ? r.coef * radiance : r.coef;
-    accum[at] += double(v.x);
-    accum[at + 1] += double(v.y);
-    accum[at + 2] += double(v.z);
+    accum[at] += ACCUM_T(v.x);
+    accum[at + 1] += ACCUM_T(v.y);
+    accum[at + 2] += ACCUM_T(v.z);
 }
 
 // rayorigin(): the child's coefficient and weight, Russian roulette. False if it dies.

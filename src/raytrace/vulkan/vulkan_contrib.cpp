@@ -93,7 +93,9 @@ struct VulkanContribIntegrator::Impl {
     std::vector<uint32_t> spirv;
     double centre[3] = {0, 0, 0};
     double extent = 0;
+    size_t accum_bytes() const { return float_accumulators ? sizeof(float) : sizeof(double); }
     int nsources = 0, ndirect = 0;
+    bool float_accumulators = false;
     mutable uint64_t dropped = 0;  // stack items lost, over the run (warned about once)
     int columns = 0;
     int max_rows = 1;  // divisions along one side of the first hemisphere (slices are rows)
@@ -109,7 +111,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     const FlatScene &scene, const ContribOptions &options,
     const std::vector<TrackedModifier> &tracked,
     const std::function<std::unique_ptr<cal::Context>(int)> &make_context, bool one_context,
-    std::string *why) {
+    bool float_accumulators, std::string *why) {
     // What the GPU integrator does not do yet.
     for (const AnalyticShape &sh : scene.shapes)
         if (sh.kind != AnalyticShape::kSource) {
@@ -131,6 +133,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
 
     auto impl = std::make_unique<Impl>();
     impl->o = options;
+    impl->float_accumulators = float_accumulators;
     int columns = 0;
     for (const TrackedModifier &t : tracked) columns = std::max(columns, t.first_column + t.nbins);
     impl->columns = columns;
@@ -262,6 +265,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     define("MAXN", std::to_string(kMaxRows));
     define("LOCAL_SIZE", std::to_string(kLocalSize));
     define("STACK_SIZE", std::to_string(kStackSize));
+    define("ACCUM_T", float_accumulators ? "float" : "double");
     src += kShaderCommon;
     src += cal_glsl;
     src += "double EvalBin(int k) {\n";
@@ -317,7 +321,7 @@ void VulkanContribIntegrator::Trace(const double *rays, size_t n, uint64_t first
     const size_t record = 3 * static_cast<size_t>(d.columns);
     const size_t total = n * static_cast<size_t>(slices);
     const size_t per_run =
-        std::clamp<size_t>(kAccumBudget / (record * sizeof(double)), 1, kMaxTasksPerRun);
+        std::clamp<size_t>(kAccumBudget / (record * d.accum_bytes()), 1, kMaxTasksPerRun);
     std::vector<uint8_t> ray_bytes = Bytes(in);
     for (size_t offset = 0; offset < total; offset += per_run) {
         const size_t count = std::min(per_run, total - offset);
@@ -347,7 +351,7 @@ void VulkanContribIntegrator::Trace(const double *rays, size_t n, uint64_t first
         tasks.centre_z = d.centre[2];
         std::vector<uint8_t> task_bytes(sizeof tasks);
         std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
-        std::vector<uint8_t> accum(count * record * sizeof(double), 0), stats(16, 0);
+        std::vector<uint8_t> accum(count * record * d.accum_bytes(), 0), stats(16, 0);
         d.device->Run(d.spirv, static_cast<uint32_t>(count), kLocalSize,
                       {&ray_bytes, &d.positions, &d.indices, &d.triangles, &d.surfaces, &d.sources,
                        &accum, &task_bytes, &stats});
@@ -357,12 +361,17 @@ void VulkanContribIntegrator::Trace(const double *rays, size_t n, uint64_t first
             Warning("the GPU integrator's ray stack overflowed; " + std::to_string(lost) +
                     " rays were dropped (results are low): use -backend embree");
         d.dropped += lost;
-        const double *a = reinterpret_cast<const double *>(accum.data());
-        for (size_t t = 0; t < count; ++t) {
-            double *dst = records + ((offset + t) / slices) * record;
-            const double *src = a + t * record;
-            for (size_t j = 0; j < record; ++j) dst[j] += src[j];
-        }
+        const auto add = [&](const auto *a) {
+            for (size_t t = 0; t < count; ++t) {
+                double *dst = records + ((offset + t) / slices) * record;
+                const auto *src = a + t * record;
+                for (size_t j = 0; j < record; ++j) dst[j] += src[j];
+            }
+        };
+        if (d.float_accumulators)
+            add(reinterpret_cast<const float *>(accum.data()));
+        else
+            add(reinterpret_cast<const double *>(accum.data()));
     }
 }
 

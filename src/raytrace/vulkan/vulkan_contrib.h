@@ -21,12 +21,17 @@ class VulkanContribIntegrator {
     // needs what the GPU integrator does not do yet (analytic surfaces, patterns on materials,
     // mixfunc, bin expressions GLSL cannot express); the caller then
     // uses the CPU integrator. make_context(0) gives the context the bins are compiled in:
-    // one_context says every modifier's is the same (no differing -p).
+    // one_context says every modifier's is the same (no differing -p). Each task accumulates
+    // its contributions in double, or in float with float_accumulators (half the memory). -I
+    // sensors split their first hemisphere between tasks, so a task's sums are short and float
+    // costs little there (a uniform sky at -ad 50000: 4e-8 relative either way, the rounding of
+    // float coefficients); a view ray's first hemisphere is one task's, where float sums of
+    // 50000 samples lose about 1e-6. Records are summed in double on the host.
     static std::unique_ptr<VulkanContribIntegrator> Create(
         const FlatScene &scene, const ContribOptions &options,
         const std::vector<TrackedModifier> &tracked,
         const std::function<std::unique_ptr<cal::Context>(int)> &make_context, bool one_context,
-        std::string *why);
+        bool float_accumulators, std::string *why);
     ~VulkanContribIntegrator();
 
     const std::string &DeviceName() const;
