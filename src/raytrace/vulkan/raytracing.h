@@ -12,7 +12,7 @@ namespace dayflux::vk {
 // A Vulkan device with ray queries, holding one scene's acceleration structures.
 class RayQueryDevice {
   public:
-    // Same device choice as ComputeDevice::Open (DAYFLUX_VULKAN_DEVICE by name substring or index,
+    // The device choice of vulkan/devices.h (DAYFLUX_VULKAN_DEVICE by name substring or index,
     // else a discrete GPU first, else any), but only among Vulkan 1.2 devices with
     // VK_KHR_acceleration_structure, VK_KHR_ray_query, bufferDeviceAddress and shaderFloat64 (our
     // generated GLSL uses doubles). CPU devices (lavapipe) count only with allow_cpu or when
