@@ -9,7 +9,9 @@
 # .rad files from test/data (C_ds: the same octree). Times are wall seconds of one run each
 # (/usr/bin/time), both programs on all cores of the machine (RADIANCE with -n nproc).
 # usage: bench/rcontrib_speed_error.sh   environment: OURS, RADIANCE_BIN (/opt/radiance/bin),
-#        REFS (../shared/data/references/rcontrib), ADS ("1024 4096 16384")
+#        REFS (../shared/data/references/rcontrib), ADS ("1024 4096 16384"),
+#        VULKAN (a Vulkan device for rcontrib-gpu -device, e.g. 0 or llvmpipe: adds its rows,
+#        timed after a warm-up run that compiles the shaders)
 # writes bench/results/rcontrib_speed_error.csv and .svg
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -37,10 +39,26 @@ record() {  # case program ad seconds output reference
     err=$(python3 "$here/rcontrib_error.py" "$5" "$6")
     echo "$1,$2,$3,$4,$err" | tee -a "$csv"
 }
+VULKAN=${VULKAN:-}
+if [ -n "$VULKAN" ]; then  # compile the shaders once, outside the timings
+    (cd "$ROOM" && "$OURS" -device "$VULKAN" -I+ -ab 1 -ad 16 -faf $V_ARGS materials.rad room.rad \
+        objects/GlazingVmtx.rad < "$PTS" > /dev/null)
+    (cd "$ROOM" && "$OURS" -device "$VULKAN" -I+ -ab 1 -ad 16 -faf $DC_ARGS materials.rad \
+        room.rad objects/Glazing.rad skyDomes/skyglow.rad < "$PTS" > /dev/null)
+    (cd "$REFS" && "$OURS" -device "$VULKAN" $CDS_ARGS cds.oct < "$PTS" > /dev/null)
+fi
 for ad in $ADS; do
     t=$(cd "$ROOM" && timed "$tmp/v_ours" "$OURS" -I+ -ab 4 -ad "$ad" -lw 2e-4 -faf $V_ARGS \
         materials.rad room.rad objects/GlazingVmtx.rad)
     record V dayflux "$ad" "$t" "$tmp/v_ours" "$REFS/v_conv.fmx"
+    if [ -n "$VULKAN" ]; then
+        t=$(cd "$ROOM" && timed "$tmp/v_gpu" "$OURS" -device "$VULKAN" -I+ -ab 4 -ad "$ad" \
+            -lw 2e-4 -faf $V_ARGS materials.rad room.rad objects/GlazingVmtx.rad)
+        record V dayflux-vulkan "$ad" "$t" "$tmp/v_gpu" "$REFS/v_conv.fmx"
+        t=$(cd "$ROOM" && timed "$tmp/dc_gpu" "$OURS" -device "$VULKAN" -I+ -ab 4 -ad "$ad" \
+            -lw 1e-4 -faf $DC_ARGS materials.rad room.rad objects/Glazing.rad skyDomes/skyglow.rad)
+        record DC dayflux-vulkan "$ad" "$t" "$tmp/dc_gpu" "$REFS/dc_conv.fmx"
+    fi
     t=$(cd "$REFS" && RAYPATH=.:$RADIANCE_BIN/../lib timed "$tmp/v_rad" "$RADIANCE_BIN/rcontrib" \
         -n "$NPROC" -I+ -ab 4 -ad "$ad" -lw 2e-4 -faf $V_ARGS roomV.oct)
     record V radiance "$ad" "$t" "$tmp/v_rad" "$REFS/v_conv.fmx"
@@ -54,6 +72,10 @@ done
 xz -dc "$REFS/cds_test.fmx.xz" > "$tmp/cds_ref"
 t=$(cd "$REFS" && timed "$tmp/cds_ours" "$OURS" $CDS_ARGS cds.oct)
 record Cds dayflux 256 "$t" "$tmp/cds_ours" "$tmp/cds_ref"
+if [ -n "$VULKAN" ]; then
+    t=$(cd "$REFS" && timed "$tmp/cds_gpu" "$OURS" -device "$VULKAN" $CDS_ARGS cds.oct)
+    record Cds dayflux-vulkan 256 "$t" "$tmp/cds_gpu" "$tmp/cds_ref"
+fi
 t=$(cd "$REFS" && RAYPATH=.:$RADIANCE_BIN/../lib timed "$tmp/cds_rad" "$RADIANCE_BIN/rcontrib" \
     -n "$NPROC" $CDS_ARGS cds.oct)
 record Cds radiance 256 "$t" "$tmp/cds_rad" "$tmp/cds_ref"
