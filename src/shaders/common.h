@@ -24,6 +24,13 @@ DAYFLUX_GPU_CONST kBindingSources = 6;    // GpuSource per distant source
 DAYFLUX_GPU_CONST kBindingAccum = 7;      // double, tasks x columns x 3
 DAYFLUX_GPU_CONST kBindingTasks = 8;      // GpuTasks: what this dispatch does
 DAYFLUX_GPU_CONST kBindingStats = 9;      // uint: stack items dropped (should stay 0)
+DAYFLUX_GPU_CONST kBindingShapes = 10;    // GpuShape per analytic surface (procedural boxes)
+
+// Analytic surfaces, as scene/flatten.h's AnalyticShape::Kind.
+DAYFLUX_GPU_CONST kShapeSphere = 0;
+DAYFLUX_GPU_CONST kShapeCone = 1;
+DAYFLUX_GPU_CONST kShapeCylinder = 2;
+DAYFLUX_GPU_CONST kShapeRing = 3;
 
 // Material kinds, as raytrace/materials.h's Material::Kind (no mixfunc on the GPU yet).
 DAYFLUX_GPU_CONST kMatBlack = 0;
@@ -48,6 +55,16 @@ struct GpuSurface {
     int tracked;   // -m index, or -1
     float alpha2;  // roughness squared (0: pure specular)
     int pad0;
+};
+
+// An analytic surface (sphere/bubble, cone/cup, cylinder/tube, ring), recentred.
+struct GpuShape {
+    vec4 p0;      // xyz: centre (sphere, ring) or first end (cone, cylinder); w: r0
+    vec4 p1;      // xyz: second end (cone, cylinder) or the ring's normal; w: r1
+    int kind;     // kShape*
+    int inward;   // bubble, cup, tube: normals point inside
+    int surface;  // index into the surfaces
+    int object;   // scene object
 };
 
 // A distant source (RADIANCE's 'source'): direction, size, what it is made of.

@@ -19,6 +19,7 @@ layout(std430, set = 0, binding = kBindingSources) readonly buffer Sources { Gpu
 layout(std430, set = 0, binding = kBindingAccum) buffer Accum { ACCUM_T accum[]; };
 layout(std430, set = 0, binding = kBindingTasks) readonly buffer Tasks { GpuTasks tasks; };
 layout(std430, set = 0, binding = kBindingStats) buffer Stats { uint stats_dropped; };
+layout(std430, set = 0, binding = kBindingShapes) readonly buffer Shapes { GpuShape shapes[]; };
 
 const float kTiny = 1e-6;  // RADIANCE's FTINY
 const float kPi = 3.14159265358979;
@@ -168,15 +169,105 @@ vec3 ClosestPointOnTriangle(vec3 p, vec3 a, vec3 b, vec3 c) {
     return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-bool Closest(vec3 org, vec3 dir, out float t, out int prim) {
+// ---- analytic surfaces (raytrace/analytic.cpp in float, on recentred coordinates)
+bool Quadratic(float a, float b, float c, out float t0, out float t1) {
+    if (abs(a) < 1e-30) {
+        if (abs(b) < 1e-30) return false;
+        t0 = t1 = -c / b;
+        return true;
+    }
+    float disc = b * b - 4 * a * c;
+    if (disc < 0) return false;
+    float q = -0.5 * (b + (b < 0 ? -sqrt(disc) : sqrt(disc)));
+    float x0 = q / a, x1 = q != 0 ? c / q : x0;
+    t0 = min(x0, x1);
+    t1 = max(x0, x1);
+    return true;
+}
+
+// The nearest t in (tmin, tmax) where the ray meets shape s, or -1.
+float IntersectShape(GpuShape s, vec3 org, vec3 dir, float tmin, float tmax) {
+    float t0, t1;
+    if (s.kind == kShapeSphere) {
+        vec3 oc = org - s.p0.xyz;
+        if (!Quadratic(1.0, 2 * dot(oc, dir), dot(oc, oc) - s.p0.w * s.p0.w, t0, t1)) return -1;
+        if (t0 > tmin && t0 < tmax) return t0;
+        if (t1 > tmin && t1 < tmax) return t1;
+        return -1;
+    }
+    if (s.kind == kShapeRing) {
+        vec3 n = normalize(s.p1.xyz);
+        float dn = dot(dir, n);
+        if (abs(dn) < 1e-30) return -1;
+        float t = dot(s.p0.xyz - org, n) / dn;
+        if (!(t > tmin && t < tmax)) return -1;
+        vec3 x = org + t * dir - s.p0.xyz;
+        float r2 = dot(x, x);
+        return r2 >= s.p0.w * s.p0.w && r2 <= s.p1.w * s.p1.w ? t : -1;
+    }
+    // cone, cylinder: |wp + t dp|^2 = (r0 + slope (wu + t du))^2 along the axis
+    vec3 d = s.p1.xyz - s.p0.xyz;
+    float len = length(d);
+    vec3 u = d / len;
+    float slope = (s.p1.w - s.p0.w) / len;
+    vec3 w = org - s.p0.xyz;
+    float wu = dot(w, u), du = dot(dir, u);
+    vec3 wp = w - wu * u, dp = dir - du * u;
+    float rw = s.p0.w + slope * wu, rd = slope * du;
+    if (!Quadratic(dot(dp, dp) - rd * rd, 2 * (dot(wp, dp) - rw * rd), dot(wp, wp) - rw * rw, t0,
+                   t1))
+        return -1;
+    for (int k = 0; k < 2; ++k) {
+        float t = k == 0 ? t0 : t1;
+        if (!(t > tmin && t < tmax)) continue;
+        float z = wu + t * du;
+        if (z < 0 || z > len || s.p0.w + slope * z < 0) continue;
+        return t;
+    }
+    return -1;
+}
+
+// The unit normal at p on shape s (outward; inward for bubble, cup, tube).
+vec3 ShapeNormal(GpuShape s, vec3 p) {
+    vec3 n;
+    if (s.kind == kShapeSphere) {
+        n = p - s.p0.xyz;
+    } else if (s.kind == kShapeRing) {
+        n = s.p1.xyz;
+    } else {
+        vec3 d = s.p1.xyz - s.p0.xyz;
+        float len = length(d);
+        vec3 u = d / len;
+        float slope = (s.p1.w - s.p0.w) / len;
+        vec3 w = p - s.p0.xyz;
+        vec3 radial = w - dot(w, u) * u;
+        float rl = length(radial);
+        n = (rl > 0 ? radial / rl : vec3(0)) - slope * u;
+    }
+    n = normalize(n);
+    return s.inward != 0 ? -n : n;
+}
+
+// The nearest hit: a triangle (shape < 0) or an analytic surface.
+bool Closest(vec3 org, vec3 dir, out float t, out int prim, out int shape) {
     rayQueryEXT q;
     rayQueryInitializeEXT(q, scene, gl_RayFlagsOpaqueEXT, 0xFF, org, TMIN, dir, 1e30);
     while (rayQueryProceedEXT(q)) {
+        if (rayQueryGetIntersectionTypeEXT(q, false) !=
+            gl_RayQueryCandidateIntersectionAABBEXT)
+            continue;
+        float tmax = rayQueryGetIntersectionTypeEXT(q, true) != gl_RayQueryCommittedIntersectionNoneEXT
+                         ? rayQueryGetIntersectionTEXT(q, true)
+                         : 1e30;
+        float th = IntersectShape(shapes[rayQueryGetIntersectionPrimitiveIndexEXT(q, false)], org,
+                                  dir, TMIN, tmax);
+        if (th >= 0) rayQueryGenerateIntersectionEXT(q, th);
     }
-    if (rayQueryGetIntersectionTypeEXT(q, true) != gl_RayQueryCommittedIntersectionTriangleEXT)
-        return false;
+    uint type = rayQueryGetIntersectionTypeEXT(q, true);
+    if (type == gl_RayQueryCommittedIntersectionNoneEXT) return false;
     t = rayQueryGetIntersectionTEXT(q, true);
     prim = rayQueryGetIntersectionPrimitiveIndexEXT(q, true);
+    shape = type == gl_RayQueryCommittedIntersectionGeneratedEXT ? prim : -1;
     return true;
 }
 
@@ -393,8 +484,18 @@ bool Escape(Ray r, out Hit h) {
 
 bool FindHit(Ray r, out Hit h) {
     float t;
-    int prim;
-    if (!Closest(r.org, r.dir, t, prim)) return Escape(r, h);
+    int prim, shape;
+    if (!Closest(r.org, r.dir, t, prim, shape)) return Escape(r, h);
+    if (shape >= 0) {
+        GpuShape s = shapes[shape];
+        h.point = r.org + t * r.dir;
+        h.normal = ShapeNormal(s, h.point);
+        h.m = surfaces[s.surface];
+        h.object = s.object;
+        h.tracked = h.m.tracked;
+        h.t = t;
+        return true;
+    }
     GpuTriangle tri = triangles[prim];
     // On the triangle's plane, then into the triangle (see ClosestPointOnTriangle).
     vec3 a = Vertex(indices[3 * prim]), b = Vertex(indices[3 * prim + 1]),

@@ -92,7 +92,8 @@ struct RayQueryDevice::Impl {
 
     // The scene: bottom level (absent when empty) and top level with its storage.
     VkAccelerationStructureKHR blas = VK_NULL_HANDLE, tlas = VK_NULL_HANDLE;
-    Buffer blas_storage, tlas_storage;
+    VkAccelerationStructureKHR box_blas = VK_NULL_HANDLE;  // procedural boxes (analytic shapes)
+    Buffer blas_storage, tlas_storage, box_storage;
 
     std::unordered_map<size_t, Pipeline> pipelines;
     std::vector<Buffer> run_buffers;  // grown as needed, reused across runs
@@ -171,9 +172,11 @@ struct RayQueryDevice::Impl {
     void DestroyScene() {
         if (tlas) DestroyAccelerationStructure(device, tlas, nullptr);
         if (blas) DestroyAccelerationStructure(device, blas, nullptr);
-        tlas = blas = VK_NULL_HANDLE;
+        if (box_blas) DestroyAccelerationStructure(device, box_blas, nullptr);
+        tlas = blas = box_blas = VK_NULL_HANDLE;
         Destroy(tlas_storage);
         Destroy(blas_storage);
+        Destroy(box_storage);
     }
 
     VkCommandBuffer BeginCommands() {
@@ -361,13 +364,16 @@ std::vector<uint32_t> RayQueryDevice::CompileGlsl(const std::string &source,
 }
 
 void RayQueryDevice::BuildScene(const std::vector<float> &positions,
-                                const std::vector<uint32_t> &indices) {
+                                const std::vector<uint32_t> &indices,
+                                const std::vector<float> &boxes) {
     Impl &d = *impl_;
     CHECK(positions.size() % 3 == 0);
     CHECK(indices.size() % 3 == 0);
     const size_t vertex_count = positions.size() / 3;
     for (uint32_t i : indices) CHECK(i < vertex_count);
     const size_t triangle_count = indices.size() / 3;
+    CHECK(boxes.size() % 6 == 0);
+    const size_t box_count = boxes.size() / 6;
     if (triangle_count > d.as_props.maxPrimitiveCount)
         ErrorExit("scene has " + std::to_string(triangle_count) + " triangles; " + d.name +
                   " takes at most " + std::to_string(d.as_props.maxPrimitiveCount) +
@@ -381,10 +387,26 @@ void RayQueryDevice::BuildScene(const std::vector<float> &positions,
         VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR |
         VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
     // Inputs and scratch are only needed during the builds and freed after them.
-    Buffer vertices, triangles, instances, blas_scratch, tlas_scratch;
+    Buffer vertices, triangles, aabbs, instances, blas_scratch, box_scratch, tlas_scratch;
     VkCommandBuffer cb = d.BeginCommands();
 
-    VkAccelerationStructureInstanceKHR instance{};
+    std::vector<VkAccelerationStructureInstanceKHR> instance_list;
+    const float identity[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+    // One instance per bottom level: custom index 0 for the triangles, 1 for the boxes.
+    const auto add_instance = [&](VkAccelerationStructureKHR blas, uint32_t custom) {
+        VkAccelerationStructureInstanceKHR instance{};
+        VkAccelerationStructureDeviceAddressInfoKHR asdai{
+            VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
+        asdai.accelerationStructure = blas;
+        std::memcpy(instance.transform.matrix, identity, sizeof identity);
+        instance.instanceCustomIndex = custom;
+        instance.mask = 0xff;
+        // Both sides of every surface are hit; materials decide what a back face means.
+        instance.flags = VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR;
+        instance.accelerationStructureReference =
+            d.GetAccelerationStructureAddress(d.device, &asdai);
+        instance_list.push_back(instance);
+    };
     if (triangle_count > 0) {
         vertices = d.Create(positions.size() * sizeof(float), kInput, true);
         std::memcpy(vertices.mapped, positions.data(), positions.size() * sizeof(float));
@@ -413,31 +435,49 @@ void RayQueryDevice::BuildScene(const std::vector<float> &positions,
         d.blas = d.RecordBuild(cb, build.type, build, static_cast<uint32_t>(triangle_count),
                                &d.blas_storage, &blas_scratch);
 
-        // The top-level build reads the bottom level.
+        add_instance(d.blas, 0);
+    }
+    if (box_count > 0) {
+        aabbs = d.Create(boxes.size() * sizeof(float), kInput, true);
+        std::memcpy(aabbs.mapped, boxes.data(), boxes.size() * sizeof(float));
+        VkAccelerationStructureGeometryKHR geometry{
+            VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
+        geometry.geometryType = VK_GEOMETRY_TYPE_AABBS_KHR;
+        geometry.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
+        auto &box = geometry.geometry.aabbs;
+        box.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_AABBS_DATA_KHR;
+        box.data.deviceAddress = aabbs.address;
+        box.stride = sizeof(VkAabbPositionsKHR);
+        VkAccelerationStructureBuildGeometryInfoKHR build{
+            VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
+        build.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
+        build.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR;
+        build.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
+        build.geometryCount = 1;
+        build.pGeometries = &geometry;
+        d.box_blas = d.RecordBuild(cb, build.type, build, static_cast<uint32_t>(box_count),
+                                   &d.box_storage, &box_scratch);
+        add_instance(d.box_blas, 1);
+    }
+    if (!instance_list.empty()) {
+        // The top-level build reads the bottom levels.
         VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
         barrier.srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
         barrier.dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR;
         vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
                              VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, 0, 1, &barrier,
                              0, nullptr, 0, nullptr);
-
-        VkAccelerationStructureDeviceAddressInfoKHR asdai{
-            VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR};
-        asdai.accelerationStructure = d.blas;
-        const float identity[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
-        std::memcpy(instance.transform.matrix, identity, sizeof identity);
-        instance.mask = 0xff;
-        // Both sides of every surface are hit; materials decide what a back face means.
-        instance.flags = VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR;
-        instance.accelerationStructureReference =
-            d.GetAccelerationStructureAddress(d.device, &asdai);
     }
 
     // An empty scene is a top level with no instances, which every ray misses.
-    const uint32_t instance_count = triangle_count > 0 ? 1 : 0;
-    instances = d.Create(sizeof instance, kInput, true);
+    const uint32_t instance_count = static_cast<uint32_t>(instance_list.size());
+    const size_t instance_bytes =
+        std::max<size_t>(1, instance_list.size()) * sizeof(VkAccelerationStructureInstanceKHR);
+    instances = d.Create(instance_bytes, kInput, true);
     CHECK(instances.address % 16 == 0);  // required of instance data
-    std::memcpy(instances.mapped, &instance, sizeof instance);
+    if (!instance_list.empty())
+        std::memcpy(instances.mapped, instance_list.data(),
+                    instance_list.size() * sizeof(VkAccelerationStructureInstanceKHR));
     VkAccelerationStructureGeometryKHR geometry{
         VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
     geometry.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
@@ -454,7 +494,8 @@ void RayQueryDevice::BuildScene(const std::vector<float> &positions,
     d.tlas = d.RecordBuild(cb, build.type, build, instance_count, &d.tlas_storage, &tlas_scratch);
     d.SubmitAndWait(cb);
 
-    for (Buffer *b : {&vertices, &triangles, &instances, &blas_scratch, &tlas_scratch})
+    for (Buffer *b :
+         {&vertices, &triangles, &aabbs, &instances, &blas_scratch, &box_scratch, &tlas_scratch})
         d.Destroy(*b);
 }
 

@@ -35,7 +35,11 @@ class RayQueryDevice {
     // per vertex; indices: 3 per triangle) flagged OPAQUE and not culled, and a top-level
     // structure with one identity instance. Triangle i is primitive index i in the shader
     // (rayQueryGetIntersectionPrimitiveIndexEXT). With no triangles, rays miss everything.
-    void BuildScene(const std::vector<float> &positions, const std::vector<uint32_t> &indices);
+    // boxes (6 floats each: min xyz, max xyz) are procedural: a second instance, custom index 1,
+    // whose candidates the shader intersects itself (box i is primitive index i there); the
+    // triangles' instance has custom index 0.
+    void BuildScene(const std::vector<float> &positions, const std::vector<uint32_t> &indices,
+                    const std::vector<float> &boxes = {});
 
     // Runs spirv over `invocations` invocations in groups of local_size_x (which must match the
     // shader's), with the top-level structure at set 0 binding 0 (accelerationStructureEXT) and

@@ -15,6 +15,7 @@
 #include <random>
 
 #include "cal/glsl.h"
+#include "raytrace/analytic.h"
 #include "raytrace/materials.h"
 #include "raytrace/vulkan/raytracing.h"
 #include "shaders/common.h"
@@ -99,7 +100,7 @@ struct VulkanContribIntegrator::Impl {
     mutable uint64_t dropped = 0;  // stack items lost, over the run (warned about once)
     int columns = 0;
     int max_rows = 1;  // divisions along one side of the first hemisphere (slices are rows)
-    std::vector<uint8_t> positions, indices, triangles, surfaces, sources;
+    std::vector<uint8_t> positions, indices, triangles, surfaces, sources, shapes;
 };
 
 VulkanContribIntegrator::VulkanContribIntegrator(std::unique_ptr<Impl> impl, int columns)
@@ -113,12 +114,6 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     const std::function<std::unique_ptr<cal::Context>(int)> &make_context, bool one_context,
     bool float_accumulators, std::string *why) {
     // What the GPU integrator does not do yet.
-    for (const AnalyticShape &sh : scene.shapes)
-        if (sh.kind != AnalyticShape::kSource) {
-            *why =
-                "analytic surfaces (spheres, cones, cylinders, rings) are traced on the CPU only";
-            return nullptr;
-        }
     if (!one_context) {
         *why = "modifiers with different -p parameters";
         return nullptr;
@@ -157,8 +152,15 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
     for (const Vec3 &v : scene.vertices)
         for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], v[k]), hi[k] = std::max(hi[k], v[k]);
+    const double origin[3] = {0, 0, 0};
+    for (const AnalyticShape &sh : scene.shapes) {
+        if (sh.kind == AnalyticShape::kSource) continue;
+        double a[3], b[3];
+        ShapeBounds(sh, origin, a, b);
+        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], a[k]), hi[k] = std::max(hi[k], b[k]);
+    }
     double extent = 0;
-    if (!scene.vertices.empty())
+    if (lo[0] <= hi[0])
         for (int k = 0; k < 3; ++k) {
             impl->centre[k] = .5 * (lo[k] + hi[k]);
             extent = std::max(extent, hi[k] - lo[k]);
@@ -193,6 +195,35 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         gt.surface = surface(m, k);
         gt.object = object;
         tris.push_back(gt);
+    }
+    // Analytic surfaces: procedural boxes the shader intersects itself.
+    std::vector<gpu::GpuShape> shapes;
+    std::vector<float> boxes;
+    for (const AnalyticShape &sh : scene.shapes) {
+        if (sh.kind == AnalyticShape::kSource) continue;
+        const Material &m = table.OfObject(sh.object);
+        if (std::string u = unsupported(m); !u.empty()) {
+            *why = u + " (" + scene.scene.objects[sh.object].name + ") is traced on the CPU only";
+            return nullptr;
+        }
+        gpu::GpuShape g{};
+        const double *c = impl->centre;
+        g.p0 = Vec4(sh.p0[0] - c[0], sh.p0[1] - c[1], sh.p0[2] - c[2], sh.r0);
+        g.p1 = sh.kind == AnalyticShape::kRing
+                   ? Vec4(sh.p1[0], sh.p1[1], sh.p1[2], sh.r1)
+                   : Vec4(sh.p1[0] - c[0], sh.p1[1] - c[1], sh.p1[2] - c[2], sh.r1);
+        g.kind = sh.kind == AnalyticShape::kSphere     ? gpu::kShapeSphere
+                 : sh.kind == AnalyticShape::kCone     ? gpu::kShapeCone
+                 : sh.kind == AnalyticShape::kCylinder ? gpu::kShapeCylinder
+                                                       : gpu::kShapeRing;
+        g.inward = sh.inward ? 1 : 0;
+        g.surface = surface(m, table.TrackedOfObject(sh.object));
+        g.object = sh.object;
+        shapes.push_back(g);
+        double a[3], b[3];
+        ShapeBounds(sh, impl->centre, a, b);
+        for (int k = 0; k < 3; ++k) boxes.push_back(static_cast<float>(a[k]));
+        for (int k = 0; k < 3; ++k) boxes.push_back(static_cast<float>(b[k]));
     }
     std::vector<gpu::GpuSource> srcs;
     for (const Source &s : table.Sources()) {
@@ -290,12 +321,13 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         *why = "the scene is too large for " + impl->device->Name() + "'s storage buffers";
         return nullptr;
     }
-    impl->device->BuildScene(pos, idx);
+    impl->device->BuildScene(pos, idx, boxes);
     impl->positions = Bytes(pos);
     impl->indices = Bytes(idx);
     impl->triangles = Bytes(tris);
     impl->surfaces = Bytes(surfaces);
     impl->sources = Bytes(srcs);
+    impl->shapes = Bytes(shapes);
     return std::unique_ptr<VulkanContribIntegrator>(
         new VulkanContribIntegrator(std::move(impl), columns));
 }
@@ -354,7 +386,7 @@ void VulkanContribIntegrator::Trace(const double *rays, size_t n, uint64_t first
         std::vector<uint8_t> accum(count * record * d.accum_bytes(), 0), stats(16, 0);
         d.device->Run(d.spirv, static_cast<uint32_t>(count), kLocalSize,
                       {&ray_bytes, &d.positions, &d.indices, &d.triangles, &d.surfaces, &d.sources,
-                       &accum, &task_bytes, &stats});
+                       &accum, &task_bytes, &stats, &d.shapes});
         uint32_t lost;
         std::memcpy(&lost, stats.data(), sizeof lost);
         if (lost > 0 && d.dropped == 0)
