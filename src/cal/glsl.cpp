@@ -138,7 +138,7 @@ class Generator {
     std::string Emit(int sym, int depth) {
         const Context::Definition *d = cx_.Find(sym);
         const std::string key = std::to_string(sym) + "_" + std::to_string(depth);
-        const std::string fname = "cal_d" + key;
+        const std::string fname = o_.prefix + key;
         if (emitted_.count(key)) return fname;
         emitted_.insert(key);
         std::string params, decl;
@@ -298,13 +298,16 @@ std::string GenerateGlsl(const Context &cx, const std::vector<GlslEntry> &entrie
     Generator g(cx, options);
     std::string entry_code;
     for (const GlslEntry &e : entries) entry_code += g.Entry(e);
-    std::string s = "double cal_chan[" + std::to_string(options.channels + 1) + "];\n";
-    s += kMathLibrary;
-    s += "int cal_sel_i(double a) { return int(floor(a + 0.5LF)); }\n";
-    // A pattern's real arguments: cal_arg[0] is their count, as arg(0).
-    s += "double cal_arg[" + std::to_string(options.max_args + 1) + "];\n";
-    s += "double cal_argv(double n) { int i = cal_sel_i(n); return i >= 0 && i <= " +
-         std::to_string(options.max_args) + " ? cal_arg[i] : 0.0LF; }\n";
+    std::string s;
+    if (options.preamble) {
+        s += "double cal_chan[" + std::to_string(options.channels + 1) + "];\n";
+        s += kMathLibrary;
+        s += "int cal_sel_i(double a) { return int(floor(a + 0.5LF)); }\n";
+        // A pattern's real arguments: cal_arg[0] is their count, as arg(0).
+        s += "double cal_arg[" + std::to_string(options.max_args + 1) + "];\n";
+        s += "double cal_argv(double n) { int i = cal_sel_i(n); return i >= 0 && i <= " +
+             std::to_string(options.max_args) + " ? cal_arg[i] : 0.0LF; }\n";
+    }
     s += g.Definitions();
     s += entry_code;
     return s;

@@ -21,6 +21,11 @@ struct GlslOptions {
     int recursion_depth = 64;  // unrolled copies of each recursive function
     int channels = 27;         // size of the channel array (rayinit.cal's $1..$27)
     int max_args = 32;         // object arguments available to arg(n) in cal_arg[1..]
+    // Several contexts in one shader (the bins, each pattern): each names its definitions with
+    // its own prefix, and only the first emits the shared preamble (cal_chan, cal_arg, the math
+    // library).
+    std::string prefix = "cal_d";
+    bool preamble = true;
 };
 
 // GLSL source (no #version line): "double cal_chan[N+1];" to fill before calling the entries,

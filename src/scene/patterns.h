@@ -22,6 +22,10 @@ class PatternFunction {
     explicit PatternFunction(const Primitive &pattern);
     // The pattern's RGB factor for a ray: channels hold Dx Dy Dz, Nx Ny Nz, Px Py Pz, ... ($1..).
     void Evaluate(std::span<const double> channels, double rgb[3]) const;
+    // The same as GLSL (cal/glsl.h, without the preamble): "void <name>_args()" sets cal_arg to
+    // the pattern's arguments, "dvec3 <name>()" evaluates it from cal_chan. Throws UserError for
+    // what GLSL cannot express.
+    std::string Glsl(const std::string &name) const;
 
   private:
     struct State {

@@ -54,7 +54,7 @@ struct GpuSurface {
     int kind;      // kMat*
     int tracked;   // -m index, or -1
     float alpha2;  // roughness squared (0: pure specular)
-    int pad0;
+    int pattern;   // brightfunc/colorfunc multiplying the colour, or -1
 };
 
 // An analytic surface (sphere/bubble, cone/cup, cylinder/tube, ring), recentred.
@@ -76,7 +76,7 @@ struct GpuSource {
     int object;   // scene object
     int tracked;  // -m index, or -1
     int kind;     // its material's kMat*
-    int pad0;
+    int pattern;  // brightfunc/colorfunc of its material (the sky's skyfunc), or -1
 };
 
 // One dispatch: tasks [task_offset, task_offset + count) of rays x slices; a slice traces a

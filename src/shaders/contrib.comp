@@ -96,9 +96,9 @@ void Push(Item it) {
 
 // ---- where this task's results go
 uint acc_base;
-void Contribute(int k, Ray r, vec3 point, vec3 normal, float t, vec3 radiance) {
-    // The ray variables $1..$27 (rayinit.cal): direction, normal, point (world), distance, Rdot,
-    // scale, identity transform.
+// The ray variables $1..$27 (rayinit.cal) for the bins and patterns: direction, normal, point
+// (world), distance, Rdot, scale, identity transform.
+void SetRayVariables(Ray r, vec3 point, vec3 normal, float t) {
     cal_chan[1] = r.dir.x; cal_chan[2] = r.dir.y; cal_chan[3] = r.dir.z;
     cal_chan[4] = normal.x; cal_chan[5] = normal.y; cal_chan[6] = normal.z;
     cal_chan[7] = double(point.x) + CENTRE_X;
@@ -109,6 +109,17 @@ void Contribute(int k, Ray r, vec3 point, vec3 normal, float t, vec3 radiance) {
     cal_chan[12] = 1;
     for (int i = 13; i <= 27; ++i) cal_chan[i] = 0;
     cal_chan[16] = 1; cal_chan[20] = 1; cal_chan[24] = 1;
+}
+
+// A material's colour at a hit, times its pattern.
+vec3 Colour(GpuSurface m, Ray r, vec3 point, vec3 normal, float t) {
+    if (m.pattern < 0) return m.color.rgb;
+    SetRayVariables(r, point, normal, t);
+    return m.color.rgb * PatternRGB(m.pattern);
+}
+
+void Contribute(int k, Ray r, vec3 point, vec3 normal, float t, vec3 radiance) {
+    SetRayVariables(r, point, normal, t);
     double b = EvalBin(k);
     if (b < -0.5) return;
     int bin = int(floor(b + 0.5));
@@ -281,7 +292,9 @@ void Shade(Ray r, int object, int k, GpuSurface m, vec3 point, vec3 geo_normal, 
     if (r.aimed >= 0 && object != sources[r.aimed].object) k = -1;
     bool light = m.kind == kMatLight;
     bool bad = light && (r.crtype & (kAmbient | kSpecular)) != 0 && (r.crtype & kShadow) == 0;
-    if (k >= 0 && !bad) Contribute(k, r, point, normal, t, m.color.rgb);
+    if (k >= 0 && !bad)
+        Contribute(k, r, point, normal, t,
+                   CONTRIBUTIONS != 0 ? Colour(m, r, point, normal, t) : vec3(1));
     if (FIRST_HIT != 0 && (r.crtype & ~(kPrimary | kTrans)) == 0 && !light && m.kind != kMatGlow) {
         if (m.kind == kMatGlass || m.params.y > 0) {
             Ray c;
@@ -296,6 +309,7 @@ void Shade(Ray r, int object, int k, GpuSurface m, vec3 point, vec3 geo_normal, 
         m.color = vec4(kPi, kPi, kPi, 0);
         m.params = vec4(0);
         m.alpha2 = 0;
+        m.pattern = -1;
     }
     ShadeMaterial(r, m, point, normal, rod, t);
 }
@@ -381,7 +395,7 @@ void PushGaussianReflection(Ray r, vec3 scolor, float alpha2, vec3 point, vec3 n
 
 void ShadeMaterial(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t) {
     if (m.kind == kMatBlack || m.kind == kMatGlow || m.kind == kMatLight) return;
-    vec3 c = m.color.rgb;
+    vec3 c = Colour(m, r, point, normal, t);
     if (m.kind == kMatMirror) {
         if ((r.crtype & kShadow) != 0) return;
         PushChild(r, kReflected, c, point, normalize(r.dir + 2 * rod * normal));
@@ -474,6 +488,7 @@ bool Escape(Ray r, out Hit h) {
     h.m.color = vec4(s.colour.rgb, 0);
     h.m.params = vec4(0);
     h.m.alpha2 = 0;
+    h.m.pattern = s.pattern;
     h.m.kind = s.kind;
     h.m.tracked = s.tracked;
     h.point = r.dir * 1e30;

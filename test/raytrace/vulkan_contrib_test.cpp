@@ -372,6 +372,40 @@ TEST_F(VulkanContrib, AnalyticSurfaces) {
     }
 }
 
+// Patterns compiled from calcomp to GLSL: a brightfunc ramp on a floor (with its arguments) and a
+// colorfunc sky whose radiance -V counts; both backends within their standard errors.
+TEST_F(VulkanContrib, PatternsAsEmbree) {
+    WriteFile(tmp_.path() / "ramp.cal",
+              "ramp = A1 + A2 * (Px + 2) / 4;\n"
+              "skyr = 1 + Dz; skyg = 1; skyb = 2 - Dz * Dz;\n");
+    WriteFile(tmp_.path() / "scene.rad",
+              "void brightfunc ramp 2 ramp ramp.cal 0 2 .2 .6\n"
+              "ramp plastic grey 0 0 5 .7 .6 .5 0 0\n"
+              "grey polygon floor 0 0 12 -2 -2 0  2 -2 0  2 2 0  -2 2 0\n"
+              "void colorfunc skyfunc 4 skyr skyg skyb ramp.cal 0 0\n"
+              "skyfunc glow skyglow 0 0 4 1 1 1 0\n"
+              "skyglow source sky 0 0 4 0 0 1 360\n");
+    WriteFile(tmp_.path() / "rays", "-1 0 1 .3 0 -1\n1 0 1 -.3 .2 -1\n0 1 .5 0 0 -1\n");
+    const std::string args =
+        "-V+ -I+ -ab 2 -ad 1024 -lw 1e-4" + kBins + "-m skyglow scene.rad < rays";
+    std::vector<double> se_gpu, se_cpu;
+    const std::vector<double> gpu = Run("vulkan", args, tmp_.path(), &se_gpu);
+    const std::vector<double> cpu = Run("embree", args, tmp_.path(), &se_cpu);
+    ASSERT_EQ(gpu.size(), 3u * 438);
+    ASSERT_EQ(cpu.size(), gpu.size());
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {  // each sensor's total per colour channel
+            double g = 0, e = 0, var = 0;
+            for (int b = 0; b < 146; ++b) {
+                const size_t i = r * 438 + 3 * b + c;
+                g += gpu[i], e += cpu[i];
+                var += se_gpu[i] * se_gpu[i] + se_cpu[i] * se_cpu[i];
+            }
+            EXPECT_GT(e, 0);
+            EXPECT_NEAR(g, e, kZ * std::sqrt(var) + 1e-6 * e) << "sensor " << r << " channel " << c;
+        }
+}
+
 // What the GPU integrator does not trace yet goes to Embree, with one line saying why, and the
 // results are Embree's. So does a machine whose only device is a CPU one, unless it is named.
 TEST_F(VulkanContrib, MixfuncFallsBackToEmbree) {

@@ -121,8 +121,6 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     SceneMaterials table(scene, tracked);
     const auto unsupported = [&](const Material &m) -> std::string {
         if (m.kind == Material::kMix) return "mixfunc";
-        if (m.pattern && !(m.kind == Material::kGlow && !options.contributions))
-            return "patterns (brightfunc, colorfunc) on materials";
         return "";
     };
 
@@ -133,6 +131,15 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     for (const TrackedModifier &t : tracked) columns = std::max(columns, t.first_column + t.nbins);
     impl->columns = columns;
 
+    // Patterns (brightfunc, colorfunc): each compiled to GLSL once, by index.
+    std::vector<const PatternFunction *> patterns;
+    const auto pattern_index = [&](const Material &m) {
+        if (!m.pattern) return -1;
+        auto it = std::find(patterns.begin(), patterns.end(), m.pattern);
+        if (it != patterns.end()) return static_cast<int>(it - patterns.begin());
+        patterns.push_back(m.pattern);
+        return static_cast<int>(patterns.size()) - 1;
+    };
     // Surfaces: one entry per (material, tracked modifier) the triangles use.
     std::vector<gpu::GpuSurface> surfaces;
     std::map<std::pair<const Material *, int>, int> surface_of;
@@ -145,6 +152,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             s.kind = m.kind;
             s.tracked = k;
             s.alpha2 = static_cast<float>(m.alpha2);
+            s.pattern = pattern_index(m);
             surfaces.push_back(s);
         }
         return it->second;
@@ -240,6 +248,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         g.object = s.object;
         g.tracked = table.TrackedOfObject(s.object);
         g.kind = m.kind;
+        g.pattern = pattern_index(m);
         srcs.push_back(g);
     }
 
@@ -258,6 +267,19 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         *why = std::string("a bin expression GLSL cannot express: ") + e.what();
         return nullptr;
     }
+    std::string pattern_glsl;
+    try {
+        for (size_t k = 0; k < patterns.size(); ++k)
+            pattern_glsl += patterns[k]->Glsl("pat" + std::to_string(k));
+    } catch (const UserError &e) {
+        *why = std::string("a pattern GLSL cannot express: ") + e.what();
+        return nullptr;
+    }
+    pattern_glsl += "vec3 PatternRGB(int k) {\n";
+    for (size_t k = 0; k < patterns.size(); ++k)
+        pattern_glsl += "    if (k == " + std::to_string(k) + ") return vec3(pat" +
+                        std::to_string(k) + "());\n";
+    pattern_glsl += "    return vec3(1);\n}\n";
 
     // lavapipe only when asked for: on a CPU, the Embree backend is faster.
     const char *named = std::getenv("DAYFLUX_VULKAN_DEVICE");
@@ -299,6 +321,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     define("ACCUM_T", float_accumulators ? "float" : "double");
     src += kShaderCommon;
     src += cal_glsl;
+    src += pattern_glsl;
     src += "double EvalBin(int k) {\n";
     for (size_t k = 0; k < tracked.size(); ++k)
         src +=

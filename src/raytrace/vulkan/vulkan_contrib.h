@@ -18,8 +18,8 @@ namespace dayflux {
 class VulkanContribIntegrator {
   public:
     // Returns nullptr and says why when there is no Vulkan device with ray queries or the run
-    // needs what the GPU integrator does not do yet (patterns on materials, mixfunc, bin
-    // expressions GLSL cannot express); the caller then
+    // needs what the GPU integrator does not do yet (mixfunc, bin or pattern expressions GLSL
+    // cannot express); the caller then
     // uses the CPU integrator. make_context(0) gives the context the bins are compiled in:
     // one_context says every modifier's is the same (no differing -p). Each task accumulates
     // its contributions in double, or in float with float_accumulators (half the memory). -I
