@@ -390,6 +390,18 @@ void RayQueryDevice::BuildScene(const std::vector<float> &positions,
     Buffer vertices, triangles, aabbs, instances, blas_scratch, box_scratch, tlas_scratch;
     VkCommandBuffer cb = d.BeginCommands();
 
+    // A bottom-level structure of one geometry (triangles or boxes), recorded into cb.
+    const auto build_bottom = [&](const VkAccelerationStructureGeometryKHR &geometry, size_t count,
+                                  Buffer *storage, Buffer *scratch) {
+        VkAccelerationStructureBuildGeometryInfoKHR build{
+            VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
+        build.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
+        build.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR;
+        build.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
+        build.geometryCount = 1;
+        build.pGeometries = &geometry;
+        return d.RecordBuild(cb, build.type, build, static_cast<uint32_t>(count), storage, scratch);
+    };
     std::vector<VkAccelerationStructureInstanceKHR> instance_list;
     const float identity[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
     // One instance per bottom level: custom index 0 for the triangles, 1 for the boxes.
@@ -425,15 +437,7 @@ void RayQueryDevice::BuildScene(const std::vector<float> &positions,
         tri.maxVertex = static_cast<uint32_t>(vertex_count - 1);
         tri.indexType = VK_INDEX_TYPE_UINT32;
         tri.indexData.deviceAddress = triangles.address;
-        VkAccelerationStructureBuildGeometryInfoKHR build{
-            VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
-        build.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
-        build.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR;
-        build.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
-        build.geometryCount = 1;
-        build.pGeometries = &geometry;
-        d.blas = d.RecordBuild(cb, build.type, build, static_cast<uint32_t>(triangle_count),
-                               &d.blas_storage, &blas_scratch);
+        d.blas = build_bottom(geometry, triangle_count, &d.blas_storage, &blas_scratch);
 
         add_instance(d.blas, 0);
     }
@@ -448,15 +452,7 @@ void RayQueryDevice::BuildScene(const std::vector<float> &positions,
         box.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_AABBS_DATA_KHR;
         box.data.deviceAddress = aabbs.address;
         box.stride = sizeof(VkAabbPositionsKHR);
-        VkAccelerationStructureBuildGeometryInfoKHR build{
-            VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR};
-        build.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
-        build.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR;
-        build.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
-        build.geometryCount = 1;
-        build.pGeometries = &geometry;
-        d.box_blas = d.RecordBuild(cb, build.type, build, static_cast<uint32_t>(box_count),
-                                   &d.box_storage, &box_scratch);
+        d.box_blas = build_bottom(geometry, box_count, &d.box_storage, &box_scratch);
         add_instance(d.box_blas, 1);
     }
     if (!instance_list.empty()) {
