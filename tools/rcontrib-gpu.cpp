@@ -405,13 +405,7 @@ int Main(int argc, char **argv) {
     const auto make_context = [&o](int k) { return MakeContext(o, o.modifiers[k].params); };
     // -backend, else DAYFLUX_BACKEND, else embree. The Vulkan integrator takes the run when it
     // can; otherwise one line says why and Embree does it.
-    std::string backend_name = o.backend;
-    if (backend_name.empty()) {
-        const char *env = std::getenv("DAYFLUX_BACKEND");
-        backend_name = env && *env ? env : "embree";
-    }
-    if (backend_name != "embree" && backend_name != "vulkan")
-        ErrorExit("unknown backend '" + backend_name + "' (embree or vulkan)");
+    const std::string backend_name = ChooseBackend(o.backend);
 #ifdef DAYFLUX_HAVE_GPU_CONTRIB
     std::unique_ptr<VulkanContribIntegrator> gpu;
     if (backend_name == "vulkan") {
@@ -427,14 +421,24 @@ int Main(int argc, char **argv) {
 #else
     if (backend_name == "vulkan") Warning("this build has no Vulkan backend; using Embree");
 #endif
-    std::unique_ptr<Backend> backend = CreateBackend("embree");
-    backend->Commit(flat);
-    ContribIntegrator integrator(flat, *backend, o.contrib, tracked, make_context);
-    std::string backend_label = backend->Name();
+    // The CPU integrator, with Embree's structures, only where the GPU does not take the run.
+    std::unique_ptr<Backend> backend;
+    std::unique_ptr<ContribIntegrator> cpu;
+    std::string backend_label;
+    int ncols = 0;
 #ifdef DAYFLUX_HAVE_GPU_CONTRIB
-    if (gpu) backend_label = "vulkan: " + gpu->DeviceName();
+    if (gpu) {
+        backend_label = "vulkan: " + gpu->DeviceName();
+        ncols = gpu->Columns();
+    }
 #endif
-    const int ncols = integrator.Columns();
+    if (backend_label.empty()) {
+        backend = CreateEmbreeBackend();
+        backend->Commit(flat);
+        cpu = std::make_unique<ContribIntegrator>(flat, *backend, o.contrib, tracked, make_context);
+        backend_label = backend->Name();
+        ncols = cpu->Columns();
+    }
 
     // Outputs, in the order RADIANCE opens them: by modifier, then bin.
     std::vector<OutputStream> outputs;
@@ -626,14 +630,14 @@ int Main(int argc, char **argv) {
                     if (r[3] == 0 && r[4] == 0 && r[5] == 0) continue;
                     const uint64_t index = b.first_ray + ray;
                     if (!replicate) {
-                        integrator.Trace(r, r + 3, index, b.sums[i].data());
+                        cpu->Trace(r, r + 3, index, b.sums[i].data());
                         continue;
                     }
                     std::vector<double> mean(n, 0.0);
                     sq.assign(n, 0.0);
                     for (int k = 0; k < kReplicas; ++k) {
                         one.assign(n, 0.0);
-                        integrator.Trace(r, r + 3, index * kReplicas + k, one.data());
+                        cpu->Trace(r, r + 3, index * kReplicas + k, one.data());
                         for (size_t j = 0; j < n; ++j) mean[j] += one[j], sq[j] += one[j] * one[j];
                     }
                     for (size_t j = 0; j < n; ++j) {

@@ -41,7 +41,12 @@ class Backend {
     virtual void Occluded(const TraceRay *rays, bool *occluded, size_t n) const = 0;
 };
 
-// "embree" (the default) or "vulkan"; DAYFLUX_BACKEND chooses when name is empty.
-std::unique_ptr<Backend> CreateBackend(const std::string &name);
+// The backend a program was asked for: requested (an option), else DAYFLUX_BACKEND, else
+// "embree"; "vulkan" is the other. Anything else is an error.
+std::string ChooseBackend(const std::string &requested);
+
+// The CPU ray caster. (The Vulkan backend is an integrator of its own,
+// raytrace/vulkan/vulkan_contrib.h, not a ray caster behind this interface.)
+std::unique_ptr<Backend> CreateEmbreeBackend();
 
 }  // namespace dayflux
