@@ -42,7 +42,7 @@ std::vector<SensorPoint> ReadSensorPoints(const std::string &path) {
         }
         if (n == 0) continue;
         if (n != 6) ErrorExit(&loc, "a sensor point needs 6 numbers (x y z dx dy dz)");
-        pts.push_back(SensorPoint{v[0], v[1], v[2]});
+        pts.push_back(SensorPoint{v[0], v[1], v[2], loc});
     }
     in->Close();
     if (pts.empty()) ErrorExit(in->Name() + ": no sensor points");
@@ -89,6 +89,7 @@ PlanRaster RasterizePlan(const std::vector<SensorPoint> &points,
     r.height = static_cast<int>(h);
     r.values.assign(static_cast<size_t>(r.width) * r.height, 0.f);
     r.filled.assign(r.values.size(), 0);
+    std::vector<size_t> owner(r.values.size());
     for (size_t i = 0; i < points.size(); ++i) {
         // Offices side by side can sit on exact half cells: round those one way, whatever the
         // rounding error of each coordinate.
@@ -97,8 +98,10 @@ PlanRaster RasterizePlan(const std::vector<SensorPoint> &points,
             r.height - 1 - static_cast<int>(std::floor((points[i].y - y0) / r.cell_y + 0.5 + 1e-6));
         const size_t k = static_cast<size_t>(row) * r.width + col;
         if (r.filled[k])
-            ErrorExit("sensors " + std::to_string(i + 1) +
-                      " and another fall in one cell of the plan: the points are not on a grid");
+            ErrorExit(&points[i].loc,
+                      "this sensor and the one at " + points[owner[k]].loc.ToString() +
+                          " fall in one cell of the plan: the points are not on a grid");
+        owner[k] = i;
         r.filled[k] = 1;
         r.values[k] = static_cast<float>(values[i]);
     }

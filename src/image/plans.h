@@ -5,10 +5,13 @@
 #include <string>
 #include <vector>
 
+#include "util/errors.h"
+
 namespace dayflux {
 
 struct SensorPoint {
     double x = 0, y = 0, z = 0;
+    FileLoc loc;  // where it was read, for messages
 };
 
 // Reads sensor points ("x y z dx dy dz" per line, as rtrace and rcontrib take them); errors

@@ -19,7 +19,8 @@ namespace {
 void Grid(std::vector<SensorPoint> *pts, std::vector<double> *values) {
     for (int r = 0; r < 2; ++r)
         for (int c = 0; c < 3; ++c) {
-            pts->push_back(SensorPoint{0.25 + 0.5 * c, 0.25 + 0.5 * r, 0.8});
+            pts->push_back(SensorPoint{0.25 + 0.5 * c, 0.25 + 0.5 * r, 0.8,
+                                       FileLoc{"grid.pts", static_cast<int>(pts->size()) + 1}});
             values->push_back(10 * c + r);
         }
 }
@@ -35,7 +36,7 @@ TEST(Plans, RasterNorthUpAndGaps) {
     EXPECT_EQ(r.At(2, 0), 21);  // north row first
     EXPECT_EQ(r.At(2, 1), 20);
     // A second office 1 m to the east leaves a column of empty cells between them.
-    pts.push_back(SensorPoint{0.25 + 2.0, 0.25, 0.8});
+    pts.push_back(SensorPoint{0.25 + 2.0, 0.25, 0.8, FileLoc{"grid.pts", 7}});
     v.push_back(99);
     r = RasterizePlan(pts, v);
     ASSERT_EQ(r.width, 5);
@@ -43,9 +44,16 @@ TEST(Plans, RasterNorthUpAndGaps) {
     EXPECT_TRUE(r.Filled(4, 1));
     EXPECT_EQ(r.At(4, 1), 99);
     // Two sensors in one cell: not a grid.
-    pts.push_back(SensorPoint{0.25 + 2.0, 0.25 + 1e-9, 0.8});
+    pts.push_back(SensorPoint{0.25 + 2.0, 0.25 + 1e-9, 0.8, FileLoc{"grid.pts", 8}});
     v.push_back(1);
-    EXPECT_THROW(RasterizePlan(pts, v), UserError);
+    try {
+        RasterizePlan(pts, v);
+        ADD_FAILURE() << "two sensors in one cell were accepted";
+    } catch (const UserError &e) {
+        EXPECT_NE(std::string(e.what()).find("grid.pts:8: this sensor and the one at grid.pts:7"),
+                  std::string::npos)
+            << e.what();
+    }
 }
 
 TEST(Plans, FalseColourEndsAndClamps) {

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "raytrace/sampling.h"
+#include "raytrace/scenes.h"
 #include "test_util.h"
 
 namespace dayflux::test {
@@ -148,16 +149,9 @@ std::vector<double> RecordTotals(const fs::path &dir, const std::string &args, i
     return totals;
 }
 
-// A closed 2 m cube of reflectance .5 around the origin, modifier 'wall' (written out rather than
-// made with genbox, so the tests need only dayflux).
+// A closed 2 m cube of reflectance .5 around the origin, modifier 'wall'.
 void WriteFurnace(const fs::path &file) {
-    std::string box = "void plastic wall 0 0 5 .5 .5 .5 0 0\n";
-    const char *faces[6] = {"-1 -1 -1  -1 1 -1  1 1 -1  1 -1 -1", "-1 -1 1  1 -1 1  1 1 1  -1 1 1",
-                            "-1 -1 -1  1 -1 -1  1 -1 1  -1 -1 1", "-1 1 -1  -1 1 1  1 1 1  1 1 -1",
-                            "-1 -1 -1  -1 -1 1  -1 1 1  -1 1 -1", "1 -1 -1  1 1 -1  1 1 1  1 -1 1"};
-    for (int f = 0; f < 6; ++f)
-        box += "wall polygon f" + std::to_string(f) + " 0 0 12 " + faces[f] + "\n";
-    WriteFile(file, box);
+    WriteFile(file, "void plastic wall 0 0 5 .5 .5 .5 0 0\n" + CubeOfPolygons("wall"));
 }
 
 // View factor from a point to a parallel rectangle of half-widths a, b centred above it at

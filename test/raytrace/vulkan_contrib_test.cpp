@@ -8,6 +8,7 @@
 #include <cstring>
 #include <sstream>
 
+#include "raytrace/scenes.h"
 #include "test_util.h"
 
 namespace dayflux::test {
@@ -97,13 +98,8 @@ TEST_F(VulkanContrib, UniformSkyGivesPiAndItsBins) {
 // A sensor in a closed box of reflectance .5 with its walls tracked: pi (1 + rho + rho^2)
 // exactly without Russian roulette, and on average with it (4 standard errors of the mean).
 TEST_F(VulkanContrib, FurnaceSumsTheSeries) {
-    std::string box = "void plastic wall 0 0 5 .5 .5 .5 0 0\n";
-    const char *faces[6] = {"-1 -1 -1  -1 1 -1  1 1 -1  1 -1 -1", "-1 -1 1  1 -1 1  1 1 1  -1 1 1",
-                            "-1 -1 -1  1 -1 -1  1 -1 1  -1 -1 1", "-1 1 -1  -1 1 1  1 1 1  1 1 -1",
-                            "-1 -1 -1  -1 -1 1  -1 1 1  -1 1 -1", "1 -1 -1  1 1 -1  1 1 1  1 -1 1"};
-    for (int f = 0; f < 6; ++f)
-        box += "wall polygon f" + std::to_string(f) + " 0 0 12 " + faces[f] + "\n";
-    WriteFile(tmp_.path() / "box.rad", box);
+    WriteFile(tmp_.path() / "box.rad",
+              "void plastic wall 0 0 5 .5 .5 .5 0 0\n" + CubeOfPolygons("wall"));
     std::string rays;
     for (int i = 0; i < 400; ++i) rays += "0 0 0 0 0 1\n";
     WriteFile(tmp_.path() / "rays", rays);
@@ -274,13 +270,8 @@ TEST_F(VulkanContrib, BouncedSkyPerAltitudeAsEmbree) {
 // the total does not depend on the directions drawn, so it equals Embree's. Two facing mirrors
 // with -lr 0 end (the depth guard) instead of looping forever.
 TEST_F(VulkanContrib, DeepTreesAndMirrorLoops) {
-    std::string box = "void trans tr 0 0 7 .6 .6 .6 .05 0 .5 .5\n";
-    const char *faces[6] = {"-1 -1 -1  -1 1 -1  1 1 -1  1 -1 -1", "-1 -1 1  1 -1 1  1 1 1  -1 1 1",
-                            "-1 -1 -1  1 -1 -1  1 -1 1  -1 -1 1", "-1 1 -1  -1 1 1  1 1 1  1 1 -1",
-                            "-1 -1 -1  -1 -1 1  -1 1 1  -1 1 -1", "1 -1 -1  1 1 -1  1 1 1  1 -1 1"};
-    for (int f = 0; f < 6; ++f)
-        box += "tr polygon f" + std::to_string(f) + " 0 0 12 " + faces[f] + "\n";
-    WriteFile(tmp_.path() / "box.rad", box);
+    WriteFile(tmp_.path() / "box.rad",
+              "void trans tr 0 0 7 .6 .6 .6 .05 0 .5 .5\n" + CubeOfPolygons("tr"));
     WriteFile(tmp_.path() / "all.rad",
               "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 360\n");
     WriteFile(tmp_.path() / "rays", "0 0 0 0 0 1\n");

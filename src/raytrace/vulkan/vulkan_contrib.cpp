@@ -335,7 +335,6 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     }
     src += first + ");\n" + nbins + ");\n";
     src += kShaderContrib;
-    if (const char *dump = std::getenv("DAYFLUX_DUMP_SHADER")) std::ofstream(dump) << src;
     impl->spirv = CompileCached(src);
 
     const uint64_t limit = impl->device->MaxBufferBytes();
