@@ -48,9 +48,13 @@ struct GpuTriangle {
 };
 
 // A material as the integrator needs it, with the tracked modifier it counts for.
+// GpuSurface.params.w: a metal; trans or glass (-i passes through it).
+DAYFLUX_GPU_CONST kSurfaceMetal = 1;
+DAYFLUX_GPU_CONST kSurfaceTransparent = 2;
+
 struct GpuSurface {
     vec4 color;   // rgb; w: glass refractive index
-    vec4 params;  // x: specularity, y: transmissivity, z: transmitted specular fraction, w: metal
+    vec4 params;  // x: specularity, y: transmissivity, z: transmitted specular fraction, w: flags
     int kind;      // kMat*
     int tracked;   // -m index, or -1
     float alpha2;  // roughness squared (0: pure specular)

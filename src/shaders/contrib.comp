@@ -37,6 +37,7 @@ uint Pcg(uint v) {
 }
 uint Key(uint a, uint b, uint c, uint d) { return Pcg(a ^ Pcg(b ^ Pcg(c ^ Pcg(d)))); }
 uint rng;
+uint cell_key;  // the path's random numbers: key of the input ray, then of the cell
 float Rand() {
     rng = Pcg(rng);
     return float(rng >> 8) * (1.0 / 16777216.0);
@@ -50,6 +51,19 @@ void Tangents(vec3 n, out vec3 u, out vec3 v) {
     vec3 e = abs(n.x) < 0.6 ? vec3(1, 0, 0) : (abs(n.y) < 0.6 ? vec3(0, 1, 0) : vec3(0, 0, 1));
     u = normalize(cross(e, n));
     v = cross(n, u);
+}
+
+// RADIANCE's getperpendicular() with randomize on (raytrace/materials.h's RandomTangents()):
+// a tangent turned by a random amount about n, for ambient hemispheres.
+vec3 RandomTangent(vec3 n, float r0, float r1, float r2, float r3) {
+    vec3 e = vec3(0.5 - r0, 0.5 - r1, 0.5 - r2);
+    int o = min(5, int(r3 * 6.));
+    ivec3 ord = o == 0 ? ivec3(0, 1, 2) : o == 1 ? ivec3(0, 2, 1) : o == 2 ? ivec3(1, 0, 2)
+              : o == 3 ? ivec3(1, 2, 0) : o == 4 ? ivec3(2, 0, 1) : ivec3(2, 1, 0);
+    int i = 2;
+    while (i > 0 && !(abs(n[ord[i]]) < 0.6)) --i;
+    e[ord[i]] = 1.0;
+    return normalize(cross(e, n));
 }
 
 // Shirley-Chiu square to disk (RADIANCE's square2disk()).
@@ -84,7 +98,8 @@ struct Item {
                                  // surface colour for the direct part
     float rdiff, tdiff, trans;
     int n, next, end, fresnel;
-    vec3 spec, incident;  // kItemDirect: rough specular colour and the ray's direction
+    vec3 spec, incident;  // kItemDirect: rough specular colour and the ray's direction;
+                          // kItemAmbient: incident holds the hemisphere's (turned) tangent
     float alpha2;         // kItemDirect: its roughness squared (0: none)
 };
 Item stack[STACK_SIZE];
@@ -296,7 +311,7 @@ void Shade(Ray r, int object, int k, GpuSurface m, vec3 point, vec3 geo_normal, 
         Contribute(k, r, point, normal, t,
                    CONTRIBUTIONS != 0 ? Colour(m, r, point, normal, t) : vec3(1));
     if (FIRST_HIT != 0 && (r.crtype & ~(kPrimary | kTrans)) == 0 && !light && m.kind != kMatGlow) {
-        if (m.kind == kMatGlass || m.params.y > 0) {
+        if ((int(m.params.w) & kSurfaceTransparent) != 0) {
             Ray c;
             if (Spawn(r, kTrans, vec3(1), c)) {
                 c.org = point;
@@ -313,6 +328,8 @@ void Shade(Ray r, int object, int k, GpuSurface m, vec3 point, vec3 geo_normal, 
     }
     ShadeMaterial(r, m, point, normal, rod, t);
 }
+
+uint pushed0 = 0u;  // first-level hemispheres pushed by this task
 
 void PushHemisphere(Ray r, vec3 colour, vec3 point, vec3 normal) {
     if (r.adepth >= AB || AD <= 0) return;
@@ -331,6 +348,13 @@ void PushHemisphere(Ray r, vec3 colour, vec3 point, vec3 normal) {
     it.n = n;
     it.next = 0;
     it.end = n * n;
+    // The grid's turn: at the first level from numbers keyed by the hemisphere, so that every
+    // slice of a sensor's hemisphere turns it the same way.
+    uint saved = rng;
+    if (r.adepth == 0) rng = Key(cell_key, ++pushed0, 0x2545f491u, 7u);
+    float t0 = Rand(), t1 = Rand(), t2 = Rand(), t3 = Rand();
+    if (r.adepth == 0) rng = saved;
+    it.incident = RandomTangent(normal, t0, t1, t2, t3);
     Push(it);
 }
 
@@ -427,7 +451,7 @@ void ShadeMaterial(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, floa
     // estimate, or rough (Gaussian) reflection sampled or, below -st, folded into the diffuse
     // part; pure specular and diffuse transmission.
     float spec = m.params.x;
-    bool metal = m.params.w > 0.5;
+    bool metal = (int(m.params.w) & kSurfaceMetal) != 0;
     bool pure = m.alpha2 <= kTiny;
     float rspec = spec, fest = 0;
     float pdot = max(rod, .001);
@@ -612,8 +636,7 @@ bool CellDirection(Item it, int i, int j, float cos_thresh, bool check, out Ray 
     Ray r = it.r;
     if (!Spawn(r, kAmbient, it.colour, child)) return false;
     child.adepth = r.adepth + 1;
-    vec3 ux, uy;
-    Tangents(it.normal, ux, uy);
+    vec3 ux = it.incident, uy = cross(it.normal, ux);
     int d = r.adepth, cur = i & 1, prev = (i + 1) & 1;
     float u = Rand(), v = Rand();
     for (int tries = 0;; ++tries) {
@@ -633,7 +656,6 @@ bool CellDirection(Item it, int i, int j, float cos_thresh, bool check, out Ray 
     return true;
 }
 
-uint cell_key;  // the path's random numbers: key of the input ray, then of the cell
 
 uint hemispheres0 = 0u;  // first-level hemispheres started by this task (random-number keys)
 
