@@ -347,8 +347,6 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
             o.contrib.specular_threshold = number(a);
         } else if (a == "-ss") {
             o.contrib.specular_jitter = number(a);
-            if (o.contrib.specular_jitter > 1.5)
-                ErrorExit("-ss above 1.5 (several specular samples) is not supported yet");
         } else if (a == "-dj") {
             o.contrib.source_jitter = number(a);
         } else if (a == "-aa" || a == "-as" || a == "-dt" || a == "-ar" || a == "-aw" ||

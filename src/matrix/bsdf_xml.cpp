@@ -9,6 +9,8 @@
 #include <optional>
 #include <pugixml.hpp>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 namespace dayflux {
 
@@ -79,8 +81,14 @@ class BsdfFile {
   public:
     explicit BsdfFile(const std::string &path);
     ColorMatrix Matrix(BsdfPart part);
+    KlemsBsdf Data() const;
 
   private:
+    // RADIANCE shares the Lambertian part with a side that has no transmission data of its own.
+    std::pair<double, double> TransmissionLambertians() const {
+        const double front = tf_.loaded || !tb_.loaded ? tf_.lambertian : tb_.lambertian;
+        return {front, tb_.loaded ? tb_.lambertian : front};
+    }
     [[noreturn]] void Fail(const std::string &msg, ptrdiff_t offset = -1);
     const AngleBasis *FindBasis(const char *name) const;
     void LoadBlock(pugi::xml_node block, char channel, bool rows_incident);
@@ -345,10 +353,7 @@ ColorMatrix BsdfFile::Lambertian(double lambertian) const {
 ColorMatrix BsdfFile::Matrix(BsdfPart part) {
     if (part == BsdfPart::kTransmission) {
         if (!tf_.loaded && !tb_.loaded) Fail("BSDF has no transmission data");
-        // RADIANCE shares the Lambertian part with a side that has no data of its own.
-        double front = tf_.lambertian, back = tb_.lambertian;
-        if (tb_.loaded && !tf_.loaded) front = back;
-        if (!tb_.loaded && tf_.loaded) back = front;
+        const auto [front, back] = TransmissionLambertians();
         const bool reciprocal = !tb_.m.present();
         const Component &side = reciprocal ? tf_ : tb_;
         const double lambertian = reciprocal ? front : back;
@@ -361,6 +366,27 @@ ColorMatrix BsdfFile::Matrix(BsdfPart part) {
              " reflection data");
     if (!c.m.present()) return Lambertian(c.lambertian);
     return Convert(c, false, c.lambertian);
+}
+
+KlemsBsdf BsdfFile::Data() const {
+    const auto component = [](const Component &c) {
+        KlemsComponent k;
+        if (!c.m.present()) return k;
+        k.in = *c.m.in;
+        k.out = *c.m.out;
+        k.values = c.m.y;
+        k.max_hemi = c.max_hemi;
+        return k;
+    };
+    KlemsBsdf d;
+    d.rf = component(rf_);
+    d.rb = component(rb_);
+    d.tf = component(tf_);
+    d.tb = component(tb_);
+    d.r_lamb_front = rf_.lambertian;
+    d.r_lamb_back = rb_.lambertian;
+    std::tie(d.t_lamb_front, d.t_lamb_back) = TransmissionLambertians();
+    return d;
 }
 
 }  // namespace
@@ -428,5 +454,7 @@ ColorMatrix LoadBsdfMatrix(const std::string &path, BsdfPart part) {
     BsdfFile bsdf(path);
     return bsdf.Matrix(part);
 }
+
+KlemsBsdf LoadKlemsBsdf(const std::string &path) { return BsdfFile(path).Data(); }
 
 }  // namespace dayflux

@@ -31,4 +31,21 @@ const std::vector<AngleBasis> &KlemsBases();
 // BSDF XML file. Tensor-tree files are refused with a message saying so.
 ColorMatrix LoadBsdfMatrix(const std::string &path, BsdfPart part);
 
+// A Klems BSDF as RADIANCE's BSDF library holds it for ray tracing (bsdf_m.c), for the BSDF
+// material: per side and direction, the matrix of values (out o, in i) with the Lambertian
+// minimum taken out, and the Lambertian parts as hemispherical totals (cieY). Front and back
+// are RADIANCE's: XML "Transmission Front" is `tb`, "Reflection Front" is `rb`. Only the
+// Visible (CIE-Y) channel is kept: colour data are traced grey.
+struct KlemsComponent {
+    AngleBasis in, out;         // empty (no patches) where the part has no non-diffuse data
+    std::vector<float> values;  // [o * in.Size() + i]
+    double max_hemi = 0;        // largest hemispherical total over incident patches
+    bool present() const { return !values.empty(); }
+};
+struct KlemsBsdf {
+    KlemsComponent rf, rb, tf, tb;
+    double r_lamb_front = 0, r_lamb_back = 0, t_lamb_front = 0, t_lamb_back = 0;
+};
+KlemsBsdf LoadKlemsBsdf(const std::string &path);
+
 }  // namespace dayflux

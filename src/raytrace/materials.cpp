@@ -1,6 +1,7 @@
 #include "raytrace/materials.h"
 
 #include "util/errors.h"
+#include "util/raypath.h"
 
 namespace dayflux {
 
@@ -83,6 +84,7 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
         m.color = {f[0], f[1], f[2]};
         m.spec = f[3];
         m.trans = f[5];
+        m.transparent = true;
         m.tspec = f[6];
         m.alpha2 = f[4] * f[4];
         if (m.alpha2 > kTiny && m.trans * m.tspec > kTiny)
@@ -119,8 +121,48 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
         mixes_.push_back(std::move(info));
         if (p.modifier >= 0) ErrorExit(&p.loc, "mixfunc '" + p.name + "': inappropriate modifier");
         return m;
+    } else if (t == "BSDF") {
+        // 6+ thick file ux uy uz funcfile [transform]; 0; 0|3|6|9 diffuse colours
+        if (p.sargs.size() < 6 || f.size() > 9 || f.size() % 3)
+            ErrorExit(&p.loc, "BSDF '" + p.name + "': bad # arguments");
+        auto info = std::make_unique<BsdfInfo>();
+        info->proxy = p.sargs[0] != "0";
+        info->name = p.name;
+        std::string path;
+        try {
+            path = FindOnRaypath(p.sargs[1]);
+        } catch (const UserError &e) {
+            ErrorExit(&p.loc, "BSDF '" + p.name + "': " + e.what());
+        }
+        auto &klems = klems_by_path_[path];
+        if (!klems) klems = std::make_shared<const KlemsScattering>(LoadKlemsBsdf(path));
+        info->klems = klems;
+        Primitive e = p;  // thickness and up vector, evaluated as patterns are
+        e.type = "brightfunc";
+        e.info = FindPrimitiveType("brightfunc");
+        e.modifier = -1;
+        e.sargs = {p.sargs[0], p.sargs[5]};
+        info->thickness = std::make_unique<PatternFunction>(e);
+        e.type = "colorfunc";
+        e.info = FindPrimitiveType("colorfunc");
+        e.sargs = {p.sargs[2], p.sargs[3], p.sargs[4], p.sargs[5]};
+        if (p.sargs.size() > 6)
+            ErrorExit(&p.loc,
+                      "BSDF '" + p.name + "': transforms of its up vector are not supported yet");
+        info->up = std::make_unique<PatternFunction>(e);
+        for (size_t k = 0; k < f.size(); ++k) {
+            RGB &c = k < 3   ? info->front_reflection
+                     : k < 6 ? info->back_reflection
+                             : info->transmission;
+            c[k % 3] = f[k];
+        }
+        m.kind = Material::kBsdf;
+        m.color = {1, 1, 1};
+        m.bsdf = info.get();
+        bsdfs_.push_back(std::move(info));
     } else if (t == "glass") {
         m.kind = Material::kGlass;
+        m.transparent = true;
         m.color = {f[0], f[1], f[2]};
         if (f.size() == 4) m.rindex = f[3];
     } else if (t == "mirror") {

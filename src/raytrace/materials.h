@@ -1,5 +1,5 @@
 // What a scene's modifiers mean to the integrators: each surface's material (RADIANCE's plastic,
-// metal, trans, glass, mirror, glow, light, mixfunc, with brightfunc/colorfunc patterns), the
+// metal, trans, glass, mirror, glow, light, mixfunc, BSDF, with brightfunc/colorfunc patterns), the
 // modifier tracked by -m that it counts for, and the distant sources. Both backends' integrators
 // read this one table, so they model the same materials and refuse the same things.
 #pragma once
@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "raytrace/contrib.h"
+#include "raytrace/klems.h"
 #include "scene/flatten.h"
 #include "scene/patterns.h"
 
@@ -43,18 +44,42 @@ inline void Tangents(const double n[3], double u[3], double v[3]) {
     v[2] = n[0] * u[1] - n[1] * u[0];
 }
 
+// RADIANCE's getperpendicular() with randomize on, as its ambient hemispheres use it: the
+// stratification grid turned by a random amount about n (r[0..3] uniform in [0,1)). The turn
+// matters because the sample-collision rule (ambcollision) is not invariant to it.
+inline void RandomTangents(const double n[3], const double r[4], double u[3], double v[3]) {
+    double e[3] = {0.5 - r[0], 0.5 - r[1], 0.5 - r[2]};
+    static const int orders[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2},
+                                     {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+    const int *ord = orders[std::min(5, static_cast<int>(r[3] * 6.))];
+    int i = 2;
+    while (i > 0 && !(std::fabs(n[ord[i]]) < 0.6)) --i;
+    e[ord[i]] = 1.0;
+    u[0] = e[1] * n[2] - e[2] * n[1];
+    u[1] = e[2] * n[0] - e[0] * n[2];
+    u[2] = e[0] * n[1] - e[1] * n[0];
+    const double l = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (int k = 0; k < 3; ++k) u[k] /= l;
+    v[0] = n[1] * u[2] - n[2] * u[1];
+    v[1] = n[2] * u[0] - n[0] * u[2];
+    v[2] = n[0] * u[1] - n[1] * u[0];
+}
+
 struct MixInfo;
+struct BsdfInfo;
 
 struct Material {
-    enum Kind { kBlack, kDiffuse, kGlass, kMirror, kGlow, kLight, kMix } kind = kBlack;
+    enum Kind { kBlack, kDiffuse, kGlass, kMirror, kGlow, kLight, kMix, kBsdf } kind = kBlack;
     RGB color{0, 0, 0};
     double spec = 0;              // plastic/metal/trans specularity
     double trans = 0, tspec = 0;  // trans: transmissivity and its specular fraction
     double alpha2 = 0;            // roughness squared (0: pure specular)
     bool metal = false;
+    bool transparent = false;  // trans and glass: -i passes through them (RADIANCE's istransp)
     double rindex = 1.52;
     const PatternFunction *pattern = nullptr;  // brightfunc/colorfunc modifying the colour
     const MixInfo *mix = nullptr;              // mixfunc: the two materials and the coefficient
+    const BsdfInfo *bsdf = nullptr;            // BSDF: its data and arguments
 };
 
 // A mixfunc: foreground and background (void: transparent) and the function mixing them.
@@ -62,6 +87,17 @@ struct MixInfo {
     Material fore, back;
     bool is_void[2] = {false, false};
     std::unique_ptr<PatternFunction> coef;
+};
+
+// A BSDF material (RADIANCE's MAT_BSDF with Klems data): the scattering data, shared by the
+// materials that name the same file; the thickness and up vector, expressions evaluated per hit
+// (as a brightfunc and a colorfunc would be); the diffuse colours its real arguments add.
+struct BsdfInfo {
+    std::shared_ptr<const KlemsScattering> klems;
+    std::unique_ptr<PatternFunction> thickness, up;
+    RGB front_reflection{0, 0, 0}, back_reflection{0, 0, 0}, transmission{0, 0, 0};
+    bool proxy = false;  // a thickness other than "0" (RADIANCE's isBSDFproxy)
+    std::string name;
 };
 
 struct Source {
@@ -104,6 +140,8 @@ class SceneMaterials {
     std::map<int, int> tracked_of_mesh_material_;
     std::vector<std::unique_ptr<PatternFunction>> patterns_;
     std::vector<std::unique_ptr<MixInfo>> mixes_;
+    std::vector<std::unique_ptr<BsdfInfo>> bsdfs_;
+    std::map<std::string, std::shared_ptr<const KlemsScattering>> klems_by_path_;
     std::vector<Source> sources_;
 };
 

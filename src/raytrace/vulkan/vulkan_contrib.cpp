@@ -118,9 +118,14 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         *why = "modifiers with different -p parameters";
         return nullptr;
     }
+    if (options.specular_jitter > 1.5) {
+        *why = "-ss above 1.5 (several specular samples)";
+        return nullptr;
+    }
     SceneMaterials table(scene, tracked);
     const auto unsupported = [&](const Material &m) -> std::string {
         if (m.kind == Material::kMix) return "mixfunc";
+        if (m.kind == Material::kBsdf) return "BSDF";
         return "";
     };
 
@@ -148,7 +153,9 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         if (added) {
             gpu::GpuSurface s{};
             s.color = Vec4(m.color[0], m.color[1], m.color[2], m.rindex);
-            s.params = Vec4(m.spec, m.trans, m.tspec, m.metal ? 1 : 0);
+            s.params = Vec4(m.spec, m.trans, m.tspec,
+                            (m.metal ? gpu::kSurfaceMetal : 0) |
+                                (m.transparent ? gpu::kSurfaceTransparent : 0));
             s.kind = m.kind;
             s.tracked = k;
             s.alpha2 = static_cast<float>(m.alpha2);
