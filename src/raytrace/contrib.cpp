@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <mutex>
 
 #include "raytrace/klems.h"
 #include "raytrace/materials.h"
@@ -21,6 +22,7 @@ enum : int {
     kPrimary = 1,
     kShadow = 2,
     kReflected = 4,
+    kRefracted = 8,
     kTrans = 16,
     kAmbient = 32,
     kSpecular = 64
@@ -76,6 +78,8 @@ struct RayState {
     int crtype;     // union of the ray types of the ancestry
     int ambient_depth;
     int aimed = -1;  // for shadow rays and rays they spawn: the source aimed at (RADIANCE's rsrc)
+    RGB cext{0, 0, 0};  // extinction of the medium it travels in (inside a dielectric), per unit
+    double t = 0;       // its length, once it hit something (where cext matters)
 };
 
 }  // namespace
@@ -138,6 +142,12 @@ struct ContribIntegrator::Impl {
         child->ambient_depth = parent.ambient_depth;
         for (int k = 0; k < 3; ++k) child->coef[k] = parent.coef[k] * rc[k];
         child->aimed = (type & kReflectionTypes) ? -1 : parent.aimed;
+        child->cext = parent.cext;
+        child->t = 0;
+        // rayorigin()'s estimate of the parent's extinction
+        if (const double re = std::min({parent.cext[0], parent.cext[1], parent.cext[2]}) * parent.t;
+            re > 0.1)
+            child->weight = re > 92. ? 0. : child->weight * std::exp(-re);
         if (child->weight <= 0) return false;
         if (child->crtype & kShadow) return true;  // shadow rays are never cut short
         const int lr = o.limit_reflections;
@@ -285,6 +295,17 @@ struct ContribIntegrator::Impl {
             Escape(r, rng, ts, record);
             return;
         }
+        if (Max3(r.cext) > 0) {  // its length, for the weights of the rays it spawns
+            RayState inside = r;
+            inside.t = hit.t;
+            ShadeHit(inside, hit, rng, ts, record, depth);
+        } else {
+            ShadeHit(r, hit, rng, ts, record, depth);
+        }
+    }
+
+    void ShadeHit(const RayState &r, const TraceHit &hit, Random &rng, ThreadState &ts,
+                  double *record, int depth) const {
         const int object =
             hit.shape >= 0 ? scene.shapes[hit.shape].object : scene.triangle_object[hit.triangle];
         double point[3], normal[3];
@@ -394,6 +415,9 @@ struct ContribIntegrator::Impl {
             case Material::kBsdf:
                 ShadeBsdf(r, m, point, normal, front, t, rng, ts, record, depth);
                 return;
+            case Material::kDielectric:
+                ShadeDielectric(r, m, point, normal, front, t, rng, ts, record, depth);
+                return;
             case Material::kBlack:
             case Material::kGlow:
             case Material::kLight:
@@ -498,6 +522,59 @@ struct ContribIntegrator::Impl {
                 return;
             }
         }
+    }
+
+    // m_dielectric(): Fresnel reflection and refraction at an interface of index n (+ the
+    // Hartmann constant / 500 nm); the refracted ray carries the solid angle ratio. Inside, the
+    // colour is a transmission per unit length, an extinction that RADIANCE's raycontrib()
+    // leaves out of contributions (with a warning): only rayorigin()'s weights see it.
+    void ShadeDielectric(const RayState &r, const Material &m, const double point[3],
+                         const double normal[3], bool front, double t, Random &rng, ThreadState &ts,
+                         double *record, int depth) const {
+        const RGB pcol =
+            PatternColour(Material{Material::kDiffuse, RGB{1, 1, 1}}, r, point, normal, t);
+        const auto extinction = [&](int k) {  // RADIANCE's mylog()
+            const double x = m.color[k] * pcol[k];
+            return x < 1e-40 ? 100. : x >= 1. ? 0. : -std::log(x);
+        };
+        double nratio = m.rindex;
+        RayState in = r;  // the incident ray: inside, it travelled in the medium
+        RGB ctrans{0, 0, 0};
+        double cos1 = -(r.dir[0] * normal[0] + r.dir[1] * normal[1] + r.dir[2] * normal[2]);
+        if (!front) {
+            for (int k = 0; k < 3; ++k) in.cext[k] = extinction(k);
+        } else {
+            nratio = 1. / nratio;
+            for (int k = 0; k < 3; ++k) ctrans[k] = extinction(k);
+        }
+        if (Bright(front ? ctrans : in.cext) > kTiny) {
+            static std::once_flag warned;
+            std::call_once(warned, [] {
+                Warning("ray contribution calculation does not support participating media");
+            });
+        }
+        double refl = 1.;
+        const double d2 = 1. - nratio * nratio * (1. - cos1 * cos1);
+        if (d2 >= kTiny) {  // else total reflection
+            const double cos2 = std::sqrt(d2);
+            double a = (cos1 - nratio * cos2) / (cos1 + nratio * cos2);
+            double b = (1. / cos1 - nratio / cos2) / (1. / cos1 + nratio / cos2);
+            refl = .5 * (a * a + b * b);
+            const double trans = (1. - refl) * nratio * nratio;  // solid angle ratio
+            RayState child;
+            if (Spawn(in, kRefracted, RGB{trans, trans, trans}, rng, &child)) {
+                const double d1 = nratio * cos1 - cos2;
+                for (int k = 0; k < 3; ++k) {
+                    child.org[k] = point[k];
+                    child.dir[k] = nratio * r.dir[k] + d1 * normal[k];
+                }
+                Normalize(child.dir);
+                child.cext = ctrans;
+                Trace(child, rng, ts, record, depth + 1);
+            }
+        }
+        if (r.crtype & kShadow) return;
+        Reflect(in, RGB{refl, refl, refl}, point, normal, cos1, rng, ts, record, depth);
     }
 
     // m_bsdf() for MAT_BSDF with Klems data: the non-diffuse parts of reflection and

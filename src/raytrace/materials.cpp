@@ -165,6 +165,12 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
         m.transparent = true;
         m.color = {f[0], f[1], f[2]};
         if (f.size() == 4) m.rindex = f[3];
+    } else if (t == "dielectric") {
+        if (f.size() != 5) ErrorExit(&p.loc, "dielectric '" + p.name + "': bad arguments");
+        m.kind = Material::kDielectric;
+        m.color = {f[0], f[1], f[2]};
+        m.rindex = f[3] + f[4] / 500.;
+        m.transparent = true;
     } else if (t == "mirror") {
         m.kind = Material::kMirror;
         m.color = {f[0], f[1], f[2]};

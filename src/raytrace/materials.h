@@ -69,14 +69,24 @@ struct MixInfo;
 struct BsdfInfo;
 
 struct Material {
-    enum Kind { kBlack, kDiffuse, kGlass, kMirror, kGlow, kLight, kMix, kBsdf } kind = kBlack;
+    enum Kind {
+        kBlack,
+        kDiffuse,
+        kGlass,
+        kDielectric,
+        kMirror,
+        kGlow,
+        kLight,
+        kMix,
+        kBsdf
+    } kind = kBlack;
     RGB color{0, 0, 0};
     double spec = 0;              // plastic/metal/trans specularity
     double trans = 0, tspec = 0;  // trans: transmissivity and its specular fraction
     double alpha2 = 0;            // roughness squared (0: pure specular)
     bool metal = false;
     bool transparent = false;  // trans and glass: -i passes through them (RADIANCE's istransp)
-    double rindex = 1.52;
+    double rindex = 1.52;      // glass; dielectric: n + Hartmann constant / 500 nm
     const PatternFunction *pattern = nullptr;  // brightfunc/colorfunc modifying the colour
     const MixInfo *mix = nullptr;              // mixfunc: the two materials and the coefficient
     const BsdfInfo *bsdf = nullptr;            // BSDF: its data and arguments

@@ -126,6 +126,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     const auto unsupported = [&](const Material &m) -> std::string {
         if (m.kind == Material::kMix) return "mixfunc";
         if (m.kind == Material::kBsdf) return "BSDF";
+        if (m.kind == Material::kDielectric) return "dielectric";
         return "";
     };
 
