@@ -67,6 +67,7 @@ struct Options {
     bool progress = false;      // -progress: a progress line with the time left (ours)
     std::string ospec;          // -o: empty for the standard output
     bool force_open = false;    // -fo: overwrite existing output files
+    bool recover = false;       // -r: continue the records of existing output files
     std::string backend;
     bool gpu_float = false;  // -gpu_accum float
     std::vector<std::string> scene;
@@ -194,7 +195,62 @@ struct OutputStream {
     bool standard_error = false;  // the -se output
     std::vector<int> columns;
     std::unique_ptr<OutputFile> file;
+    size_t prefix_bytes = 0;  // -r: the existing file's header (and resolution line)
 };
+
+size_t RecordBytes(const Options &o, const OutputStream &s) {
+    const size_t n = s.columns.size();
+    return o.out == DataFormat::RGBE ? 4 * n : (o.out == DataFormat::Float ? 12 : 24) * n;
+}
+
+std::string ReadPrefix(const std::string &name, size_t bytes) {
+    std::ifstream f(name, std::ios::binary);
+    std::string data(bytes, '\0');
+    if (!f.read(data.data(), static_cast<std::streamsize>(bytes)))
+        ErrorExit("cannot read '" + name + "' to recover it");
+    return data;
+}
+
+// recover_output(): the number of complete records in every output (-1 if there is nothing to
+// recover), after checking that they are files of the format asked for. Sets prefix_bytes.
+long RecoverableRecords(const Options &o, std::vector<OutputStream> &outputs) {
+    if (o.out == DataFormat::Ascii) ErrorExit("cannot recover ASCII output");
+    long last = -1;
+    for (OutputStream &s : outputs) {
+        if (s.name == "-") ErrorExit("cannot recover from stdout");
+        if (s.name[0] == '!') ErrorExit("cannot recover from command");
+        std::error_code ec;
+        const auto size = fs::file_size(s.name, ec);
+        if (ec || size == 0) {
+            if (ec) Warning("missing recover file '" + s.name + "'");
+            Warning("no previous data to recover");
+            return 0;
+        }
+        std::ifstream f(s.name, std::ios::binary);
+        std::string head(std::min<uintmax_t>(size, 1 << 16), '\0');
+        f.read(head.data(), static_cast<std::streamsize>(head.size()));
+        size_t body = 0;
+        if (o.header) {
+            const size_t end = head.find("\n\n");
+            if (head.rfind("#?RADIANCE", 0) != 0 || end == std::string::npos ||
+                head.substr(0, end + 1).find(FormatLine(o.out)) == std::string::npos)
+                ErrorExit("format mismatch for '" + s.name + "'");
+            body = end + 2;
+        }
+        if (s.columns.size() == 1 && o.xres > 0 && o.yres > 0) {
+            const size_t eol = head.find('\n', body);
+            if (eol == std::string::npos ||
+                head.substr(body, eol + 1 - body) != ResolutionLine(o.xres, o.yres))
+                ErrorExit("resolution mismatch for '" + s.name + "'");
+            body = eol + 1;
+        }
+        s.prefix_bytes = body;
+        const long n = static_cast<long>((size - body) / RecordBytes(o, s));
+        if (last < 0 || n < last) last = n;
+    }
+    if (last == 0) Warning("no previous data to recover");
+    return std::max(last, 0L);
+}
 
 // -se: every input ray is traced as this many independent replicas with -ad / replicas each;
 // their mean is the result and their spread gives its standard error.
@@ -301,8 +357,8 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
             o.ospec = value(a);
         } else if (a.rfind("-w", 0) == 0) {
             // warnings on or off: ours are few and always shown
-        } else if (a == "-r") {
-            ErrorExit("-r (recover) is not supported");
+        } else if (a.rfind("-r", 0) == 0 && a.size() <= 3) {
+            o.recover = Flag(a, o.recover);
         } else if (a == "-c") {
             o.accumulate = static_cast<int>(number(a));
         } else if (a == "-x") {
@@ -463,11 +519,19 @@ int Main(int argc, char **argv) {
         se.standard_error = true;
         for (int c = 0; c < ncols; ++c) se.columns.push_back(c);
     }
+    // -r: the complete records every output already has, kept (header and all) in front of
+    // the rest; as many input rays (times -c) are skipped, and the rest keep their random
+    // numbers, so a recovered run ends as an uninterrupted one would have.
+    long recovered = o.recover ? RecoverableRecords(o, outputs) : 0;
     for (OutputStream &s : outputs) {
-        if (s.name != "-" && s.name[0] != '!' && !o.force_open && fs::exists(s.name))
+        if (!o.recover && s.name != "-" && s.name[0] != '!' && !o.force_open && fs::exists(s.name))
             ErrorExit("cannot open '" + s.name + "' for writing: file exists (use -fo+)");
         s.file = std::make_unique<OutputFile>(s.name);
         const int reclen = static_cast<int>(s.columns.size());
+        if (recovered > 0) {
+            s.file->Write(ReadPrefix(s.name, s.prefix_bytes + recovered * RecordBytes(o, s)));
+            continue;
+        }
         if (o.header) {
             std::vector<char *> av;
             for (std::string &a : header_args) av.push_back(a.data());
@@ -523,7 +587,20 @@ int Main(int argc, char **argv) {
     bool done = false, warned_dummy = false;
     const long wanted = o.yres > 0 ? static_cast<long>(o.yres) * std::max(o.xres, 1) : -1;
     long ended = 0, written = 0;  // records ended by the reader, records written
-    long in_record = 0;           // rays in the record being read
+    if (recovered > 0) {
+        if (wanted >= 0 && recovered >= wanted) {
+            Warning("output appears to be complete");
+            for (OutputStream &s : outputs) s.file->Commit();
+            return 0;
+        }
+        const long skip = recovered * std::max(accumulate, 1);
+        double ray[6];
+        for (long k = 0; k < skip; ++k)
+            if (!in.ReadRow(ray)) ErrorExit("unexpected EOF on input");
+        next_ray = static_cast<uint64_t>(skip);
+        ended = written = recovered;
+    }
+    long in_record = 0;  // rays in the record being read
     std::vector<double> pending(3 * static_cast<size_t>(ncols), 0.0);
     std::vector<double> pending_var(pending.size(), 0.0), standard_error(pending.size());
     const bool replicate = !o.stderr_file.empty();

@@ -1054,3 +1054,45 @@ TEST(RcontribGpu, DielectricAsRadiance) {
 }
 
 }  // namespace dayflux::test
+
+namespace dayflux::test {
+
+// -r: an output cut short (4 records and part of a fifth) is completed from the input ray after
+// the last whole record, and ends byte for byte as the uninterrupted run (random numbers are
+// keyed by the input ray); what rcontrib cannot recover is refused as it refuses it.
+TEST(RcontribGpu, RecoverContinuesAnInterruptedRun) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "s.rad", std::string(kSky) +
+                                        "void plastic w 0 0 5 .5 .5 .5 0 0\n"
+                                        "w polygon p 0 0 12 -1 -1 1 1 -1 1 1 1 1.5 -1 1 1.5\n");
+    std::ostringstream pts;
+    for (int i = 1; i <= 20; ++i) pts << "0 0 0 0 " << i / 40.0 << " 1\n";
+    WriteFile(tmp.path() / "pts.txt", pts.str());
+    const auto run = [](const std::string &options) {
+        return "rcontrib-gpu -seed 3 -faf -c 2 -I+ -ab 2 -ad 256 -f tregenza.cal -b tbin "
+               "-bn Ntbins -m skyglow " +
+               options + " s.rad < pts.txt";
+    };
+    ASSERT_EQ(RunCommand(run("-o full_%s.fmx"), tmp.path()).status, 0);
+    const std::string full = ReadFile(tmp.path() / "full_skyglow.fmx");
+    const size_t header = full.find("\n\n") + 2, record = 146 * 12;
+    ASSERT_EQ(full.size(), header + 10 * record);
+    WriteFile(tmp.path() / "cut_skyglow.fmx", full.substr(0, header + 4 * record + 100));
+    CommandResult r = RunCommand(run("-r -o cut_%s.fmx"), tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(ReadFile(tmp.path() / "cut_skyglow.fmx") == full);
+    // Complete already (-y says how many records): nothing to do.
+    r = RunCommand(run("-y 10 -r -o full_%s.fmx"), tmp.path());
+    EXPECT_EQ(r.status, 0);
+    EXPECT_NE(r.err.find("output appears to be complete"), std::string::npos) << r.err;
+    EXPECT_TRUE(ReadFile(tmp.path() / "full_skyglow.fmx") == full);
+    r = RunCommand(run("-r -fad -o full_%s.fmx"), tmp.path());
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.err.find("format mismatch for 'full_skyglow.fmx'"), std::string::npos) << r.err;
+    r = RunCommand(run("-r -faa -o full_%s.fmx"), tmp.path());
+    EXPECT_NE(r.err.find("cannot recover ASCII output"), std::string::npos) << r.err;
+    r = RunCommand(run("-r"), tmp.path());
+    EXPECT_NE(r.err.find("cannot recover from stdout"), std::string::npos) << r.err;
+}
+
+}  // namespace dayflux::test
