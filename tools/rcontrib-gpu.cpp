@@ -405,8 +405,10 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
             o.contrib.specular_jitter = number(a);
         } else if (a == "-dj") {
             o.contrib.source_jitter = number(a);
+        } else if (a == "-ds") {
+            o.contrib.source_size_ratio = number(a);
         } else if (a == "-aa" || a == "-as" || a == "-dt" || a == "-ar" || a == "-aw" ||
-                   a == "-dc" || a == "-ds" || a == "-dr" || a == "-dp") {
+                   a == "-dc" || a == "-dr" || a == "-dp") {
             // forced by rcontrib (-aa 0 -as 0 -dt 0, making -dc moot), or about local or
             // virtual sources (-ds -dr -dp), which this version does not sample
             value(a);

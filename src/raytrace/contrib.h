@@ -32,7 +32,8 @@ struct ContribOptions {
     bool contributions = false;         // -V+
     double specular_threshold = 0.02;   // -st: rough specular below it joins the diffuse part
     double specular_jitter = 1.0;       // -ss
-    double source_jitter = 0.9;  // -dj (rcontrib's default): shadow rays spread over a source
+    double source_jitter = 0.9;      // -dj (rcontrib's default): shadow rays spread over a source
+    double source_size_ratio = 0.2;  // -ds: local sources split where larger than this x distance
     uint64_t seed = 0;
 };
 

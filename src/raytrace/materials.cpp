@@ -31,22 +31,98 @@ SceneMaterials::SceneMaterials(const FlatScene &scene, const std::vector<Tracked
         s.solid_angle = 2. * M_PI * (1. - std::cos(sh.r0 * (M_PI / 360.)));
         s.object = sh.object;
         s.skip = materials_[sh.object].kind == Material::kGlow;
+        s.weak = s.skip || materials_[sh.object].kind == Material::kIllum;
         s.colour = materials_[sh.object].color;
         Tangents(s.dir, s.u, s.v);
         const double half_side = .5 * std::sqrt(s.solid_angle);
         for (int k = 0; k < 3; ++k) s.u[k] *= half_side, s.v[k] *= half_side;
         sources_.push_back(s);
     }
-    // Light on a local surface would have to be sampled as an area source.
-    std::vector<bool> is_source(objs.size(), false);
-    for (const AnalyticShape &sh : scene_.shapes)
-        if (sh.kind == AnalyticShape::kSource) is_source[sh.object] = true;
-    for (size_t i = 0; i < objs.size(); ++i)
-        if (!is_source[i] && materials_[i].kind == Material::kLight &&
-            objs[i].info->kind == PrimitiveKind::kSurface)
-            ErrorExit(&objs[i].loc, "'" + objs[i].name +
-                                        "': local light sources are not sampled yet (only "
-                                        "distant ones, made with 'source')");
+    // Light on local surfaces: sampled as area sources.
+    for (size_t i = 0; i < objs.size(); ++i) {
+        const Material::Kind kind = materials_[i].kind;
+        if ((kind == Material::kLight || kind == Material::kIllum) &&
+            objs[i].info->kind == PrimitiveKind::kSurface && objs[i].type != "source" &&
+            Max3(materials_[i].color) > kTiny)
+            AddLocalSource(static_cast<int>(i));
+    }
+}
+
+// fsetsrc(), rsetsrc() and sphsetsrc(): a polygon's centre, normal, area and half-size vectors
+// (half its first two edges for four vertices, else a square of its area), a ring's (a disc's),
+// a sphere's.
+void SceneMaterials::AddLocalSource(int object) {
+    const Primitive &p = scene_.scene.objects[object];
+    const auto &f = p.fargs;
+    Source s{};
+    s.object = object;
+    s.skip = false;
+    s.weak = materials_[object].kind == Material::kIllum;
+    s.colour = materials_[object].color;
+    const auto square = [&s] {  // setflatss(): a square of the source's area about its normal
+        Tangents(s.norm, s.ss[0], s.ss[1]);
+        s.turned = true;
+        const double mult = .5 * std::sqrt(s.area);
+        for (int k = 0; k < 3; ++k) s.ss[0][k] *= mult, s.ss[1][k] *= mult;
+    };
+    if (p.type == "polygon") {
+        const size_t nv = f.size() / 3;
+        double c[3] = {0, 0, 0}, a[3] = {0, 0, 0};
+        for (size_t v = 0; v < nv; ++v)
+            for (int k = 0; k < 3; ++k) c[k] += f[3 * v + k] / nv;
+        for (size_t v = 1; v + 1 < nv; ++v) {
+            double e1[3], e2[3];
+            for (int k = 0; k < 3; ++k)
+                e1[k] = f[3 * v + k] - f[k], e2[k] = f[3 * (v + 1) + k] - f[k];
+            a[0] += .5 * (e1[1] * e2[2] - e1[2] * e2[1]);
+            a[1] += .5 * (e1[2] * e2[0] - e1[0] * e2[2]);
+            a[2] += .5 * (e1[0] * e2[1] - e1[1] * e2[0]);
+        }
+        s.area = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        if (s.area == 0) ErrorExit(&p.loc, "'" + p.name + "': zero source area");
+        s.shape = Source::kFlat;
+        for (int k = 0; k < 3; ++k) s.loc[k] = c[k], s.norm[k] = a[k] / s.area;
+        if (nv == 4) {
+            for (int k = 0; k < 3; ++k) {
+                s.ss[0][k] = .5 * (f[3 + k] - f[k]);
+                s.ss[1][k] = .5 * (f[9 + k] - f[k]);
+            }
+        } else {
+            square();
+        }
+    } else if (p.type == "ring") {
+        if (f[6] > 0) ErrorExit(&p.loc, "'" + p.name + "': cannot hit source center");
+        const double l = std::sqrt(f[3] * f[3] + f[4] * f[4] + f[5] * f[5]);
+        s.shape = Source::kFlat;
+        s.circular = true;
+        for (int k = 0; k < 3; ++k) s.loc[k] = f[k], s.norm[k] = f[3 + k] / l;
+        s.area = M_PI * f[7] * f[7];
+        square();
+    } else if (p.type == "sphere") {
+        if (f[3] <= kTiny) ErrorExit(&p.loc, "'" + p.name + "': illegal source radius");
+        s.shape = Source::kSphere;
+        s.circular = true;
+        for (int k = 0; k < 3; ++k) s.loc[k] = f[k];
+        s.area = M_PI * f[3] * f[3];
+        for (int k = 0; k < 3; ++k) s.ss[k][k] = 0.7236 * f[3];
+    } else {
+        ErrorExit(&p.loc, p.type + " '" + p.name +
+                              "': light sources on this shape are not sampled yet (polygons, "
+                              "rings and spheres are)");
+    }
+    sources_.push_back(s);
+}
+
+// The last modifier of that name before object `before` (how RADIANCE finds the materials a
+// mixfunc or an illum names).
+int SceneMaterials::FindModifier(int before, const std::string &name, const FileLoc &loc) const {
+    const auto &objs = scene_.scene.objects;
+    int j = before - 1;
+    while (j >= 0 && !(objs[j].name == name && objs[j].info->kind != PrimitiveKind::kSurface &&
+                       objs[j].info->kind != PrimitiveKind::kVolume))
+        --j;
+    if (j < 0) ErrorExit(&loc, "undefined modifier '" + name + "'");
+    return j;
 }
 
 int SceneMaterials::TrackedIndex(const std::string &modifier) const {
@@ -101,14 +177,8 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
                 info->is_void[side] = true;
                 continue;
             }
-            int j = mod - 1;  // the last modifier of that name before the mixfunc
-            while (j >= 0 &&
-                   !(objs[j].name == name && objs[j].info->kind != PrimitiveKind::kSurface &&
-                     objs[j].info->kind != PrimitiveKind::kVolume))
-                --j;
-            if (j < 0)
-                ErrorExit(&p.loc, "mixfunc '" + p.name + "': undefined modifier '" + name + "'");
-            (side == 0 ? info->fore : info->back) = Resolved(j, pattern_of);
+            (side == 0 ? info->fore : info->back) =
+                Resolved(FindModifier(mod, name, p.loc), pattern_of);
         }
         Primitive f = p;  // the coefficient, evaluated as a brightfunc would be
         f.type = "brightfunc";
@@ -180,6 +250,11 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
     } else if (t == "light") {
         m.kind = Material::kLight;
         m.color = {f[0], f[1], f[2]};
+    } else if (t == "illum") {
+        m.kind = Material::kIllum;
+        m.color = {f[0], f[1], f[2]};
+        if (!p.sargs.empty() && p.sargs[0] != "void")
+            m.alternate = &Resolved(FindModifier(mod, p.sargs[0], p.loc), pattern_of);
     } else {
         ErrorExit(&p.loc, "material type " + t + " ('" + p.name + "') is not traced yet");
     }

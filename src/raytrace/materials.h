@@ -78,7 +78,8 @@ struct Material {
         kGlow,
         kLight,
         kMix,
-        kBsdf
+        kBsdf,
+        kIllum
     } kind = kBlack;
     RGB color{0, 0, 0};
     double spec = 0;              // plastic/metal/trans specularity
@@ -90,6 +91,7 @@ struct Material {
     const PatternFunction *pattern = nullptr;  // brightfunc/colorfunc modifying the colour
     const MixInfo *mix = nullptr;              // mixfunc: the two materials and the coefficient
     const BsdfInfo *bsdf = nullptr;            // BSDF: its data and arguments
+    const Material *alternate = nullptr;       // illum: what rays not aimed at it see (null: void)
 };
 
 // A mixfunc: foreground and background (void: transparent) and the function mixing them.
@@ -110,13 +112,23 @@ struct BsdfInfo {
     std::string name;
 };
 
+// A light source direct() samples: distant (`source` with light, or glow: skipped), or local, a
+// polygon, ring or sphere with a light or illum material (RADIANCE's SRCREC).
 struct Source {
-    double dir[3];
-    double solid_angle;  // RADIANCE's ss2 = 2 pi (1 - cos(half angle))
+    enum Shape { kDistant, kFlat, kSphere } shape = kDistant;
+    double dir[3];       // distant: toward the source
+    double solid_angle;  // distant: RADIANCE's ss2 = 2 pi (1 - cos(half angle))
     int object;
     bool skip;  // glow: reached only by rays that find nothing else
+    bool weak;  // illum or glow (RADIANCE's weaksrcmat(): an illum in front passes its rays)
     RGB colour;
     double u[3], v[3];  // half-sides of the square of area ss2 that -dj jitters over (setflatss)
+    // Local sources: centre, normal (flat), half-size vectors ss[SU], ss[SV], ss[SW], area
+    // (flat) or pi r^2 (sphere), and whether the shape is round (RADIANCE's SCIR).
+    double loc[3], norm[3], ss[3][3];
+    double area = 0;
+    bool circular = false;
+    bool turned = false;  // ss is setflatss()'s square, which RADIANCE turns at random
 };
 
 // RADIANCE's Fresnel estimate for pure specular plastic and metal (normal.c).
@@ -140,6 +152,8 @@ class SceneMaterials {
   private:
     int TrackedIndex(const std::string &modifier) const;
     const Material &Resolved(int mod, std::vector<int> &pattern_of);
+    void AddLocalSource(int object);
+    int FindModifier(int before, const std::string &name, const FileLoc &loc) const;
     Material Resolve(int mod, std::vector<int> &pattern_of);
 
     const FlatScene &scene_;

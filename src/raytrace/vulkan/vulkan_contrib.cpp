@@ -127,6 +127,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         if (m.kind == Material::kMix) return "mixfunc";
         if (m.kind == Material::kBsdf) return "BSDF";
         if (m.kind == Material::kDielectric) return "dielectric";
+        if (m.kind == Material::kIllum) return "illum";
         return "";
     };
 
@@ -244,6 +245,11 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     std::vector<gpu::GpuSource> srcs;
     for (const Source &s : table.Sources()) {
         const Material &m = table.OfObject(s.object);
+        if (s.shape != Source::kDistant) {
+            *why = "local light sources (" + scene.scene.objects[s.object].name +
+                   ") are sampled on the CPU only";
+            return nullptr;
+        }
         if (std::string u = unsupported(m); !u.empty()) {
             *why = u + " (" + scene.scene.objects[s.object].name + ") is traced on the CPU only";
             return nullptr;
