@@ -108,6 +108,31 @@ VulkanContribIntegrator::VulkanContribIntegrator(std::unique_ptr<Impl> impl, int
 VulkanContribIntegrator::~VulkanContribIntegrator() = default;
 const std::string &VulkanContribIntegrator::DeviceName() const { return impl_->device->Name(); }
 
+namespace {
+
+// The shader's material kinds (common.h) for those it traces; the rest never reach it.
+int GpuKind(Material::Kind kind) {
+    switch (kind) {
+        case Material::kBlack:
+            return gpu::kMatBlack;
+        case Material::kDiffuse:
+            return gpu::kMatDiffuse;
+        case Material::kGlass:
+            return gpu::kMatGlass;
+        case Material::kMirror:
+            return gpu::kMatMirror;
+        case Material::kGlow:
+            return gpu::kMatGlow;
+        case Material::kLight:
+            return gpu::kMatLight;
+        default:
+            CHECK(false);  // refused by Create's unsupported()
+            return gpu::kMatBlack;
+    }
+}
+
+}  // namespace
+
 std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     const FlatScene &scene, const ContribOptions &options,
     const std::vector<TrackedModifier> &tracked,
@@ -158,7 +183,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             s.params = Vec4(m.spec, m.trans, m.tspec,
                             (m.metal ? gpu::kSurfaceMetal : 0) |
                                 (m.transparent ? gpu::kSurfaceTransparent : 0));
-            s.kind = m.kind;
+            s.kind = GpuKind(m.kind);
             s.tracked = k;
             s.alpha2 = static_cast<float>(m.alpha2);
             s.pattern = pattern_index(m);
@@ -261,7 +286,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         g.v = Vec4(s.v[0], s.v[1], s.v[2]);
         g.object = s.object;
         g.tracked = table.TrackedOfObject(s.object);
-        g.kind = m.kind;
+        g.kind = GpuKind(m.kind);
         g.pattern = pattern_index(m);
         srcs.push_back(g);
     }
