@@ -384,6 +384,13 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
             const std::string t = value(a);
             if (t != "float" && t != "double") ErrorExit("-gpu_accum " + t + ": float or double");
             o.gpu_float = t == "float";
+        } else if (a == "-gpu_traversal") {
+            // How the GPU finds hits: auto (ray queries where the device has them), rayquery,
+            // or bvh (our own BVH, for devices without ray queries); as DAYFLUX_GPU_TRAVERSAL.
+            const std::string t = value(a);
+            if (t != "auto" && t != "rayquery" && t != "bvh")
+                ErrorExit("-gpu_traversal " + t + ": auto, rayquery or bvh");
+            setenv("DAYFLUX_GPU_TRAVERSAL", t.c_str(), 1);
         } else if (a == "-device") {
             // The Vulkan device, by name or index (as DAYFLUX_VULKAN_DEVICE); it implies
             // -backend vulkan and is the way to run on lavapipe.

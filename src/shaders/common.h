@@ -14,7 +14,8 @@ struct alignas(16) vec4 {
 #define DAYFLUX_GPU_CONST const int
 #endif
 
-// Set 0 bindings. The acceleration structure is binding 0 (RayQueryDevice::Run).
+// Set 0 bindings. Binding 0 is the scene: the acceleration structure with ray queries, else our
+// own BVH's nodes (GpuBvhNode), with its primitive list at kBindingBvhPrims (GpuDevice::Run).
 DAYFLUX_GPU_CONST kBindingRays = 1;       // vec4 org (xyz, recentred), vec4 dir per input ray
 DAYFLUX_GPU_CONST kBindingPositions = 2;  // float xyz per vertex, recentred
 DAYFLUX_GPU_CONST kBindingIndices = 3;    // uint, 3 per triangle
@@ -25,6 +26,7 @@ DAYFLUX_GPU_CONST kBindingAccum = 7;      // double, tasks x columns x 3
 DAYFLUX_GPU_CONST kBindingTasks = 8;      // GpuTasks: what this dispatch does
 DAYFLUX_GPU_CONST kBindingStats = 9;      // uint: stack items dropped (should stay 0)
 DAYFLUX_GPU_CONST kBindingShapes = 10;    // GpuShape per analytic surface (procedural boxes)
+DAYFLUX_GPU_CONST kBindingBvhPrims = 11;  // int per BVH leaf entry: triangle, or shape + triangles
 
 // Analytic surfaces, as scene/flatten.h's AnalyticShape::Kind.
 DAYFLUX_GPU_CONST kShapeSphere = 0;
@@ -39,6 +41,16 @@ DAYFLUX_GPU_CONST kMatGlass = 2;
 DAYFLUX_GPU_CONST kMatMirror = 3;
 DAYFLUX_GPU_CONST kMatGlow = 4;
 DAYFLUX_GPU_CONST kMatLight = 5;
+
+// A node of the BVH traversed where there are no ray queries (raytrace/bvh.h), depth first: an
+// inner node's first child follows it, `index` is its second; a leaf's primitives are
+// bvh_prims[index .. index + count - 1].
+struct GpuBvhNode {
+    vec4 lo, hi;  // bounds (xyz)
+    int count;    // 0: inner node
+    int index;
+    int pad0, pad1;
+};
 
 struct GpuTriangle {
     vec4 normal;  // unit geometric normal (triangle winding); w unused

@@ -9,7 +9,12 @@
 //   CENTRE_X CENTRE_Y CENTRE_Z MAXN LOCAL_SIZE STACK_SIZE ACCUM_T (float or double)
 
 layout(local_size_x = LOCAL_SIZE) in;
+#ifdef DAYFLUX_BVH
+layout(std430, set = 0, binding = 0) readonly buffer Bvh { GpuBvhNode bvh_nodes[]; };
+layout(std430, set = 0, binding = kBindingBvhPrims) readonly buffer BvhPrims { int bvh_prims[]; };
+#else
 layout(set = 0, binding = 0) uniform accelerationStructureEXT scene;
+#endif
 layout(std430, set = 0, binding = kBindingRays) readonly buffer Rays { vec4 rays[]; };
 layout(std430, set = 0, binding = kBindingPositions) readonly buffer Positions { float positions[]; };
 layout(std430, set = 0, binding = kBindingIndices) readonly buffer Indices { uint indices[]; };
@@ -274,6 +279,65 @@ vec3 ShapeNormal(GpuShape s, vec3 p) {
     return s.inward != 0 ? -n : n;
 }
 
+#ifdef DAYFLUX_BVH
+// Moller-Trumbore, with a hair of slack at the edges so that rays do not slip between
+// triangles sharing one (the hit is moved into its triangle afterwards).
+float IntersectTriangle(int p, vec3 org, vec3 dir, float tmax) {
+    vec3 a = Vertex(indices[3 * p]), b = Vertex(indices[3 * p + 1]), c = Vertex(indices[3 * p + 2]);
+    vec3 e1 = b - a, e2 = c - a, pv = cross(dir, e2);
+    float det = dot(e1, pv);
+    if (det == 0) return -1;
+    float inv = 1.0 / det;
+    vec3 tv = org - a;
+    float u = dot(tv, pv) * inv;
+    if (u < -1e-6 || u > 1 + 1e-6) return -1;
+    vec3 q = cross(tv, e1);
+    float v = dot(dir, q) * inv;
+    if (v < -1e-6 || u + v > 1 + 1e-6) return -1;
+    float t = dot(e2, q) * inv;
+    return t > TMIN && t < tmax ? t : -1;
+}
+
+// The nearest hit: a triangle (shape < 0) or an analytic surface, by walking our BVH (no ray
+// queries on this device). Leaf entries are triangles, or -(shape + 1).
+bool Closest(vec3 org, vec3 dir, out float t, out int prim, out int shape) {
+    t = 1e30;
+    prim = -1;
+    shape = -1;
+    if (bvh_nodes.length() == 0) return false;
+    vec3 safe = mix(vec3(1e-20), -vec3(1e-20), lessThan(dir, vec3(0)));
+    vec3 inv = 1.0 / mix(dir, safe, lessThan(abs(dir), vec3(1e-20)));
+    int stack[64];
+    int sp = 0, node = 0;
+    while (true) {
+        GpuBvhNode n = bvh_nodes[node];
+        vec3 t0 = (n.lo.xyz - org) * inv, t1 = (n.hi.xyz - org) * inv;
+        vec3 tn = min(t0, t1), tf = max(t0, t1);
+        float enter = max(max(tn.x, tn.y), max(tn.z, TMIN));
+        float leave = min(min(tf.x, tf.y), min(tf.z, t));
+        if (enter <= leave * 1.000001) {
+            if (n.count == 0) {
+                if (sp < 64) stack[sp++] = n.index;
+                node = node + 1;
+                continue;
+            }
+            for (int i = 0; i < n.count; ++i) {
+                int p = bvh_prims[n.index + i];
+                if (p >= 0) {
+                    float th = IntersectTriangle(p, org, dir, t);
+                    if (th > 0) { t = th; prim = p; shape = -1; }
+                } else {
+                    float th = IntersectShape(shapes[-p - 1], org, dir, TMIN, t);
+                    if (th >= 0 && th < t) { t = th; prim = -p - 1; shape = prim; }
+                }
+            }
+        }
+        if (sp == 0) break;
+        node = stack[--sp];
+    }
+    return prim >= 0;
+}
+#else
 // The nearest hit: a triangle (shape < 0) or an analytic surface.
 bool Closest(vec3 org, vec3 dir, out float t, out int prim, out int shape) {
     rayQueryEXT q;
@@ -296,6 +360,7 @@ bool Closest(vec3 org, vec3 dir, out float t, out int prim, out int shape) {
     shape = type == gl_RayQueryCommittedIntersectionGeneratedEXT ? prim : -1;
     return true;
 }
+#endif
 
 void ShadeMaterial(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t);
 

@@ -26,7 +26,7 @@ class GlslAgainstInterpreter : public testing::Test {
     static void SetUpTestSuite() {
         std::string why;
         // Any device with ray queries and doubles will do, lavapipe included; the scene is empty.
-        device_ = vk::RayQueryDevice::Open(&why).release();
+        device_ = vk::GpuDevice::Open(&why).release();
         if (device_) device_->BuildScene({}, {});
         if (!device_) skip_reason_ = why;
     }
@@ -63,7 +63,7 @@ class GlslAgainstInterpreter : public testing::Test {
             src += "  vals[" + std::to_string(k) + " * i + " + std::to_string(e) + "] = entry" +
                    std::to_string(e) + "();\n";
         src += "}\n";
-        const auto spirv = vk::RayQueryDevice::CompileGlsl(src, "glsl_test");
+        const auto spirv = vk::GpuDevice::CompileGlsl(src, "glsl_test");
         std::vector<double> dirs(3 * static_cast<size_t>(n));
         std::mt19937_64 rng(seed);
         std::normal_distribution<double> g;
@@ -94,10 +94,10 @@ class GlslAgainstInterpreter : public testing::Test {
         EXPECT_EQ(differ, 0) << "on " << device_->Name();
     }
 
-    static vk::RayQueryDevice *device_;
+    static vk::GpuDevice *device_;
     static std::string skip_reason_;
 };
-vk::RayQueryDevice *GlslAgainstInterpreter::device_ = nullptr;
+vk::GpuDevice *GlslAgainstInterpreter::device_ = nullptr;
 std::string GlslAgainstInterpreter::skip_reason_;
 
 // The test: a million random directions through every standard bin function.

@@ -61,7 +61,7 @@ class VulkanRayQuery : public testing::Test {
   protected:
     static void SetUpTestSuite() {
         std::string why;
-        device_ = vk::RayQueryDevice::Open(&why).release();
+        device_ = vk::GpuDevice::Open(&why).release();
         if (!device_) skip_reason_ = why;
     }
     static void TearDownTestSuite() {
@@ -86,11 +86,11 @@ class VulkanRayQuery : public testing::Test {
         return hits;
     }
 
-    static vk::RayQueryDevice *device_;
+    static vk::GpuDevice *device_;
     static std::string skip_reason_;
 };
 
-vk::RayQueryDevice *VulkanRayQuery::device_ = nullptr;
+vk::GpuDevice *VulkanRayQuery::device_ = nullptr;
 std::string VulkanRayQuery::skip_reason_;
 
 void ExpectHit(const Hit &h, float t, int primitive, const char *what) {
@@ -109,7 +109,7 @@ TEST_F(VulkanRayQuery, HitsTheNearestTriangleAtTheRightDistance) {
     std::vector<uint32_t> indices;
     SquareScene(0, &positions, &indices);
     device_->BuildScene(positions, indices);
-    const auto spirv = vk::RayQueryDevice::CompileGlsl(TraceShader(64), "trace");
+    const auto spirv = vk::GpuDevice::CompileGlsl(TraceShader(64), "trace");
     const auto hits = Trace(spirv, 64,
                             {
                                 {0.25f, 0.25f, 0, 0, 0, 1},   // on the diagonal: 0 or 1
@@ -144,7 +144,7 @@ TEST_F(VulkanRayQuery, RunsTheSameShaderAgainAfterARebuild) {
     std::vector<uint32_t> indices;
     SquareScene(0, &positions, &indices);
     device_->BuildScene(positions, indices);
-    const auto spirv = vk::RayQueryDevice::CompileGlsl(TraceShader(64), "trace");
+    const auto spirv = vk::GpuDevice::CompileGlsl(TraceShader(64), "trace");
     const std::vector<Ray> rays = {{0.75f, 0.25f, 0, 0, 0, 1}, {1.5f, 0.5f, 0, 0, 0, 1}};
     auto hits = Trace(spirv, 64, rays);
     ExpectHit(hits[0], 1, 0, "first run");
@@ -162,7 +162,7 @@ TEST_F(VulkanRayQuery, RunsTheSameShaderAgainAfterARebuild) {
 
 TEST_F(VulkanRayQuery, EmptySceneMissesEverything) {
     device_->BuildScene({}, {});
-    const auto spirv = vk::RayQueryDevice::CompileGlsl(TraceShader(64), "trace");
+    const auto spirv = vk::GpuDevice::CompileGlsl(TraceShader(64), "trace");
     const auto hits = Trace(spirv, 64, {{0.75f, 0.25f, 0, 0, 0, 1}, {0, 0, 5, 0, 0, -1}});
     ExpectMiss(hits[0], "empty scene");
     ExpectMiss(hits[1], "empty scene");
@@ -174,7 +174,7 @@ TEST_F(VulkanRayQuery, ManyGroupsSpillIntoY) {
     std::vector<uint32_t> indices;
     SquareScene(0, &positions, &indices);
     device_->BuildScene(positions, indices);
-    const auto spirv = vk::RayQueryDevice::CompileGlsl(TraceShader(1), "trace1");
+    const auto spirv = vk::GpuDevice::CompileGlsl(TraceShader(1), "trace1");
     std::vector<Ray> rays(65535 + 1000);
     for (size_t i = 0; i < rays.size(); ++i)
         rays[i] = i % 2 ? Ray{0.75f, 0.25f, 0, 0, 0, 1} : Ray{1.5f, 0.5f, 0, 0, 0, 1};

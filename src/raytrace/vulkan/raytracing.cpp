@@ -71,7 +71,8 @@ struct Pipeline {
 
 }  // namespace
 
-struct RayQueryDevice::Impl {
+struct GpuDevice::Impl {
+    bool ray_queries = false;
     VkInstance instance = VK_NULL_HANDLE;
     VkPhysicalDevice physical = VK_NULL_HANDLE;
     VkDevice device = VK_NULL_HANDLE;
@@ -240,46 +241,58 @@ struct RayQueryDevice::Impl {
     }
 };
 
-RayQueryDevice::RayQueryDevice(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-RayQueryDevice::~RayQueryDevice() = default;
-const std::string &RayQueryDevice::Name() const { return impl_->name; }
-uint64_t RayQueryDevice::MaxBufferBytes() const { return impl_->limits.maxStorageBufferRange; }
+GpuDevice::GpuDevice(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+GpuDevice::~GpuDevice() = default;
+const std::string &GpuDevice::Name() const { return impl_->name; }
+uint64_t GpuDevice::MaxBufferBytes() const { return impl_->limits.maxStorageBufferRange; }
 
-std::unique_ptr<RayQueryDevice> RayQueryDevice::Open(std::string *why, bool allow_cpu) {
+namespace {
+
+// What a device lacks for ray queries ("" if nothing).
+std::string LacksRayQueries(VkPhysicalDevice device) {
+    uint32_t ne = 0;
+    vkEnumerateDeviceExtensionProperties(device, nullptr, &ne, nullptr);
+    std::vector<VkExtensionProperties> ext(ne);
+    vkEnumerateDeviceExtensionProperties(device, nullptr, &ne, ext.data());
+    std::string lacks;
+    for (const char *e : kRequiredExtensions)
+        if (std::none_of(ext.begin(), ext.end(), [&](const VkExtensionProperties &x) {
+                return std::strcmp(x.extensionName, e) == 0;
+            }))
+            lacks += std::string(" ") + e;
+    if (lacks.empty()) {
+        FeatureChain f;
+        vkGetPhysicalDeviceFeatures2(device, &f.f2);
+        if (!f.v12.bufferDeviceAddress) lacks += " bufferDeviceAddress";
+        if (!f.as.accelerationStructure) lacks += " accelerationStructure";
+        if (!f.rq.rayQuery) lacks += " rayQuery";
+    }
+    return lacks;
+}
+
+}  // namespace
+
+std::unique_ptr<GpuDevice> GpuDevice::Open(std::string *why, bool allow_cpu, Traversal traversal) {
     auto impl = std::make_unique<Impl>();
     impl->instance = CreateInstance(why);
     if (!impl->instance) return nullptr;
-    const auto lacks = [](VkPhysicalDevice device) {
+    const auto lacks = [traversal](VkPhysicalDevice device) {
         VkPhysicalDeviceProperties p;
         vkGetPhysicalDeviceProperties(device, &p);
-        std::string lacks;
-        if (p.apiVersion < VK_API_VERSION_1_2) {
-            lacks = " Vulkan 1.2";
-        } else {
-            uint32_t ne = 0;
-            vkEnumerateDeviceExtensionProperties(device, nullptr, &ne, nullptr);
-            std::vector<VkExtensionProperties> ext(ne);
-            vkEnumerateDeviceExtensionProperties(device, nullptr, &ne, ext.data());
-            for (const char *e : kRequiredExtensions)
-                if (std::none_of(ext.begin(), ext.end(), [&](const VkExtensionProperties &x) {
-                        return std::strcmp(x.extensionName, e) == 0;
-                    }))
-                    lacks += std::string(" ") + e;
-            if (lacks.empty()) {
-                FeatureChain f;
-                vkGetPhysicalDeviceFeatures2(device, &f.f2);
-                if (!f.v12.bufferDeviceAddress) lacks += " bufferDeviceAddress";
-                if (!f.as.accelerationStructure) lacks += " accelerationStructure";
-                if (!f.rq.rayQuery) lacks += " rayQuery";
-                if (!f.f2.features.shaderFloat64) lacks += " shaderFloat64";
-            }
-        }
+        if (p.apiVersion < VK_API_VERSION_1_2) return std::string(" Vulkan 1.2");
+        VkPhysicalDeviceFeatures f;
+        vkGetPhysicalDeviceFeatures(device, &f);
+        std::string lacks = f.shaderFloat64 ? "" : " shaderFloat64";
+        if (traversal == Traversal::kRayQuery) lacks += LacksRayQueries(device);
         return lacks;
     };
-    impl->physical = ChooseDevice(impl->instance, lacks, allow_cpu, "with ray queries", why);
+    impl->physical = ChooseDevice(
+        impl->instance, lacks, allow_cpu,
+        traversal == Traversal::kRayQuery ? "with ray queries" : "with double precision", why);
     if (!impl->physical) return nullptr;
+    impl->ray_queries = traversal != Traversal::kBvh && LacksRayQueries(impl->physical).empty();
     VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
-    props.pNext = &impl->as_props;
+    if (impl->ray_queries) props.pNext = &impl->as_props;
     vkGetPhysicalDeviceProperties2(impl->physical, &props);
     impl->as_props.pNext = nullptr;
     impl->name = props.properties.deviceName;
@@ -294,24 +307,27 @@ std::unique_ptr<RayQueryDevice> RayQueryDevice::Open(std::string *why, bool allo
     qci.queueCount = 1;
     qci.pQueuePriorities = &priority;
 
-    FeatureChain available;
-    vkGetPhysicalDeviceFeatures2(impl->physical, &available.f2);
+    VkPhysicalDeviceFeatures available;
+    vkGetPhysicalDeviceFeatures(impl->physical, &available);
     FeatureChain enable;
     enable.f2.features.shaderFloat64 = VK_TRUE;
-    enable.f2.features.shaderInt64 = available.f2.features.shaderInt64;
-    enable.v12.bufferDeviceAddress = VK_TRUE;
-    enable.as.accelerationStructure = VK_TRUE;
-    enable.rq.rayQuery = VK_TRUE;
-
-    uint32_t ne = 0;
-    vkEnumerateDeviceExtensionProperties(impl->physical, nullptr, &ne, nullptr);
-    std::vector<VkExtensionProperties> ext(ne);
-    vkEnumerateDeviceExtensionProperties(impl->physical, nullptr, &ne, ext.data());
-    std::vector<const char *> extensions(std::begin(kRequiredExtensions),
-                                         std::end(kRequiredExtensions));
-    for (const char *e : kOptionalExtensions)
-        for (const auto &x : ext)
-            if (std::strcmp(x.extensionName, e) == 0) extensions.push_back(e);
+    enable.f2.features.shaderInt64 = available.shaderInt64;
+    std::vector<const char *> extensions;
+    if (impl->ray_queries) {
+        enable.v12.bufferDeviceAddress = VK_TRUE;
+        enable.as.accelerationStructure = VK_TRUE;
+        enable.rq.rayQuery = VK_TRUE;
+        uint32_t ne = 0;
+        vkEnumerateDeviceExtensionProperties(impl->physical, nullptr, &ne, nullptr);
+        std::vector<VkExtensionProperties> ext(ne);
+        vkEnumerateDeviceExtensionProperties(impl->physical, nullptr, &ne, ext.data());
+        extensions.assign(std::begin(kRequiredExtensions), std::end(kRequiredExtensions));
+        for (const char *e : kOptionalExtensions)
+            for (const auto &x : ext)
+                if (std::strcmp(x.extensionName, e) == 0) extensions.push_back(e);
+    } else {
+        enable.v12.pNext = nullptr;  // no acceleration-structure or ray-query features
+    }
 
     VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     dci.pNext = &enable.f2;
@@ -328,6 +344,7 @@ std::unique_ptr<RayQueryDevice> RayQueryDevice::Open(std::string *why, bool allo
         if (!f) ErrorExit(std::string("Vulkan: ") + impl->name + " does not provide " + fn);
         return f;
     };
+    if (!impl->ray_queries) return FinishOpen(std::move(impl));
     impl->GetBuildSizes = reinterpret_cast<PFN_vkGetAccelerationStructureBuildSizesKHR>(
         load("vkGetAccelerationStructureBuildSizesKHR"));
     impl->CreateAccelerationStructure = reinterpret_cast<PFN_vkCreateAccelerationStructureKHR>(
@@ -341,16 +358,21 @@ std::unique_ptr<RayQueryDevice> RayQueryDevice::Open(std::string *why, bool allo
         reinterpret_cast<PFN_vkGetAccelerationStructureDeviceAddressKHR>(
             load("vkGetAccelerationStructureDeviceAddressKHR"));
 
+    return FinishOpen(std::move(impl));
+}
+
+std::unique_ptr<GpuDevice> GpuDevice::FinishOpen(std::unique_ptr<Impl> impl) {
     VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pci.queueFamilyIndex = impl->queue_family;
     VK_CHECK(vkCreateCommandPool(impl->device, &pci, nullptr, &impl->pool));
     VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     VK_CHECK(vkCreateFence(impl->device, &fci, nullptr, &impl->fence));
-    return std::unique_ptr<RayQueryDevice>(new RayQueryDevice(std::move(impl)));
+    return std::unique_ptr<GpuDevice>(new GpuDevice(std::move(impl)));
 }
 
-std::vector<uint32_t> RayQueryDevice::CompileGlsl(const std::string &source,
-                                                  const std::string &name) {
+bool GpuDevice::RayQueries() const { return impl_->ray_queries; }
+
+std::vector<uint32_t> GpuDevice::CompileGlsl(const std::string &source, const std::string &name) {
     shaderc::Compiler compiler;
     shaderc::CompileOptions options;
     options.SetOptimizationLevel(shaderc_optimization_level_performance);
@@ -363,10 +385,10 @@ std::vector<uint32_t> RayQueryDevice::CompileGlsl(const std::string &source,
     return {result.cbegin(), result.cend()};
 }
 
-void RayQueryDevice::BuildScene(const std::vector<float> &positions,
-                                const std::vector<uint32_t> &indices,
-                                const std::vector<float> &boxes) {
+void GpuDevice::BuildScene(const std::vector<float> &positions,
+                           const std::vector<uint32_t> &indices, const std::vector<float> &boxes) {
     Impl &d = *impl_;
+    CHECK(d.ray_queries);  // without them, shaders get their BVH as buffers
     CHECK(positions.size() % 3 == 0);
     CHECK(indices.size() % 3 == 0);
     const size_t vertex_count = positions.size() / 3;
@@ -495,13 +517,14 @@ void RayQueryDevice::BuildScene(const std::vector<float> &positions,
         d.Destroy(*b);
 }
 
-void RayQueryDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations,
-                         uint32_t local_size_x,
-                         const std::vector<std::vector<uint8_t> *> &buffers) {
+void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, uint32_t local_size_x,
+                    const std::vector<std::vector<uint8_t> *> &buffers) {
     Impl &d = *impl_;
     VkDevice dev = d.device;
-    CHECK(d.tlas != VK_NULL_HANDLE);  // BuildScene first
+    CHECK(!d.ray_queries || d.tlas != VK_NULL_HANDLE);  // BuildScene first
     CHECK(local_size_x > 0);
+    // With ray queries the acceleration structure is binding 0 and the buffers follow it.
+    const uint32_t first = d.ray_queries ? 1 : 0;
     if (invocations == 0) return;
     const uint32_t nb = static_cast<uint32_t>(buffers.size());
 
@@ -520,14 +543,15 @@ void RayQueryDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocation
         Pipeline p;
         p.code = spirv;
         p.buffer_count = nb;
-        std::vector<VkDescriptorSetLayoutBinding> bindings(nb + 1);
-        bindings[0] = {0, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1,
-                       VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+        std::vector<VkDescriptorSetLayoutBinding> bindings(nb + first);
+        if (first)
+            bindings[0] = {0, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1,
+                           VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
         for (uint32_t i = 0; i < nb; ++i)
-            bindings[i + 1] = {i + 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1,
-                               VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+            bindings[i + first] = {i + first, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1,
+                                   VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
         VkDescriptorSetLayoutCreateInfo dslci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-        dslci.bindingCount = nb + 1;
+        dslci.bindingCount = nb + first;
         dslci.pBindings = bindings.data();
         VK_CHECK(vkCreateDescriptorSetLayout(dev, &dslci, nullptr, &p.set_layout));
         VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
@@ -565,12 +589,14 @@ void RayQueryDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocation
         if (size > 0) std::memcpy(b.mapped, buffers[i]->data(), size);
     }
 
-    VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1},
-                                     {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, nb}};
+    std::vector<VkDescriptorPoolSize> sizes;
+    if (first) sizes.push_back({VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, 1});
+    if (nb > 0) sizes.push_back({VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, nb});
+    CHECK(!sizes.empty());
     VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     dpci.maxSets = 1;
-    dpci.poolSizeCount = nb > 0 ? 2 : 1;
-    dpci.pPoolSizes = sizes;
+    dpci.poolSizeCount = static_cast<uint32_t>(sizes.size());
+    dpci.pPoolSizes = sizes.data();
     VkDescriptorPool dpool;
     VK_CHECK(vkCreateDescriptorPool(dev, &dpci, nullptr, &dpool));
     VkDescriptorSetAllocateInfo dsai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
@@ -584,24 +610,26 @@ void RayQueryDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocation
     as_write.accelerationStructureCount = 1;
     as_write.pAccelerationStructures = &d.tlas;
     std::vector<VkDescriptorBufferInfo> infos(nb);
-    std::vector<VkWriteDescriptorSet> writes(nb + 1, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET});
-    writes[0].pNext = &as_write;
-    writes[0].dstSet = set;
-    writes[0].dstBinding = 0;
-    writes[0].descriptorCount = 1;
-    writes[0].descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
+    std::vector<VkWriteDescriptorSet> writes(nb + first, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET});
+    if (first) {
+        writes[0].pNext = &as_write;
+        writes[0].dstSet = set;
+        writes[0].dstBinding = 0;
+        writes[0].descriptorCount = 1;
+        writes[0].descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
+    }
     for (uint32_t i = 0; i < nb; ++i) {
         // The range is the caller's size, not the buffer's capacity, so .length() in the shader
         // is right (a range may not be 0: empty buffers get 16 bytes, the least Create makes).
         const size_t size = buffers[i]->size();
         infos[i] = {d.run_buffers[i].buffer, 0, size > 0 ? size : 16};
-        writes[i + 1].dstSet = set;
-        writes[i + 1].dstBinding = i + 1;
-        writes[i + 1].descriptorCount = 1;
-        writes[i + 1].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        writes[i + 1].pBufferInfo = &infos[i];
+        writes[i + first].dstSet = set;
+        writes[i + first].dstBinding = i + first;
+        writes[i + first].descriptorCount = 1;
+        writes[i + first].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        writes[i + first].pBufferInfo = &infos[i];
     }
-    vkUpdateDescriptorSets(dev, nb + 1, writes.data(), 0, nullptr);
+    vkUpdateDescriptorSets(dev, nb + first, writes.data(), 0, nullptr);
 
     // Groups beyond the x limit go in y (see the header for how the shader indexes then).
     const uint64_t groups = (uint64_t{invocations} + local_size_x - 1) / local_size_x;

@@ -1,5 +1,7 @@
-// A Vulkan device with ray queries (VK_KHR_ray_query) holding one scene's acceleration
-// structures: an explicit build, then compute dispatches that trace against it, as with Embree.
+// A Vulkan compute device for the ray tracers: with ray queries (VK_KHR_ray_query) it holds one
+// scene's acceleration structures (an explicit build, then dispatches that trace against them,
+// as with Embree); without them (NVIDIA's H100 and H200 have no RT cores), shaders walk a BVH
+// of our own that they get as storage buffers.
 #pragma once
 
 #include <cstdint>
@@ -9,19 +11,26 @@
 
 namespace dayflux::vk {
 
-// A Vulkan device with ray queries, holding one scene's acceleration structures.
-class RayQueryDevice {
+// How shaders find hits: ray queries against the device's acceleration structures, or a walk of
+// our BVH (raytrace/bvh.h); kAuto takes ray queries where the device has them.
+enum class Traversal { kAuto, kRayQuery, kBvh };
+
+class GpuDevice {
   public:
     // The device choice of vulkan/devices.h (DAYFLUX_VULKAN_DEVICE by name substring or index,
-    // else a discrete GPU first, else any), but only among Vulkan 1.2 devices with
-    // VK_KHR_acceleration_structure, VK_KHR_ray_query, bufferDeviceAddress and shaderFloat64 (our
-    // generated GLSL uses doubles). CPU devices (lavapipe) count only with allow_cpu or when
-    // DAYFLUX_VULKAN_DEVICE names them: they are slower than our Embree backend. Returns nullptr
-    // and sets *why when none qualifies.
-    static std::unique_ptr<RayQueryDevice> Open(std::string *why, bool allow_cpu = true);
-    ~RayQueryDevice();
-    RayQueryDevice(const RayQueryDevice &) = delete;
-    RayQueryDevice &operator=(const RayQueryDevice &) = delete;
+    // else a discrete GPU first, else any), among Vulkan 1.2 devices with shaderFloat64 (our
+    // generated GLSL uses doubles) and, for kRayQuery, VK_KHR_acceleration_structure,
+    // VK_KHR_ray_query and bufferDeviceAddress. CPU devices (lavapipe) count only with allow_cpu
+    // or when DAYFLUX_VULKAN_DEVICE names them: they are slower than our Embree backend. Returns
+    // nullptr and sets *why when none qualifies.
+    static std::unique_ptr<GpuDevice> Open(std::string *why, bool allow_cpu = true,
+                                           Traversal traversal = Traversal::kRayQuery);
+    // Whether shaders use ray queries here (else they walk a BVH: Run binds no acceleration
+    // structure, and the buffers start at binding 0).
+    bool RayQueries() const;
+    ~GpuDevice();
+    GpuDevice(const GpuDevice &) = delete;
+    GpuDevice &operator=(const GpuDevice &) = delete;
 
     const std::string &Name() const;
     // The largest storage buffer a dispatch can bind (maxStorageBufferRange).
@@ -43,7 +52,8 @@ class RayQueryDevice {
 
     // Runs spirv over `invocations` invocations in groups of local_size_x (which must match the
     // shader's), with the top-level structure at set 0 binding 0 (accelerationStructureEXT) and
-    // storage buffers at bindings 1, 2, ... in the order given; they are copied in before and out
+    // storage buffers at bindings 1, 2, ... in the order given (without ray queries: no
+    // structure, buffers at 0, 1, ...); they are copied in before and out
     // after the run. No push constants. When the groups needed exceed maxComputeWorkGroupCount[0]
     // (65535 on lavapipe) they are laid out in y as well, so a shader that may see that many
     // should index with gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x *
@@ -55,7 +65,8 @@ class RayQueryDevice {
     struct Impl;
 
   private:
-    explicit RayQueryDevice(std::unique_ptr<Impl> impl);
+    explicit GpuDevice(std::unique_ptr<Impl> impl);
+    static std::unique_ptr<GpuDevice> FinishOpen(std::unique_ptr<Impl> impl);
     std::unique_ptr<Impl> impl_;
 };
 

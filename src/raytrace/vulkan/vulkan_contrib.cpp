@@ -16,6 +16,7 @@
 
 #include "cal/glsl.h"
 #include "raytrace/analytic.h"
+#include "raytrace/bvh.h"
 #include "raytrace/materials.h"
 #include "raytrace/vulkan/raytracing.h"
 #include "shaders/common.h"
@@ -70,7 +71,7 @@ std::vector<uint32_t> CompileCached(const std::string &source) {
         while (in.read(reinterpret_cast<char *>(&word), sizeof word)) spirv.push_back(word);
         if (spirv.size() > 5 && spirv[0] == 0x07230203u) return spirv;  // SPIR-V magic
     }
-    std::vector<uint32_t> spirv = vk::RayQueryDevice::CompileGlsl(source, "contrib.comp");
+    std::vector<uint32_t> spirv = vk::GpuDevice::CompileGlsl(source, "contrib.comp");
     if (!dir.empty()) {  // best effort: a read-only home only costs the next run a compile
         std::error_code ec;
         fs::create_directories(dir, ec);
@@ -89,7 +90,7 @@ std::vector<uint32_t> CompileCached(const std::string &source) {
 }  // namespace
 
 struct VulkanContribIntegrator::Impl {
-    std::unique_ptr<vk::RayQueryDevice> device;
+    std::unique_ptr<vk::GpuDevice> device;
     ContribOptions o;
     std::vector<uint32_t> spirv;
     double centre[3] = {0, 0, 0};
@@ -101,6 +102,7 @@ struct VulkanContribIntegrator::Impl {
     int columns = 0;
     int max_rows = 1;  // divisions along one side of the first hemisphere (slices are rows)
     std::vector<uint8_t> positions, indices, triangles, surfaces, sources, shapes;
+    std::vector<uint8_t> bvh_nodes, bvh_prims;  // without ray queries: our BVH of the scene
 };
 
 VulkanContribIntegrator::VulkanContribIntegrator(std::unique_ptr<Impl> impl, int columns)
@@ -320,17 +322,30 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
                         std::to_string(k) + "());\n";
     pattern_glsl += "    return vec3(1);\n}\n";
 
-    // lavapipe only when asked for: on a CPU, the Embree backend is faster.
+    // lavapipe only when asked for: on a CPU, the Embree backend is faster. Ray queries where
+    // the device has them, unless DAYFLUX_GPU_TRAVERSAL says otherwise (rayquery, bvh, auto).
     const char *named = std::getenv("DAYFLUX_VULKAN_DEVICE");
-    impl->device = vk::RayQueryDevice::Open(why, named && *named);
+    vk::Traversal traversal = vk::Traversal::kAuto;
+    if (const char *t = std::getenv("DAYFLUX_GPU_TRAVERSAL"); t && *t) {
+        const std::string v = t;
+        if (v == "rayquery")
+            traversal = vk::Traversal::kRayQuery;
+        else if (v == "bvh")
+            traversal = vk::Traversal::kBvh;
+        else if (v != "auto")
+            ErrorExit("DAYFLUX_GPU_TRAVERSAL=" + v + ": auto, rayquery or bvh");
+    }
+    impl->device = vk::GpuDevice::Open(why, named && *named, traversal);
     if (!impl->device) return nullptr;
+    const bool rq = impl->device->RayQueries();
 
     const auto &o = options;
     impl->max_rows = std::max(1, static_cast<int>(std::sqrt(double(o.ambient_divisions)) + 1.5));
     impl->extent = extent;
     impl->nsources = static_cast<int>(srcs.size());
     for (const gpu::GpuSource &g : srcs) impl->ndirect += g.colour.w > 0.5f ? 0 : 1;
-    std::string src = "#version 460\n#extension GL_EXT_ray_query : require\n";
+    std::string src = rq ? "#version 460\n#extension GL_EXT_ray_query : require\n"
+                         : "#version 460\n#define DAYFLUX_BVH 1\n";
     const auto define = [&](const char *name, const std::string &value) {
         src += std::string("#define ") + name + " " + value + "\n";
     };
@@ -382,7 +397,44 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         *why = "the scene is too large for " + impl->device->Name() + "'s storage buffers";
         return nullptr;
     }
-    impl->device->BuildScene(pos, idx, boxes);
+    if (rq) {
+        impl->device->BuildScene(pos, idx, boxes);
+    } else {
+        // Our BVH over the triangles (entries i >= 0) and the analytic shapes (-(i + 1)).
+        std::vector<float> bounds;
+        bounds.reserve((idx.size() / 3 + boxes.size() / 6) * 6);
+        for (size_t t = 0; t + 2 < idx.size(); t += 3) {
+            float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
+            for (size_t c = 0; c < 3; ++c)
+                for (int k = 0; k < 3; ++k) {
+                    const float x = pos[3 * static_cast<size_t>(idx[t + c]) + k];
+                    lo[k] = std::min(lo[k], x), hi[k] = std::max(hi[k], x);
+                }
+            bounds.insert(bounds.end(), lo, lo + 3);
+            bounds.insert(bounds.end(), hi, hi + 3);
+        }
+        bounds.insert(bounds.end(), boxes.begin(), boxes.end());
+        const FlatBvh bvh = BuildBvh(bounds);
+        const int32_t ntri = static_cast<int32_t>(idx.size() / 3);
+        std::vector<gpu::GpuBvhNode> nodes(bvh.nodes.size());
+        for (size_t i = 0; i < nodes.size(); ++i) {
+            const FlatBvhNode &n = bvh.nodes[i];
+            nodes[i].lo = Vec4(n.lo[0], n.lo[1], n.lo[2]);
+            nodes[i].hi = Vec4(n.hi[0], n.hi[1], n.hi[2]);
+            nodes[i].count = n.count;
+            nodes[i].index = n.index;
+        }
+        std::vector<int32_t> prims(bvh.prims);
+        for (int32_t &p : prims)
+            if (p >= ntri) p = -(p - ntri + 1);
+        if (nodes.size() * sizeof(gpu::GpuBvhNode) > limit) {
+            *why =
+                "the scene's BVH is too large for " + impl->device->Name() + "'s storage buffers";
+            return nullptr;
+        }
+        impl->bvh_nodes = Bytes(nodes);
+        impl->bvh_prims = Bytes(prims);
+    }
     impl->positions = Bytes(pos);
     impl->indices = Bytes(idx);
     impl->triangles = Bytes(tris);
@@ -445,9 +497,14 @@ void VulkanContribIntegrator::Trace(const double *rays, size_t n, uint64_t first
         std::vector<uint8_t> task_bytes(sizeof tasks);
         std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
         std::vector<uint8_t> accum(count * record * d.accum_bytes(), 0), stats(16, 0);
-        d.device->Run(d.spirv, static_cast<uint32_t>(count), kLocalSize,
-                      {&ray_bytes, &d.positions, &d.indices, &d.triangles, &d.surfaces, &d.sources,
-                       &accum, &task_bytes, &stats, &d.shapes});
+        std::vector<std::vector<uint8_t> *> buffers = {
+            &ray_bytes, &d.positions, &d.indices,  &d.triangles, &d.surfaces,
+            &d.sources, &accum,       &task_bytes, &stats,       &d.shapes};
+        if (!d.device->RayQueries()) {  // our BVH at binding 0, its entries after the rest
+            buffers.insert(buffers.begin(), &d.bvh_nodes);
+            buffers.push_back(&d.bvh_prims);
+        }
+        d.device->Run(d.spirv, static_cast<uint32_t>(count), kLocalSize, buffers);
         uint32_t lost;
         std::memcpy(&lost, stats.data(), sizeof lost);
         if (lost > 0 && d.dropped == 0)
