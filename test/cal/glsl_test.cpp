@@ -74,7 +74,7 @@ class GlslAgainstInterpreter : public testing::Test {
         std::vector<uint8_t> in(dirs.size() * sizeof(double)),
             out(static_cast<size_t>(n) * k * sizeof(double));
         std::memcpy(in.data(), dirs.data(), in.size());
-        device_->Run(spirv, n, 64, {&in, &out});
+        device_->Run(spirv, n, 64, {vk::GpuDevice::In(&in), vk::GpuDevice::InOut(&out)});
         std::vector<double> gpu(static_cast<size_t>(n) * k);
         std::memcpy(gpu.data(), out.data(), out.size());
         ChannelArray ray(std::vector<double>(27, 0.0));

@@ -80,7 +80,7 @@ class VulkanRayQuery : public testing::Test {
             out_bytes(rays.size() * sizeof(Hit));
         std::memcpy(in_bytes.data(), in.data(), in_bytes.size());
         device_->Run(spirv, static_cast<uint32_t>(rays.size()), local_size_x,
-                     {&in_bytes, &out_bytes});
+                     {vk::GpuDevice::In(&in_bytes), vk::GpuDevice::InOut(&out_bytes)});
         std::vector<Hit> hits(rays.size());
         std::memcpy(hits.data(), out_bytes.data(), out_bytes.size());
         return hits;

@@ -98,6 +98,8 @@ struct GpuDevice::Impl {
 
     std::unordered_map<size_t, Pipeline> pipelines;
     std::vector<Buffer> run_buffers;  // grown as needed, reused across runs
+    std::vector<Buffer> resident;     // Resident(): device-local, with the data's own sizes
+    std::vector<VkDeviceSize> resident_size;
 
     ~Impl() {
         if (device) {
@@ -105,6 +107,7 @@ struct GpuDevice::Impl {
             DestroyScene();
             for (auto &[key, p] : pipelines) DestroyPipeline(p);
             for (Buffer &b : run_buffers) Destroy(b);
+            for (Buffer &b : resident) Destroy(b);
             if (fence) vkDestroyFence(device, fence, nullptr);
             if (pool) vkDestroyCommandPool(device, pool, nullptr);
             vkDestroyDevice(device, nullptr);
@@ -517,8 +520,37 @@ void GpuDevice::BuildScene(const std::vector<float> &positions,
         d.Destroy(*b);
 }
 
+int GpuDevice::Resident(const std::vector<uint8_t> &data) {
+    Impl &d = *impl_;
+    if (data.size() > d.limits.maxStorageBufferRange)
+        ErrorExit("Vulkan: a buffer of " + std::to_string(data.size()) + " bytes exceeds " +
+                  d.name + "'s maxStorageBufferRange of " +
+                  std::to_string(d.limits.maxStorageBufferRange));
+    Buffer b = d.Create(
+        data.size(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false);
+    if (!data.empty()) {
+        Buffer staging = d.Create(data.size(), VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true);
+        std::memcpy(staging.mapped, data.data(), data.size());
+        VkCommandBuffer cb = d.BeginCommands();
+        VkBufferCopy region{0, 0, data.size()};
+        vkCmdCopyBuffer(cb, staging.buffer, b.buffer, 1, &region);
+        // Later dispatches read what the copy wrote.
+        VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+        vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &barrier, 0, nullptr, 0,
+                             nullptr);
+        d.SubmitAndWait(cb);
+        d.Destroy(staging);
+    }
+    d.resident.push_back(b);
+    d.resident_size.push_back(data.size());
+    return static_cast<int>(d.resident.size()) - 1;
+}
+
 void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, uint32_t local_size_x,
-                    const std::vector<std::vector<uint8_t> *> &buffers) {
+                    const std::vector<Binding> &bindings) {
     Impl &d = *impl_;
     VkDevice dev = d.device;
     CHECK(!d.ray_queries || d.tlas != VK_NULL_HANDLE);  // BuildScene first
@@ -526,7 +558,7 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
     // With ray queries the acceleration structure is binding 0 and the buffers follow it.
     const uint32_t first = d.ray_queries ? 1 : 0;
     if (invocations == 0) return;
-    const uint32_t nb = static_cast<uint32_t>(buffers.size());
+    const uint32_t nb = static_cast<uint32_t>(bindings.size());
 
     // The pipeline, from the cache when this code ran before.
     size_t key = std::hash<std::string_view>{}(std::string_view(
@@ -576,7 +608,13 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
     // Storage buffers, kept between runs and grown when too small.
     if (d.run_buffers.size() < nb) d.run_buffers.resize(nb);
     for (uint32_t i = 0; i < nb; ++i) {
-        const size_t size = buffers[i]->size();
+        if (!bindings[i].host) {
+            CHECK(bindings[i].resident >= 0 &&
+                  bindings[i].resident < static_cast<int>(d.resident.size()));
+            continue;
+        }
+        const std::vector<uint8_t> &data = *bindings[i].host;
+        const size_t size = data.size();
         if (size > d.limits.maxStorageBufferRange)
             ErrorExit("Vulkan: a buffer of " + std::to_string(size) + " bytes exceeds " + d.name +
                       "'s maxStorageBufferRange of " +
@@ -586,7 +624,7 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
             d.Destroy(b);
             b = d.Create(size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true);
         }
-        if (size > 0) std::memcpy(b.mapped, buffers[i]->data(), size);
+        if (size > 0) std::memcpy(b.mapped, data.data(), size);
     }
 
     std::vector<VkDescriptorPoolSize> sizes;
@@ -621,8 +659,10 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
     for (uint32_t i = 0; i < nb; ++i) {
         // The range is the caller's size, not the buffer's capacity, so .length() in the shader
         // is right (a range may not be 0: empty buffers get 16 bytes, the least Create makes).
-        const size_t size = buffers[i]->size();
-        infos[i] = {d.run_buffers[i].buffer, 0, size > 0 ? size : 16};
+        const Binding &bi = bindings[i];
+        const VkDeviceSize size = bi.host ? bi.host->size() : d.resident_size[bi.resident];
+        const VkBuffer buffer = bi.host ? d.run_buffers[i].buffer : d.resident[bi.resident].buffer;
+        infos[i] = {buffer, 0, size > 0 ? size : 16};
         writes[i + first].dstSet = set;
         writes[i + first].dstBinding = i + first;
         writes[i + first].descriptorCount = 1;
@@ -654,8 +694,9 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
     vkDestroyDescriptorPool(dev, dpool, nullptr);
 
     for (uint32_t i = 0; i < nb; ++i)
-        if (!buffers[i]->empty())
-            std::memcpy(buffers[i]->data(), d.run_buffers[i].mapped, buffers[i]->size());
+        if (bindings[i].host && bindings[i].read_back && !bindings[i].host->empty())
+            std::memcpy(bindings[i].host->data(), d.run_buffers[i].mapped,
+                        bindings[i].host->size());
 }
 
 }  // namespace dayflux::vk

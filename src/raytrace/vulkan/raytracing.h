@@ -50,17 +50,29 @@ class GpuDevice {
     void BuildScene(const std::vector<float> &positions, const std::vector<uint32_t> &indices,
                     const std::vector<float> &boxes = {});
 
+    // Data that stays on the device between runs (a scene's tables): copied once into
+    // device-local memory, where shaders read it fastest on a discrete GPU. Returns its handle.
+    int Resident(const std::vector<uint8_t> &data);
+    // A buffer as Run binds it: a host vector copied in before the run and, with read_back, out
+    // after it; or a resident buffer.
+    struct Binding {
+        std::vector<uint8_t> *host = nullptr;
+        bool read_back = true;
+        int resident = -1;
+    };
+    static Binding In(std::vector<uint8_t> *host) { return {host, false, -1}; }
+    static Binding InOut(std::vector<uint8_t> *host) { return {host, true, -1}; }
+    static Binding OnDevice(int handle) { return {nullptr, false, handle}; }
     // Runs spirv over `invocations` invocations in groups of local_size_x (which must match the
     // shader's), with the top-level structure at set 0 binding 0 (accelerationStructureEXT) and
     // storage buffers at bindings 1, 2, ... in the order given (without ray queries: no
-    // structure, buffers at 0, 1, ...); they are copied in before and out
-    // after the run. No push constants. When the groups needed exceed maxComputeWorkGroupCount[0]
-    // (65535 on lavapipe) they are laid out in y as well, so a shader that may see that many
-    // should index with gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x *
-    // gl_WorkGroupSize.x (y is 0 otherwise). Every shader must ignore indices >= invocations.
-    // Pipelines are cached by code, so running the same spirv again is cheap.
+    // structure, buffers at 0, 1, ...). No push constants. When the groups needed exceed
+    // maxComputeWorkGroupCount[0] (65535 on lavapipe) they are laid out in y as well, so a shader
+    // that may see that many should index with gl_GlobalInvocationID.x + gl_GlobalInvocationID.y *
+    // gl_NumWorkGroups.x * gl_WorkGroupSize.x (y is 0 otherwise). Every shader must ignore indices
+    // >= invocations. Pipelines are cached by code, so running the same spirv again is cheap.
     void Run(const std::vector<uint32_t> &spirv, uint32_t invocations, uint32_t local_size_x,
-             const std::vector<std::vector<uint8_t> *> &buffers);
+             const std::vector<Binding> &bindings);
 
     struct Impl;
 

@@ -101,8 +101,10 @@ struct VulkanContribIntegrator::Impl {
     mutable uint64_t dropped = 0;  // stack items lost, over the run (warned about once)
     int columns = 0;
     int max_rows = 1;  // divisions along one side of the first hemisphere (slices are rows)
-    std::vector<uint8_t> positions, indices, triangles, surfaces, sources, shapes;
-    std::vector<uint8_t> bvh_nodes, bvh_prims;  // without ray queries: our BVH of the scene
+    // The scene's tables, resident on the device (GpuDevice::Resident handles); bvh_nodes and
+    // bvh_prims only without ray queries (our BVH of the scene).
+    int positions = -1, indices = -1, triangles = -1, surfaces = -1, sources = -1, shapes = -1;
+    int bvh_nodes = -1, bvh_prims = -1;
 };
 
 VulkanContribIntegrator::VulkanContribIntegrator(std::unique_ptr<Impl> impl, int columns)
@@ -432,15 +434,16 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
                 "the scene's BVH is too large for " + impl->device->Name() + "'s storage buffers";
             return nullptr;
         }
-        impl->bvh_nodes = Bytes(nodes);
-        impl->bvh_prims = Bytes(prims);
+        impl->bvh_nodes = impl->device->Resident(Bytes(nodes));
+        impl->bvh_prims = impl->device->Resident(Bytes(prims));
     }
-    impl->positions = Bytes(pos);
-    impl->indices = Bytes(idx);
-    impl->triangles = Bytes(tris);
-    impl->surfaces = Bytes(surfaces);
-    impl->sources = Bytes(srcs);
-    impl->shapes = Bytes(shapes);
+    vk::GpuDevice &dev = *impl->device;
+    impl->positions = dev.Resident(Bytes(pos));
+    impl->indices = dev.Resident(Bytes(idx));
+    impl->triangles = dev.Resident(Bytes(tris));
+    impl->surfaces = dev.Resident(Bytes(surfaces));
+    impl->sources = dev.Resident(Bytes(srcs));
+    impl->shapes = dev.Resident(Bytes(shapes));
     return std::unique_ptr<VulkanContribIntegrator>(
         new VulkanContribIntegrator(std::move(impl), columns));
 }
@@ -497,12 +500,15 @@ void VulkanContribIntegrator::Trace(const double *rays, size_t n, uint64_t first
         std::vector<uint8_t> task_bytes(sizeof tasks);
         std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
         std::vector<uint8_t> accum(count * record * d.accum_bytes(), 0), stats(16, 0);
-        std::vector<std::vector<uint8_t> *> buffers = {
-            &ray_bytes, &d.positions, &d.indices,  &d.triangles, &d.surfaces,
-            &d.sources, &accum,       &task_bytes, &stats,       &d.shapes};
+        using G = vk::GpuDevice;
+        std::vector<G::Binding> buffers = {G::In(&ray_bytes),       G::OnDevice(d.positions),
+                                           G::OnDevice(d.indices),  G::OnDevice(d.triangles),
+                                           G::OnDevice(d.surfaces), G::OnDevice(d.sources),
+                                           G::InOut(&accum),        G::In(&task_bytes),
+                                           G::InOut(&stats),        G::OnDevice(d.shapes)};
         if (!d.device->RayQueries()) {  // our BVH at binding 0, its entries after the rest
-            buffers.insert(buffers.begin(), &d.bvh_nodes);
-            buffers.push_back(&d.bvh_prims);
+            buffers.insert(buffers.begin(), G::OnDevice(d.bvh_nodes));
+            buffers.push_back(G::OnDevice(d.bvh_prims));
         }
         d.device->Run(d.spirv, static_cast<uint32_t>(count), kLocalSize, buffers);
         uint32_t lost;
