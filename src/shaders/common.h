@@ -41,6 +41,7 @@ DAYFLUX_GPU_CONST kMatGlass = 2;
 DAYFLUX_GPU_CONST kMatMirror = 3;
 DAYFLUX_GPU_CONST kMatGlow = 4;
 DAYFLUX_GPU_CONST kMatLight = 5;
+DAYFLUX_GPU_CONST kMatMix = 6;  // mixfunc: `pattern` mixes surfaces `fore` and `back` (-1: void)
 
 // A node of the BVH traversed where there are no ray queries (raytrace/bvh.h), depth first: an
 // inner node's first child follows it, `index` is its second; a leaf's primitives are
@@ -70,7 +71,9 @@ struct GpuSurface {
     int kind;      // kMat*
     int tracked;   // -m index, or -1
     float alpha2;  // roughness squared (0: pure specular)
-    int pattern;   // brightfunc/colorfunc multiplying the colour, or -1
+    int pattern;   // brightfunc/colorfunc multiplying the colour, or -1 (mixfunc: its mix)
+    int fore, back;  // mixfunc: its two materials' surfaces (-1: void)
+    int pad0, pad1;
 };
 
 // An analytic surface (sphere/bubble, cone/cup, cylinder/tube, ring), recentred.

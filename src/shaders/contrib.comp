@@ -482,7 +482,37 @@ void PushGaussianReflection(Ray r, vec3 scolor, float alpha2, vec3 point, vec3 n
     }
 }
 
+void ShadeBasic(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t);
+
+// raymixture() for a mixfunc: each side shades its share of the ray (a void side lets its share
+// through); GLSL has no recursion, so sides are basic materials (no mixfunc of mixfuncs).
+// (One call of ShadeBasic, so that the compiler inlines it once.)
 void ShadeMaterial(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t) {
+    float c = 1;
+    if (m.kind == kMatMix) {
+        SetRayVariables(r, point, normal, t);
+        c = clamp(float(PatternRGB(m.pattern).x), 0.0, 1.0);
+    }
+    for (int side = 0; side < (m.kind == kMatMix ? 2 : 1); ++side) {
+        float share = side == 0 ? c : 1 - c;
+        if (m.kind == kMatMix && share <= kTiny) continue;
+        Ray part = r;
+        GpuSurface basic = m;
+        if (m.kind == kMatMix) {
+            part.weight *= share;
+            part.coef *= share;
+            int s = side == 0 ? m.fore : m.back;
+            if (s < 0) {
+                PushChild(part, kTrans, vec3(1), point, part.dir);
+                continue;
+            }
+            basic = surfaces[s];
+        }
+        ShadeBasic(part, basic, point, normal, rod, t);
+    }
+}
+
+void ShadeBasic(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t) {
     if (m.kind == kMatBlack || m.kind == kMatGlow || m.kind == kMatLight) return;
     vec3 c = Colour(m, r, point, normal, t);
     if (m.kind == kMatMirror) {

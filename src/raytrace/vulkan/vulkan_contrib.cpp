@@ -30,7 +30,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // The std430 layouts the shader sees (common.h): vec4s and 4-byte scalars, doubles 8-aligned.
-static_assert(sizeof(gpu::GpuTriangle) == 32 && sizeof(gpu::GpuSurface) == 48);
+static_assert(sizeof(gpu::GpuTriangle) == 32 && sizeof(gpu::GpuSurface) == 64);
 static_assert(sizeof(gpu::GpuSource) == 80 && sizeof(gpu::GpuTasks) == 128);
 static_assert(offsetof(gpu::GpuTasks, lw) == 64 && offsetof(gpu::GpuTasks, centre_x) == 96);
 
@@ -129,6 +129,8 @@ int GpuKind(Material::Kind kind) {
             return gpu::kMatGlow;
         case Material::kLight:
             return gpu::kMatLight;
+        case Material::kMix:
+            return gpu::kMatMix;
         default:
             CHECK(false);  // refused by Create's unsupported()
             return gpu::kMatBlack;
@@ -152,11 +154,18 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         return nullptr;
     }
     SceneMaterials table(scene, tracked);
-    const auto unsupported = [&](const Material &m) -> std::string {
-        if (m.kind == Material::kMix) return "mixfunc";
+    const auto basic = [](const Material &m) -> std::string {
+        if (m.kind == Material::kMix) return "mixfunc of mixfuncs";
         if (m.kind == Material::kBsdf) return "BSDF";
         if (m.kind == Material::kDielectric) return "dielectric";
         if (m.kind == Material::kIllum) return "illum";
+        return "";
+    };
+    const auto unsupported = [&](const Material &m) -> std::string {
+        if (m.kind != Material::kMix) return basic(m);
+        for (int side = 0; side < 2; ++side)
+            if (!m.mix->is_void[side])
+                if (std::string u = basic(side ? m.mix->back : m.mix->fore); !u.empty()) return u;
         return "";
     };
 
@@ -169,20 +178,24 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
 
     // Patterns (brightfunc, colorfunc): each compiled to GLSL once, by index.
     std::vector<const PatternFunction *> patterns;
-    const auto pattern_index = [&](const Material &m) {
-        if (!m.pattern) return -1;
-        auto it = std::find(patterns.begin(), patterns.end(), m.pattern);
+    const auto pattern_of = [&](const PatternFunction *p) {
+        if (!p) return -1;
+        auto it = std::find(patterns.begin(), patterns.end(), p);
         if (it != patterns.end()) return static_cast<int>(it - patterns.begin());
-        patterns.push_back(m.pattern);
+        patterns.push_back(p);
         return static_cast<int>(patterns.size()) - 1;
     };
+    const auto pattern_index = [&](const Material &m) { return pattern_of(m.pattern); };
     // Surfaces: one entry per (material, tracked modifier) the triangles use.
     std::vector<gpu::GpuSurface> surfaces;
     std::map<std::pair<const Material *, int>, int> surface_of;
-    const auto surface = [&](const Material &m, int k) {
+    const auto surface = [&](auto &&self, const Material &m, int k) -> int {
         auto [it, added] = surface_of.emplace(std::make_pair(&m, k), int(surfaces.size()));
         if (added) {
+            const int at = it->second;
+            surfaces.emplace_back();  // its place, before a mixfunc's sides take theirs
             gpu::GpuSurface s{};
+            s.fore = s.back = -1;
             s.color = Vec4(m.color[0], m.color[1], m.color[2], m.rindex);
             s.params = Vec4(m.spec, m.trans, m.tspec,
                             (m.metal ? gpu::kSurfaceMetal : 0) |
@@ -191,7 +204,12 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             s.tracked = k;
             s.alpha2 = static_cast<float>(m.alpha2);
             s.pattern = pattern_index(m);
-            surfaces.push_back(s);
+            if (m.kind == Material::kMix) {
+                s.pattern = pattern_of(m.mix->coef.get());
+                if (!m.mix->is_void[0]) s.fore = self(self, m.mix->fore, -1);
+                if (!m.mix->is_void[1]) s.back = self(self, m.mix->back, -1);
+            }
+            surfaces[at] = s;
         }
         return it->second;
     };
@@ -238,7 +256,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         gpu::GpuTriangle gt{};
         gt.normal = len > 0 ? Vec4(n[0] / len, n[1] / len, n[2] / len) : Vec4(0, 0, 1);
-        gt.surface = surface(m, k);
+        gt.surface = surface(surface, m, k);
         gt.object = object;
         tris.push_back(gt);
     }
@@ -263,7 +281,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
                  : sh.kind == AnalyticShape::kCylinder ? gpu::kShapeCylinder
                                                        : gpu::kShapeRing;
         g.inward = sh.inward ? 1 : 0;
-        g.surface = surface(m, table.TrackedOfObject(sh.object));
+        g.surface = surface(surface, m, table.TrackedOfObject(sh.object));
         g.object = sh.object;
         shapes.push_back(g);
         double a[3], b[3];
