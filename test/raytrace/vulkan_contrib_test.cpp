@@ -502,3 +502,28 @@ TEST_F(VulkanContrib, BvhTraversalFindsWhatRayQueriesFind) {
 
 }  // namespace
 }  // namespace dayflux::test
+
+namespace dayflux::test {
+namespace {
+
+// Two devices (here the same one opened twice) split the rays between them; rays keep their
+// random numbers, so the output is the one device's, byte for byte.
+TEST_F(VulkanContrib, TwoDevicesSplitTheRays) {
+    const fs::path room = DataDir() / "scene" / "models" / "room";
+    const std::string run = "rcontrib-gpu -backend vulkan -h -faf -I+ -ab 2 -ad 256 -lw 1e-3" +
+                            kBins +
+                            "-m skyglow materials.rad room.rad objects/Glazing.rad "
+                            "skyDomes/skyglow.rad < '" +
+                            (DataDir() / "rcontrib" / "points.txt").string() + "'";
+    const std::string one = "${DAYFLUX_VULKAN_DEVICE:-llvmpipe}";
+    CommandResult a = RunCommand("DAYFLUX_VULKAN_DEVICE=" + one + " " + run, room);
+    CommandResult b = RunCommand("DAYFLUX_VULKAN_DEVICE=" + one + "," + one + " " + run, room);
+    ASSERT_EQ(a.status, 0) << a.err;
+    ASSERT_EQ(b.status, 0) << b.err;
+    EXPECT_EQ(b.err.find("using Embree"), std::string::npos) << b.err;
+    EXPECT_EQ(a.out.size(), 100u * 146 * 12);
+    EXPECT_TRUE(a.out == b.out);
+}
+
+}  // namespace
+}  // namespace dayflux::test

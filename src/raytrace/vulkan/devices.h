@@ -7,6 +7,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace dayflux::vk {
 
@@ -14,8 +15,15 @@ namespace dayflux::vk {
 VkInstance CreateInstance(std::string *why);
 
 // lacks(device) says what a device is missing for the caller ("" when it has everything).
-// Returns VK_NULL_HANDLE and sets *why (with each device's shortcoming) when none qualifies; a
-// device DAYFLUX_VULKAN_DEVICE names counts even when it is a CPU device.
+// Returns the devices to use, best first: those DAYFLUX_VULKAN_DEVICE names (a comma-separated
+// list of indices or name parts; one naming the same device twice opens it twice), else every
+// device of the best kind (all discrete GPUs, say). Returns none and sets *why (with each
+// device's shortcoming) when none qualifies; a device DAYFLUX_VULKAN_DEVICE names counts even
+// when it is a CPU device.
+std::vector<VkPhysicalDevice> ChooseDevices(
+    VkInstance instance, const std::function<std::string(VkPhysicalDevice)> &lacks, bool allow_cpu,
+    const std::string &what, std::string *why);
+// The first of them (VK_NULL_HANDLE if none).
 VkPhysicalDevice ChooseDevice(VkInstance instance,
                               const std::function<std::string(VkPhysicalDevice)> &lacks,
                               bool allow_cpu, const std::string &what, std::string *why);

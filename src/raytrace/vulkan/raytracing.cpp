@@ -275,7 +275,22 @@ std::string LacksRayQueries(VkPhysicalDevice device) {
 
 }  // namespace
 
-std::unique_ptr<GpuDevice> GpuDevice::Open(std::string *why, bool allow_cpu, Traversal traversal) {
+std::vector<std::unique_ptr<GpuDevice>> GpuDevice::OpenAll(std::string *why, bool allow_cpu,
+                                                           Traversal traversal) {
+    std::vector<std::unique_ptr<GpuDevice>> all;
+    for (int k = 0;; ++k) {
+        std::string why_k;
+        std::unique_ptr<GpuDevice> d = Open(&why_k, allow_cpu, traversal, k);
+        if (!d) {
+            if (all.empty()) *why = why_k;
+            return all;
+        }
+        all.push_back(std::move(d));
+    }
+}
+
+std::unique_ptr<GpuDevice> GpuDevice::Open(std::string *why, bool allow_cpu, Traversal traversal,
+                                           int ordinal) {
     auto impl = std::make_unique<Impl>();
     impl->instance = CreateInstance(why);
     if (!impl->instance) return nullptr;
@@ -289,10 +304,14 @@ std::unique_ptr<GpuDevice> GpuDevice::Open(std::string *why, bool allow_cpu, Tra
         if (traversal == Traversal::kRayQuery) lacks += LacksRayQueries(device);
         return lacks;
     };
-    impl->physical = ChooseDevice(
+    const std::vector<VkPhysicalDevice> choice = ChooseDevices(
         impl->instance, lacks, allow_cpu,
         traversal == Traversal::kRayQuery ? "with ray queries" : "with double precision", why);
-    if (!impl->physical) return nullptr;
+    if (ordinal >= static_cast<int>(choice.size())) {
+        if (!choice.empty()) *why = "no more devices";
+        return nullptr;
+    }
+    impl->physical = choice[ordinal];
     impl->ray_queries = traversal != Traversal::kBvh && LacksRayQueries(impl->physical).empty();
     VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
     if (impl->ray_queries) props.pNext = &impl->as_props;

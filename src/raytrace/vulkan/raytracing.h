@@ -24,7 +24,12 @@ class GpuDevice {
     // or when DAYFLUX_VULKAN_DEVICE names them: they are slower than our Embree backend. Returns
     // nullptr and sets *why when none qualifies.
     static std::unique_ptr<GpuDevice> Open(std::string *why, bool allow_cpu = true,
-                                           Traversal traversal = Traversal::kRayQuery);
+                                           Traversal traversal = Traversal::kRayQuery,
+                                           int ordinal = 0);
+    // Every device the choice gives (vulkan/devices.h: the ones named, else all of the best
+    // kind), each opened on its own; none, with *why, when none qualifies.
+    static std::vector<std::unique_ptr<GpuDevice>> OpenAll(std::string *why, bool allow_cpu,
+                                                           Traversal traversal);
     // Whether shaders use ray queries here (else they walk a BVH: Run binds no acceleration
     // structure, and the buffers start at binding 0).
     bool RayQueries() const;

@@ -13,6 +13,7 @@
 #include <functional>
 #include <map>
 #include <random>
+#include <thread>
 
 #include "cal/glsl.h"
 #include "raytrace/analytic.h"
@@ -89,10 +90,21 @@ std::vector<uint32_t> CompileCached(const std::string &source) {
 
 }  // namespace
 
-struct VulkanContribIntegrator::Impl {
+// One device's share: the device, its compiled shader (ray queries or our BVH) and its copy of
+// the scene's tables (GpuDevice::Resident handles; bvh_nodes and bvh_prims only without ray
+// queries).
+struct DeviceState {
     std::unique_ptr<vk::GpuDevice> device;
-    ContribOptions o;
     std::vector<uint32_t> spirv;
+    int positions = -1, indices = -1, triangles = -1, surfaces = -1, sources = -1, shapes = -1;
+    int bvh_nodes = -1, bvh_prims = -1;
+    uint64_t dropped = 0;  // stack items lost in its last Trace
+};
+
+struct VulkanContribIntegrator::Impl {
+    std::vector<DeviceState> devices;
+    std::string names;  // the devices' names, " + " between them
+    ContribOptions o;
     double centre[3] = {0, 0, 0};
     double extent = 0;
     size_t accum_bytes() const { return float_accumulators ? sizeof(float) : sizeof(double); }
@@ -101,16 +113,15 @@ struct VulkanContribIntegrator::Impl {
     mutable uint64_t dropped = 0;  // stack items lost, over the run (warned about once)
     int columns = 0;
     int max_rows = 1;  // divisions along one side of the first hemisphere (slices are rows)
-    // The scene's tables, resident on the device (GpuDevice::Resident handles); bvh_nodes and
-    // bvh_prims only without ray queries (our BVH of the scene).
-    int positions = -1, indices = -1, triangles = -1, surfaces = -1, sources = -1, shapes = -1;
-    int bvh_nodes = -1, bvh_prims = -1;
+    // Traces rays on one device, adding to their records.
+    void TraceOn(DeviceState &dev, const double *rays, size_t n, uint64_t first_index, int replica,
+                 double *records) const;
 };
 
 VulkanContribIntegrator::VulkanContribIntegrator(std::unique_ptr<Impl> impl, int columns)
     : impl_(std::move(impl)), columns_(columns) {}
 VulkanContribIntegrator::~VulkanContribIntegrator() = default;
-const std::string &VulkanContribIntegrator::DeviceName() const { return impl_->device->Name(); }
+const std::string &VulkanContribIntegrator::DeviceName() const { return impl_->names; }
 
 namespace {
 
@@ -355,17 +366,16 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         else if (v != "auto")
             ErrorExit("DAYFLUX_GPU_TRAVERSAL=" + v + ": auto, rayquery or bvh");
     }
-    impl->device = vk::GpuDevice::Open(why, named && *named, traversal);
-    if (!impl->device) return nullptr;
-    const bool rq = impl->device->RayQueries();
+    std::vector<std::unique_ptr<vk::GpuDevice>> opened =
+        vk::GpuDevice::OpenAll(why, named && *named, traversal);
+    if (opened.empty()) return nullptr;
 
     const auto &o = options;
     impl->max_rows = std::max(1, static_cast<int>(std::sqrt(double(o.ambient_divisions)) + 1.5));
     impl->extent = extent;
     impl->nsources = static_cast<int>(srcs.size());
     for (const gpu::GpuSource &g : srcs) impl->ndirect += g.colour.w > 0.5f ? 0 : 1;
-    std::string src = rq ? "#version 460\n#extension GL_EXT_ray_query : require\n"
-                         : "#version 460\n#define DAYFLUX_BVH 1\n";
+    std::string src;  // after the header, which depends on the device
     const auto define = [&](const char *name, const std::string &value) {
         src += std::string("#define ") + name + " " + value + "\n";
     };
@@ -409,18 +419,11 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     }
     src += first + ");\n" + nbins + ");\n";
     src += kShaderContrib;
-    impl->spirv = CompileCached(src);
 
-    const uint64_t limit = impl->device->MaxBufferBytes();
-    if (pos.size() * sizeof(float) > limit || tris.size() * sizeof(gpu::GpuTriangle) > limit ||
-        idx.size() * sizeof(uint32_t) > limit) {
-        *why = "the scene is too large for " + impl->device->Name() + "'s storage buffers";
-        return nullptr;
-    }
-    if (rq) {
-        impl->device->BuildScene(pos, idx, boxes);
-    } else {
-        // Our BVH over the triangles (entries i >= 0) and the analytic shapes (-(i + 1)).
+    // Our BVH over the triangles (entries i >= 0) and the analytic shapes (-(i + 1)), for
+    // devices without ray queries; built once.
+    std::vector<uint8_t> bvh_nodes, bvh_prims;
+    const auto build_bvh = [&] {
         std::vector<float> bounds;
         bounds.reserve((idx.size() / 3 + boxes.size() / 6) * 6);
         for (size_t t = 0; t + 2 < idx.size(); t += 3) {
@@ -447,29 +450,80 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         std::vector<int32_t> prims(bvh.prims);
         for (int32_t &p : prims)
             if (p >= ntri) p = -(p - ntri + 1);
-        if (nodes.size() * sizeof(gpu::GpuBvhNode) > limit) {
-            *why =
-                "the scene's BVH is too large for " + impl->device->Name() + "'s storage buffers";
+        bvh_nodes = Bytes(nodes);
+        bvh_prims = Bytes(prims);
+    };
+    for (std::unique_ptr<vk::GpuDevice> &device : opened) {
+        DeviceState dev;
+        const bool rq = device->RayQueries();
+        dev.spirv = CompileCached((rq ? "#version 460\n#extension GL_EXT_ray_query : require\n"
+                                      : "#version 460\n#define DAYFLUX_BVH 1\n") +
+                                  src);
+        const uint64_t limit = device->MaxBufferBytes();
+        if (pos.size() * sizeof(float) > limit || tris.size() * sizeof(gpu::GpuTriangle) > limit ||
+            idx.size() * sizeof(uint32_t) > limit) {
+            *why = "the scene is too large for " + device->Name() + "'s storage buffers";
             return nullptr;
         }
-        impl->bvh_nodes = impl->device->Resident(Bytes(nodes));
-        impl->bvh_prims = impl->device->Resident(Bytes(prims));
+        if (rq) {
+            device->BuildScene(pos, idx, boxes);
+        } else {
+            if (bvh_nodes.empty()) build_bvh();
+            if (bvh_nodes.size() > limit) {
+                *why = "the scene's BVH is too large for " + device->Name() + "'s storage buffers";
+                return nullptr;
+            }
+            dev.bvh_nodes = device->Resident(bvh_nodes);
+            dev.bvh_prims = device->Resident(bvh_prims);
+        }
+        dev.positions = device->Resident(Bytes(pos));
+        dev.indices = device->Resident(Bytes(idx));
+        dev.triangles = device->Resident(Bytes(tris));
+        dev.surfaces = device->Resident(Bytes(surfaces));
+        dev.sources = device->Resident(Bytes(srcs));
+        dev.shapes = device->Resident(Bytes(shapes));
+        impl->names += (impl->names.empty() ? "" : " + ") + device->Name();
+        dev.device = std::move(device);
+        impl->devices.push_back(std::move(dev));
     }
-    vk::GpuDevice &dev = *impl->device;
-    impl->positions = dev.Resident(Bytes(pos));
-    impl->indices = dev.Resident(Bytes(idx));
-    impl->triangles = dev.Resident(Bytes(tris));
-    impl->surfaces = dev.Resident(Bytes(surfaces));
-    impl->sources = dev.Resident(Bytes(srcs));
-    impl->shapes = dev.Resident(Bytes(shapes));
     return std::unique_ptr<VulkanContribIntegrator>(
         new VulkanContribIntegrator(std::move(impl), columns));
 }
 
+// Several devices split the rays between them, each taking a contiguous share on a thread of
+// its own: rays' random numbers are keyed by their index, so the records do not depend on how
+// many devices there are.
 void VulkanContribIntegrator::Trace(const double *rays, size_t n, uint64_t first_index, int replica,
                                     double *records) const {
     Impl &d = *impl_;
     if (n == 0) return;
+    const size_t nd = d.devices.size(), record = 3 * static_cast<size_t>(d.columns);
+    std::vector<std::thread> threads;
+    for (size_t k = 0; k < nd; ++k) {
+        const size_t lo = n * k / nd, hi = n * (k + 1) / nd;
+        if (hi == lo) continue;
+        const auto run = [&, k, lo, hi] {
+            d.TraceOn(d.devices[k], rays + 6 * lo, hi - lo, first_index + lo, replica,
+                      records + lo * record);
+        };
+        if (nd == 1)
+            run();
+        else
+            threads.emplace_back(run);
+    }
+    for (std::thread &t : threads) t.join();
+    uint64_t lost = 0;
+    for (DeviceState &dev : d.devices) lost += dev.dropped, dev.dropped = 0;
+    if (lost > 0 && d.dropped == 0)
+        Warning("the GPU integrator's ray stack overflowed; " + std::to_string(lost) +
+                " rays were dropped (results are low): use -backend embree");
+    d.dropped += lost;
+}
+
+void VulkanContribIntegrator::Impl::TraceOn(DeviceState &dev, const double *rays, size_t n,
+                                            uint64_t first_index, int replica,
+                                            double *records) const {
+    const Impl &d = *this;
     std::vector<gpu::vec4> in(2 * n);
     for (size_t i = 0; i < n; ++i) {
         const double *r = rays + 6 * i;
@@ -519,22 +573,19 @@ void VulkanContribIntegrator::Trace(const double *rays, size_t n, uint64_t first
         std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
         std::vector<uint8_t> accum(count * record * d.accum_bytes(), 0), stats(16, 0);
         using G = vk::GpuDevice;
-        std::vector<G::Binding> buffers = {G::In(&ray_bytes),       G::OnDevice(d.positions),
-                                           G::OnDevice(d.indices),  G::OnDevice(d.triangles),
-                                           G::OnDevice(d.surfaces), G::OnDevice(d.sources),
-                                           G::InOut(&accum),        G::In(&task_bytes),
-                                           G::InOut(&stats),        G::OnDevice(d.shapes)};
-        if (!d.device->RayQueries()) {  // our BVH at binding 0, its entries after the rest
-            buffers.insert(buffers.begin(), G::OnDevice(d.bvh_nodes));
-            buffers.push_back(G::OnDevice(d.bvh_prims));
+        std::vector<G::Binding> buffers = {G::In(&ray_bytes),         G::OnDevice(dev.positions),
+                                           G::OnDevice(dev.indices),  G::OnDevice(dev.triangles),
+                                           G::OnDevice(dev.surfaces), G::OnDevice(dev.sources),
+                                           G::InOut(&accum),          G::In(&task_bytes),
+                                           G::InOut(&stats),          G::OnDevice(dev.shapes)};
+        if (!dev.device->RayQueries()) {  // our BVH at binding 0, its entries after the rest
+            buffers.insert(buffers.begin(), G::OnDevice(dev.bvh_nodes));
+            buffers.push_back(G::OnDevice(dev.bvh_prims));
         }
-        d.device->Run(d.spirv, static_cast<uint32_t>(count), kLocalSize, buffers);
+        dev.device->Run(dev.spirv, static_cast<uint32_t>(count), kLocalSize, buffers);
         uint32_t lost;
         std::memcpy(&lost, stats.data(), sizeof lost);
-        if (lost > 0 && d.dropped == 0)
-            Warning("the GPU integrator's ray stack overflowed; " + std::to_string(lost) +
-                    " rays were dropped (results are low): use -backend embree");
-        d.dropped += lost;
+        dev.dropped += lost;
         const auto add = [&](const auto *a) {
             for (size_t t = 0; t < count; ++t) {
                 double *dst = records + ((offset + t) / slices) * record;
