@@ -1,4 +1,4 @@
-// The Vulkan integrator (rcontrib-gpu -backend vulkan) on lavapipe or any device with ray queries:
+// The Vulkan integrator (rcontrib-gpu -backend vulkan) on lavapipe or any Vulkan device:
 // analytic answers, and agreement with the Embree backend within the standard errors. Every
 // test bins with reinhart.cal at MF:1 and tracks one modifier, so one compiled shader serves
 // them all (compiling it takes lavapipe most of a minute; it is cached on disk afterwards).
@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <random>
 #include <sstream>
 
 #include "raytrace/scenes.h"
@@ -523,6 +524,77 @@ TEST_F(VulkanContrib, TwoDevicesSplitTheRays) {
     EXPECT_EQ(b.err.find("using Embree"), std::string::npos) << b.err;
     EXPECT_EQ(a.out.size(), 100u * 146 * 12);
     EXPECT_TRUE(a.out == b.out);
+}
+
+}  // namespace
+}  // namespace dayflux::test
+
+namespace dayflux::test {
+namespace {
+
+// Per-entry agreement of two backends' matrices: z-scores from both standard errors, none
+// beyond kZ but a few (see kZ), and totals within 4 combined standard errors.
+void ExpectSameMatrix(const std::vector<double> &gpu, const std::vector<double> &se_gpu,
+                      const std::vector<double> &cpu, const std::vector<double> &se_cpu,
+                      int min_compared) {
+    ASSERT_EQ(cpu.size(), gpu.size());
+    int beyond = 0, compared = 0;
+    double sum_gpu = 0, sum_cpu = 0, var = 0;
+    for (size_t i = 0; i < gpu.size(); ++i) {
+        sum_gpu += gpu[i], sum_cpu += cpu[i];
+        const double s2 = se_gpu[i] * se_gpu[i] + se_cpu[i] * se_cpu[i];
+        var += s2;
+        if (s2 == 0) {
+            EXPECT_EQ(gpu[i], cpu[i]) << "entry " << i;
+            continue;
+        }
+        ++compared;
+        if (std::fabs(gpu[i] - cpu[i]) > kZ * std::sqrt(s2)) ++beyond;
+    }
+    EXPECT_GT(compared, min_compared);
+    EXPECT_LE(beyond, 2 + compared / 10000) << "of " << compared;
+    EXPECT_NEAR(sum_gpu, sum_cpu, 4 * std::sqrt(var));
+}
+
+// The view matrix V of the three-phase method: the tutorial room's sensors to Klems Full
+// patches of the window (a glow sender, rfluxmtx's hemisphere basis), both backends.
+TEST_F(VulkanContrib, ViewMatrixAsEmbree) {
+    const fs::path room = DataDir() / "scene" / "models" / "room";
+    const std::string args =
+        "-I+ -ab 3 -ad 512 -lw 1e-3 -f klems_full.cal -b 'kbin(0,1,0,0,0,1)' -bn Nkbins "
+        "-m Glazing materials.rad room.rad objects/GlazingVmtx.rad < '" +
+        (DataDir() / "rcontrib" / "points.txt").string() + "'";
+    std::vector<double> se_gpu, se_cpu;
+    const std::vector<double> gpu = Run("vulkan", args, room, &se_gpu);
+    const std::vector<double> cpu = Run("embree", args, room, &se_cpu);
+    ASSERT_EQ(gpu.size(), 100u * 145 * 3);
+    ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 5000);
+}
+
+// The daylight matrix D: rays leaving the window's outside face, cosine-distributed (as
+// rfluxmtx sends them), to the Reinhart sky, both backends (one modifier, as the other tests
+// track, so that they share one compiled shader).
+TEST_F(VulkanContrib, DaylightMatrixAsEmbree) {
+    const fs::path room = DataDir() / "scene" / "models" / "room";
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::ostringstream rays;
+    for (int i = 0; i < 400; ++i) {  // on the glazing (y = 0, outside is -y), 1 mm out
+        const double x = 6.096 * u(rng), z = 0.9144 + (2.4384 - 0.9144) * u(rng);
+        const double r = std::sqrt(u(rng)), phi = 2 * M_PI * u(rng);
+        const double dx = r * std::cos(phi), dz = r * std::sin(phi), dy = -std::sqrt(1 - r * r);
+        rays << x << " -0.001 " << z << " " << dx << " " << dy << " " << dz << "\n";
+    }
+    WriteFile(tmp_.path() / "window_rays", rays.str());
+    const std::string args = "-c 20 -ab 2 -ad 256 -lw 1e-3" + kBins +
+                             "-m skyglow materials.rad room.rad objects/Glazing.rad "
+                             "skyDomes/skyglow.rad < '" +
+                             (tmp_.path() / "window_rays").string() + "'";
+    std::vector<double> se_gpu, se_cpu;
+    const std::vector<double> gpu = Run("vulkan", args, room, &se_gpu);
+    const std::vector<double> cpu = Run("embree", args, room, &se_cpu);
+    ASSERT_EQ(gpu.size(), 20u * 146 * 3);
+    ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 1000);
 }
 
 }  // namespace
