@@ -1,7 +1,8 @@
 // The Vulkan integrator (rcontrib-gpu -backend vulkan) on lavapipe or any Vulkan device:
-// analytic answers, and agreement with the Embree backend within the standard errors. Every
-// test bins with reinhart.cal at MF:1 and tracks one modifier, so one compiled shader serves
-// them all (compiling it takes lavapipe most of a minute; it is cached on disk afterwards).
+// analytic answers, and agreement with the Embree backend within the standard errors. Most
+// tests bin with reinhart.cal at MF:1 and track one modifier, so one compiled shader serves them
+// (compiling takes lavapipe about a minute; it is cached on disk afterwards); a few need their
+// own (patterns, mixfunc, Klems bins, the BVH walk).
 #include <gtest/gtest.h>
 
 #include <cmath>
