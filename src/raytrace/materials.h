@@ -29,11 +29,8 @@ inline double Bright(const RGB &c) {
     return 0.2651058 * c[0] + 0.6701058 * c[1] + 0.0647884 * c[2];
 }
 
-// Two unit vectors perpendicular to n and to each other.
-inline void Tangents(const double n[3], double u[3], double v[3]) {
-    const int ax = std::fabs(n[0]) < 0.6 ? 0 : (std::fabs(n[1]) < 0.6 ? 1 : 2);
-    double e[3] = {0, 0, 0};
-    e[ax] = 1;
+// u = e x n normalised and v = n x u: two unit vectors perpendicular to n and to each other.
+inline void TangentsFrom(const double e[3], const double n[3], double u[3], double v[3]) {
     u[0] = e[1] * n[2] - e[2] * n[1];
     u[1] = e[2] * n[0] - e[0] * n[2];
     u[2] = e[0] * n[1] - e[1] * n[0];
@@ -42,6 +39,14 @@ inline void Tangents(const double n[3], double u[3], double v[3]) {
     v[0] = n[1] * u[2] - n[2] * u[1];
     v[1] = n[2] * u[0] - n[0] * u[2];
     v[2] = n[0] * u[1] - n[1] * u[0];
+}
+
+// Two unit vectors perpendicular to n and to each other.
+inline void Tangents(const double n[3], double u[3], double v[3]) {
+    const int ax = std::fabs(n[0]) < 0.6 ? 0 : (std::fabs(n[1]) < 0.6 ? 1 : 2);
+    double e[3] = {0, 0, 0};
+    e[ax] = 1;
+    TangentsFrom(e, n, u, v);
 }
 
 // RADIANCE's getperpendicular() with randomize on, as its ambient hemispheres use it: the
@@ -55,14 +60,7 @@ inline void RandomTangents(const double n[3], const double r[4], double u[3], do
     int i = 2;
     while (i > 0 && !(std::fabs(n[ord[i]]) < 0.6)) --i;
     e[ord[i]] = 1.0;
-    u[0] = e[1] * n[2] - e[2] * n[1];
-    u[1] = e[2] * n[0] - e[0] * n[2];
-    u[2] = e[0] * n[1] - e[1] * n[0];
-    const double l = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    for (int k = 0; k < 3; ++k) u[k] /= l;
-    v[0] = n[1] * u[2] - n[2] * u[1];
-    v[1] = n[2] * u[0] - n[0] * u[2];
-    v[2] = n[0] * u[1] - n[1] * u[0];
+    TangentsFrom(e, n, u, v);
 }
 
 struct MixInfo;
