@@ -27,6 +27,7 @@ DAYFLUX_GPU_CONST kBindingTasks = 8;      // GpuTasks: what this dispatch does
 DAYFLUX_GPU_CONST kBindingStats = 9;      // uint: stack items dropped (should stay 0)
 DAYFLUX_GPU_CONST kBindingShapes = 10;    // GpuShape per analytic surface (procedural boxes)
 DAYFLUX_GPU_CONST kBindingBvhPrims = 11;  // int per BVH leaf entry: triangle, or shape + triangles
+DAYFLUX_GPU_CONST kBindingKlems = 12;     // float: the BSDF materials' Klems data (PackKlems)
 
 // Analytic surfaces, as scene/flatten.h's AnalyticShape::Kind.
 DAYFLUX_GPU_CONST kShapeSphere = 0;
@@ -42,6 +43,7 @@ DAYFLUX_GPU_CONST kMatMirror = 3;
 DAYFLUX_GPU_CONST kMatGlow = 4;
 DAYFLUX_GPU_CONST kMatLight = 5;
 DAYFLUX_GPU_CONST kMatMix = 6;  // mixfunc: `pattern` mixes surfaces `fore` and `back` (-1: void)
+DAYFLUX_GPU_CONST kMatBsdf = 7;  // BSDF (Klems): its data at klems[fore]
 
 // A node of the BVH traversed where there are no ray queries (raytrace/bvh.h), depth first: an
 // inner node's first child follows it, `index` is its second; a leaf's primitives are

@@ -85,7 +85,7 @@ vec2 SquareToDisk(float sx, float sy) {
 }
 
 // ---- the ray stack
-const int kItemTrace = 0, kItemAmbient = 1, kItemDirect = 2;
+const int kItemTrace = 0, kItemAmbient = 1, kItemDirect = 2, kItemDirectBsdf = 3;
 struct Ray {
     vec3 org, dir;
     vec3 coef;    // product of the coefficients from the input ray down to this ray
@@ -365,8 +365,11 @@ bool Closest(vec3 org, vec3 dir, out float t, out int prim, out int shape) {
 void ShadeMaterial(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t);
 
 // A ray reaches something (tracked modifier k, material m); normal faces the ray afterwards.
+bool hit_front;  // whether the ray being shaded met its surface's front (BSDF frames need it)
+
 void Shade(Ray r, int object, int k, GpuSurface m, vec3 point, vec3 geo_normal, float t) {
     float rod = -dot(r.dir, geo_normal);
+    hit_front = rod > 0;
     vec3 normal = rod < 0 ? -geo_normal : geo_normal;
     rod = abs(rod);
     if (r.aimed >= 0 && object != sources[r.aimed].object) k = -1;
@@ -482,6 +485,286 @@ void PushGaussianReflection(Ray r, vec3 scolor, float alpha2, vec3 point, vec3 n
     }
 }
 
+#ifdef DAYFLUX_BSDF
+// ---- the BSDF material with Klems data (raytrace/klems.h and m_bsdf() in contrib.cpp; the
+// data as PackKlems lays it out)
+layout(std430, set = 0, binding = kBindingKlems) readonly buffer Klems { float klems[]; };
+int KI(int at) { return int(klems[at]); }
+
+int BasisIndex(int q, int slot, int rings, vec3 w) {
+    if (w.z < 0 || w.z > 1.00001) return -1;
+    int cosat = KI(q + slot), nphiat = KI(q + slot + 1), firstat = KI(q + slot + 2);
+    if (w.z < klems[cosat + rings]) return -1;
+    int ring = 0;
+    while (ring + 1 < rings && w.z <= klems[cosat + ring + 1]) ++ring;
+    float azi = degrees(atan(w.y, w.x));
+    if (azi < 0) azi += 360.0;
+    int nphi = KI(nphiat + ring);
+    int ndx = int(azi / 360.0 * float(nphi) + 0.5);
+    if (ndx >= nphi) ndx = 0;
+    return KI(firstat + ring) + ndx;
+}
+vec3 ToFrontOut(bool incident, bool front, vec3 v) {
+    return vec3(incident ? -v.x : v.x, incident ? -v.y : v.y, front ? v.z : -v.z);
+}
+// The patch of direction v in part q's incident (or outgoing) basis. (Code size matters here:
+// the compiler inlines every call, so the functions below call this from as few places as
+// they can.)
+int PartIndex(int q, vec3 v, bool incident) {
+    return BasisIndex(q, incident ? 7 : 11, KI(q + (incident ? 5 : 6)),
+                      ToFrontOut(incident, klems[q + (incident ? 0 : 1)] > 0.5, v));
+}
+float PartOhm(int q, int i, bool incident) {
+    return i < 0 ? -1.0 : klems[KI(q + (incident ? 10 : 14)) + i];
+}
+float KValue(int q, int o, int i) { return klems[KI(q + 15) + o * KI(q + 3) + i]; }
+int PartR(int b, bool front) { return KI(b + (front ? 17 : 18)); }
+int PartT(int b, bool front) {
+    int own = KI(b + (front ? 19 : 20)), other = KI(b + (front ? 20 : 19));
+    return own >= 0 ? own : other;
+}
+
+float KlemsEval(int b, vec3 inv, vec3 outv) {
+    bool fi = inv.z > 0, fo = outv.z > 0;
+    float value = klems[b + (fi == fo ? (fi ? 4 : 5) : (fi ? 6 : 7))] / kPi;
+    int q = fi == fo ? PartR(b, fi) : PartT(b, fi);
+    if (q < 0) return value;
+    int idx[2];
+    [[dont_unroll]] for (int k = 0; k < 4; ++k) {  // in, out; then, by reciprocity, the two swapped
+        if (k == 2 && (idx[0] >= 0 || idx[1] >= 0)) break;
+        idx[k & 1] = PartIndex(q, (k == 0 || k == 3) ? inv : outv, (k & 1) == 0);
+    }
+    int i = idx[0], o = idx[1];
+    return i < 0 || o < 0 ? value : value + KValue(q, o, i);
+}
+
+// The row of part q's cumulative distribution for incident direction inv (by reciprocity the
+// outgoing one where inv is not incident there); its length; false if none.
+bool CdfRow(int q, vec3 inv, out int row, out int len, out bool reverse) {
+    int nin = KI(q + 3), nout = KI(q + 4);
+    row = -1;
+    len = 0;
+    reverse = false;
+    [[dont_unroll]] for (int k = 0; k < 2 && row < 0; ++k) {
+        int i = PartIndex(q, inv, k == 0);
+        if (i < 0) continue;
+        reverse = k == 1;
+        len = reverse ? nin : nout;
+        row = KI(q + (reverse ? 17 : 16)) + i * (len + 1);
+    }
+    return row >= 0;
+}
+
+float SpecularHemi(int b, vec3 inv, bool xmit) {
+    bool front = inv.z > 0;
+    int q = xmit ? PartT(b, front) : PartR(b, front);
+    int row, len;
+    bool reverse;
+    if (q < 0 || !CdfRow(q, inv, row, len, reverse)) return 0;
+    return klems[row + len];
+}
+
+// SDsizeBSDF over parts: psa.x the smallest patch met, psa.y (minmax) the largest.
+void QueryProjSA(int q, vec3 v1, vec3 v2, bool same, bool minmax, inout vec2 psa) {
+    float p[2];
+    [[dont_unroll]] for (int k = 0; k < 4; ++k) {
+        if (k == 2 && (same || p[0] > 0 || p[1] > 0)) break;
+        bool incident = k == 1 || k == 2;
+        vec3 v = (k == 0 || k == 2) ? v1 : v2;
+        p[k & 1] = PartOhm(q, PartIndex(q, v, incident), incident);
+    }
+    if (minmax) psa.y = max(psa.y, max(p[0], p[1]));
+    [[dont_unroll]] for (int k = 0; k < 2; ++k)
+        if (p[k] > 0 && p[k] < psa.x) psa.x = p[k];
+}
+
+vec2 SizeMinMax(int b, vec3 v) {
+    bool front = v.z > 0;
+    vec2 psa = vec2(10, 0);
+    bool any = false;
+    [[dont_unroll]] for (int k = 0; k < 2; ++k) {
+        int q = k == 0 ? PartR(b, front) : PartT(b, front);
+        if (q < 0) continue;
+        QueryProjSA(q, v, v, true, true, psa);
+        any = true;
+    }
+    if (!any) psa = vec2(kPi);
+    if (psa.x > psa.y) psa.x = psa.y;
+    return psa;
+}
+
+float SizeMin(int b, vec3 v1, vec3 v2) {
+    bool front = v1.z > 0;
+    int q = (v1.z > 0) != (v2.z > 0) ? PartT(b, front) : PartR(b, front);
+    if (q < 0) return kPi;
+    vec2 psa = vec2(10, 0);
+    QueryProjSA(q, v1, v2, false, false, psa);
+    return psa.x;
+}
+
+// SDsampComponent: the hemispherical total for inv, and outv drawn from the distribution.
+float KlemsSample(int q, vec3 inv, float rnd, float u, float v, out vec3 outv) {
+    int row, len;
+    bool reverse;
+    outv = vec3(0);
+    if (!CdfRow(q, inv, row, len, reverse)) return 0;
+    float total = klems[row + len];
+    if (total <= 1e-6) return 0;
+    float target = clamp(rnd, 0.0, 1.0) * total;
+    int lo = 0, hi = len - 1;  // the first patch whose cumulative end exceeds target
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (klems[row + mid + 1] > target) hi = mid; else lo = mid + 1;
+    }
+    // The patch is in the outgoing basis, or by reciprocity the incident one.
+    int slot = reverse ? 7 : 11, rings = KI(q + (reverse ? 5 : 6));
+    int firstat = KI(q + slot + 2);
+    int ring = 0;
+    while (ring + 1 < rings && lo >= KI(firstat + ring + 1)) ++ring;
+    int index = lo - KI(firstat + ring);
+    float c0 = klems[KI(q + slot) + ring], c1 = klems[KI(q + slot) + ring + 1];
+    float cz = sqrt((1. - u) * c0 * c0 + u * c1 * c1);
+    float azi = 2. * kPi * (float(index) + v - .5) / float(KI(KI(q + slot + 1) + ring));
+    float sz = sqrt(max(0., 1. - cz * cz));
+    outv = ToFrontOut(reverse, klems[q + (reverse ? 0 : 1)] > 0.5,
+                      vec3(cos(azi) * sz, sin(azi) * sz, cz));
+    return total;
+}
+
+// m_bsdf()'s frame: z the front normal, x = up x z.
+vec3 kx, ky, kz, kview;
+vec2 ksr;  // sqrt of the smallest and largest projected solid angles about the view
+vec3 ToLocal(vec3 w) { return normalize(vec3(dot(kx, w), dot(ky, w), dot(kz, w))); }
+vec3 ToWorld(vec3 l) { return normalize(kx * l.x + ky * l.y + kz * l.z); }
+bool KlemsFrame(int b, vec3 front_normal, vec3 raydir) {
+    vec3 up = vec3(klems[b + 1], klems[b + 2], klems[b + 3]);
+    kz = normalize(front_normal);
+    vec3 x = cross(up, kz);
+    if (dot(x, x) == 0) return false;
+    kx = normalize(x);
+    ky = cross(kz, kx);
+    kview = ToLocal(-raydir);
+    return true;
+}
+vec3 KJitter(float size, float u, float v) {
+    if (SS < 1.) size *= SS;
+    if (size <= 1e-6) return kview;
+    return normalize(kview + vec3(size * (.5 - u), size * (.5 - v), 0));
+}
+
+// direct_specular_OK(): the non-diffuse BSDF toward a source, or -1 when none is to be added.
+float DirectSpecular(int b, vec3 source_dir, float weight) {
+    vec3 vsrc = ToLocal(source_dir);
+    bool sf = vsrc.z > 0, vf = kview.z > 0;
+    float lamb;
+    if (sf == vf) {
+        if (PartR(b, vf) < 0) return -1;
+        lamb = klems[b + (vf ? 4 : 5)];
+    } else {
+        if (KI(b + 19) < 0 && KI(b + 20) < 0) return -1;
+        lamb = klems[b + (vf ? 6 : 7)];
+    }
+    float diffuse = lamb > 1e-6 ? lamb / kPi : 0.;
+    float tomega = 0, tsr = 0, sum = 0;
+    int nsamp = 1, count = 0;
+    [[dont_unroll]] for (int i = -1; i < nsamp; ++i) {  // i = -1: the view's own size (one SizeMin call)
+        vec3 vjit = kview;
+        if (i >= 0) {
+            float u = Rand(), v = Rand();
+            vjit = KJitter(tsr, u, v);
+        }
+        float size = SizeMin(b, vjit, vsrc);
+        if (i < 0) {
+            tomega = size;
+            tsr = sqrt(tomega);
+            if (tsr > 0) nsamp = max(1, int(4. * SS * weight + .5));
+            continue;
+        }
+        if (size < .12 * tomega) continue;  // a finer patch: not safe to include
+        float f = KlemsEval(b, vjit, vsrc);
+        if (f - diffuse <= 1e-6) continue;
+        sum += f;
+        ++count;
+    }
+    if (count == 0) return -1;
+    return max(0., sum / float(count) - diffuse);
+}
+
+void ShadeBsdf(Ray r, GpuSurface m, vec3 point, vec3 normal, float t) {
+    int b = m.fore;
+    bool front = hit_front;
+    vec3 front_normal = front ? normal : -normal;
+    float thick = klems[b];
+    if (abs(thick) <= kTiny) thick = 0;
+    if (thick != 0 && ((r.crtype & kShadow) != 0 || (r.crtype & (kSpecular | kAmbient)) == 0 ||
+                       (thick > 0) != front)) {
+        PushChild(r, kTrans, vec3(1), point, r.dir);  // hide the proxy
+        return;
+    }
+    if ((r.crtype & kShadow) != 0) return;
+    vec3 pcol = Colour(m, r, point, front_normal, t);  // colour 1: the pattern alone
+    int e = front ? 8 : 11;
+    vec3 rdiff = (klems[b + (front ? 4 : 5)] +
+                  vec3(klems[b + e], klems[b + e + 1], klems[b + e + 2])) * pcol;
+    vec3 tdiff = (klems[b + (front ? 6 : 7)] + vec3(klems[b + 14], klems[b + 15], klems[b + 16])) *
+                 pcol;
+    if (!KlemsFrame(b, front_normal, r.dir)) return;
+    ksr = sqrt(SizeMinMax(b, kview));
+    vec3 behind = point - thick * front_normal;
+    // sample_sdf() for reflection, then transmission: a specular ray from the part serving the
+    // ray's side, or (below -st) the total left to the ambient hemisphere on that side.
+    [[dont_unroll]] for (int xmit = 0; xmit < 2; ++xmit) {
+        vec3 unsampled = vec3(0);
+        int q = xmit == 1 ? PartT(b, kview.z > 0) : PartR(b, kview.z > 0);
+        if (q >= 0) {
+            float hemi = 0;
+            if (klems[q + 2] > kTiny) {
+                float u = Rand(), v = Rand();
+                hemi = max(0., SpecularHemi(b, KJitter(ksr.y, u, v), xmit == 1));
+            }
+            if (hemi <= ST + kTiny) {
+                if (hemi > kTiny) unsampled = hemi * (xmit == 1 ? pcol : vec3(1));
+            } else {
+                float xrand = Rand();
+                if (SS < 1.) xrand = .5 + SS * (xrand - .5);
+                float u = Rand(), v = Rand();
+                vec3 vsmp = KJitter(ksr.x, u, v), outv;
+                float value = KlemsSample(q, vsmp, xrand, Rand(), Rand(), outv);
+                if (value > kTiny)
+                    PushChild(r, kSpecular, value * (xmit == 1 ? pcol : vec3(1)),
+                              xmit == 1 ? behind : point, ToWorld(outv));
+            }
+        }
+        // The diffuse part and what was not sampled, as an ambient hemisphere on that side
+        // (m_bsdf() moves a proxy's origin along the normal as flipped for a front hit only).
+        vec3 origin = xmit == 0 ? point : point + thick * (front ? -front_normal : front_normal);
+        PushHemisphere(r, (xmit == 0 ? rdiff : tdiff) + unsampled, origin,
+                       xmit == 0 ? normal : -normal);
+    }
+    if (tasks.ndirect == 0) return;
+    // direct(): dir_bsdf(), or dir_brdf() and dir_btdf() apart for a proxy.
+    Item it;
+    it.r = r;
+    it.kind = kItemDirectBsdf;
+    it.normal = normal;
+    it.colour = rdiff;
+    it.spec = tdiff;
+    it.incident = pcol;
+    it.n = b;
+    it.next = 0;
+    it.end = NSOURCES;
+    bool reflect_only = Bright(tdiff) <= kTiny && KI(b + 19) < 0 && KI(b + 20) < 0;
+    it.point = point;
+    it.fresnel = (front ? 1 : 0) | 2 | (reflect_only || thick != 0 ? 0 : 4);
+    Push(it);
+    if (thick != 0 && !reflect_only) {
+        it.point = behind;
+        it.fresnel = (front ? 1 : 0) | 4;
+        Push(it);
+    }
+}
+#endif
+
 void ShadeBasic(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t);
 
 // raymixture() for a mixfunc: each side shades its share of the ray (a void side lets its share
@@ -514,6 +797,12 @@ void ShadeMaterial(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, floa
 
 void ShadeBasic(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t) {
     if (m.kind == kMatBlack || m.kind == kMatGlow || m.kind == kMatLight) return;
+#ifdef DAYFLUX_BSDF
+    if (m.kind == kMatBsdf) {
+        ShadeBsdf(r, m, point, normal, t);
+        return;
+    }
+#endif
     vec3 c = Colour(m, r, point, normal, t);
     if (m.kind == kMatMirror) {
         if ((r.crtype & kShadow) != 0) return;
@@ -649,9 +938,8 @@ bool FindHit(Ray r, out Hit h) {
 }
 
 // One shadow ray toward source i (direct() with dirnorm() and rcontrib's -dt 0).
-void DirectStep(Item it, int i) {
-    GpuSource s = sources[i];
-    if (s.colour.w > 0.5) return;  // glow: found only by escaping rays
+// A direction to distant source s, jittered over it by -dj (nextssamp()).
+vec3 SourceDirection(GpuSource s) {
     vec3 dir = s.dir.xyz;
     if (DJ > kTiny) {
         float pu = DJ * (1. - 2. * Rand()), pv = DJ * (1. - 2. * Rand());
@@ -663,6 +951,30 @@ void DirectStep(Item it, int i) {
         }
         dir = normalize(dir + pu * s.u.xyz + pv * s.v.xyz);
     }
+    return dir;
+}
+
+// The shadow ray toward source i carrying coef, when it could bring anything.
+void ShadowRay(Item it, int i, GpuSource s, vec3 dir, vec3 coef) {
+    if (Max3(coef) <= 0 || Bright(coef * s.colour.rgb) <= 0) return;
+    Ray c = it.r;
+    c.depth = it.r.depth + 1;
+    c.rlvl = it.r.rlvl + 1;
+    c.crtype = it.r.crtype | kShadow;
+    c.aimed = i;
+    c.coef = it.r.coef * coef;
+    c.org = it.point;
+    c.dir = dir;
+    Item sh;
+    sh.r = c;
+    sh.kind = kItemTrace;
+    Push(sh);
+}
+
+void DirectStep(Item it, int i) {
+    GpuSource s = sources[i];
+    if (s.colour.w > 0.5) return;  // glow: found only by escaping rays
+    vec3 dir = SourceDirection(s);
     float ldot = dot(it.normal, dir);
     if (ldot < 0 ? it.trans <= kTiny : it.trans >= 1 - kTiny) return;
     float lrdiff = it.rdiff, ltdiff = it.tdiff;
@@ -686,20 +998,30 @@ void DirectStep(Item it, int i) {
         float g = exp(-d4 / a2) * d3 / (kPi * d2 * d2 * a2);
         if (g > kTiny) coef += it.spec * g * ldot * s.dir.w;
     }
-    if (Max3(coef) <= 0 || Bright(coef * s.colour.rgb) <= 0) return;
-    Ray c = it.r;
-    c.depth = it.r.depth + 1;
-    c.rlvl = it.r.rlvl + 1;
-    c.crtype = it.r.crtype | kShadow;
-    c.aimed = i;
-    c.coef = it.r.coef * coef;
-    c.org = it.point;
-    c.dir = dir;
-    Item sh;
-    sh.r = c;
-    sh.kind = kItemTrace;
-    Push(sh);
+    ShadowRay(it, i, s, dir, coef);
 }
+
+#ifdef DAYFLUX_BSDF
+// dir_bsdf() (dir_brdf(), dir_btdf()): the diffuse parts and the BSDF toward the source; the
+// item's fresnel holds 1 front, 2 reflection, 4 transmission.
+void DirectStepBsdf(Item it, int i) {
+    GpuSource s = sources[i];
+    if (s.colour.w > 0.5) return;
+    vec3 dir = SourceDirection(s);
+    float ldot = dot(it.normal, dir);
+    bool reflect = (it.fresnel & 2) != 0, transmit = (it.fresnel & 4) != 0;
+    if (abs(ldot) <= kTiny || (ldot > 0 && !reflect) || (ldot < 0 && !transmit)) return;
+    float omega = s.dir.w;
+    vec3 diffuse = ldot > 0 ? it.colour : it.spec;
+    vec3 coef = Bright(diffuse) > kTiny ? diffuse * abs(ldot) * omega / kPi : vec3(0);
+    bool front = (it.fresnel & 1) != 0;
+    if (KlemsFrame(it.n, front ? it.normal : -it.normal, it.r.dir)) {
+        float spec = DirectSpecular(it.n, dir, it.r.weight);
+        if (spec >= 0) coef += spec * (ldot < 0 ? it.incident : vec3(1)) * abs(ldot) * omega;
+    }
+    ShadowRay(it, i, s, dir, coef);
+}
+#endif
 
 // Hemispheres follow RADIANCE's ambcollision(): a direction within a quarter division of an
 // earlier neighbour's is drawn again in its cell. The neighbours already drawn are (i, j + 1) and
@@ -804,10 +1126,16 @@ void RunStack() {
                     Push(rest);
                 }
             }
-        } else {  // kItemDirect
+        } else {  // kItemDirect, kItemDirectBsdf
             if (it.next < it.end) {
                 int i = it.next++;
                 if (it.next < it.end) Push(it);
+#ifdef DAYFLUX_BSDF
+                if (it.kind == kItemDirectBsdf) {
+                    DirectStepBsdf(it, i);
+                    continue;
+                }
+#endif
                 DirectStep(it, i);
             }
         }

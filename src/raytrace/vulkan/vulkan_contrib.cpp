@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
@@ -97,7 +98,7 @@ struct DeviceState {
     std::unique_ptr<vk::GpuDevice> device;
     std::vector<uint32_t> spirv;
     int positions = -1, indices = -1, triangles = -1, surfaces = -1, sources = -1, shapes = -1;
-    int bvh_nodes = -1, bvh_prims = -1;
+    int bvh_nodes = -1, bvh_prims = -1, klems = -1;
     uint64_t dropped = 0;  // stack items lost in its last Trace
 };
 
@@ -142,10 +143,84 @@ int GpuKind(Material::Kind kind) {
             return gpu::kMatLight;
         case Material::kMix:
             return gpu::kMatMix;
+        case Material::kBsdf:
+            return gpu::kMatBsdf;
         default:
             CHECK(false);  // refused by Create's unsupported()
             return gpu::kMatBlack;
     }
+}
+
+// A BSDF material's data as the shader reads it (contrib.comp, DAYFLUX_BSDF), appended to out;
+// returns its offset. Header: thickness, up vector, the Lambertian totals (rf rb tf tb), the
+// material's own diffuse colours (front, back reflection, transmission), the four parts'
+// offsets (-1: none). Part: in_front, out_front, max_hemi, nin, nout, in and out ring counts,
+// then the offsets of the in basis's ring cosines, azimuth counts, first patches and projected
+// solid angles, the same for the out basis, the values, and the two cumulative distributions.
+int PackKlems(const BsdfInfo &b, double thickness, const double up[3], std::vector<float> *out) {
+    std::vector<float> &v = *out;
+    const int at = static_cast<int>(v.size());
+    const KlemsScattering &k = *b.klems;
+    v.push_back(static_cast<float>(thickness));
+    for (int i = 0; i < 3; ++i) v.push_back(static_cast<float>(up[i]));
+    for (double l : {k.ReflectionLambertian(true), k.ReflectionLambertian(false),
+                     k.TransmissionLambertian(true), k.TransmissionLambertian(false)})
+        v.push_back(static_cast<float>(l));
+    for (const RGB *c : {&b.front_reflection, &b.back_reflection, &b.transmission})
+        for (double x : *c) v.push_back(static_cast<float>(x));
+    const size_t parts_at = v.size();
+    v.resize(v.size() + 4, -1.f);
+    const KlemsScattering::Part *parts[4] = {&k.rf(), &k.rb(), &k.tf(), &k.tb()};
+    for (int pi = 0; pi < 4; ++pi) {
+        const KlemsScattering::Part &p = *parts[pi];
+        if (!p.present()) continue;
+        v[parts_at + pi] = static_cast<float>(v.size());
+        const size_t h = v.size();
+        v.resize(v.size() + 18, 0.f);
+        const int nin = p.data.in.Size(), nout = p.data.out.Size();
+        v[h + 0] = p.in_front, v[h + 1] = p.out_front;
+        v[h + 2] = static_cast<float>(p.data.max_hemi);
+        v[h + 3] = static_cast<float>(nin), v[h + 4] = static_cast<float>(nout);
+        v[h + 5] = static_cast<float>(p.in_table.nphis.size());
+        v[h + 6] = static_cast<float>(p.out_table.nphis.size());
+        const auto table = [&](const KlemsScattering::BasisTable &t, size_t slot) {
+            v[h + slot] = static_cast<float>(v.size());
+            for (double c : t.cos_bounds) v.push_back(static_cast<float>(c));
+            v[h + slot + 1] = static_cast<float>(v.size());
+            for (int n : t.nphis) v.push_back(static_cast<float>(n));
+            v[h + slot + 2] = static_cast<float>(v.size());
+            for (int f : t.first) v.push_back(static_cast<float>(f));
+            v[h + slot + 3] = static_cast<float>(v.size());
+            for (double o : t.ohm) v.push_back(static_cast<float>(o));
+        };
+        table(p.in_table, 7);
+        table(p.out_table, 11);
+        v[h + 15] = static_cast<float>(v.size());
+        v.insert(v.end(), p.data.values.begin(), p.data.values.end());
+        v[h + 16] = static_cast<float>(v.size());
+        for (const auto &row : p.cdf)
+            for (double c : row) v.push_back(static_cast<float>(c));
+        v[h + 17] = static_cast<float>(v.size());
+        for (const auto &row : p.reverse_cdf)
+            for (double c : row) v.push_back(static_cast<float>(c));
+    }
+    if (v.size() >= (size_t(1) << 24)) ErrorExit("BSDF data too large for the GPU's float offsets");
+    return at;
+}
+
+// A BSDF's thickness and up vector, when they do not depend on the ray (false otherwise): the
+// GPU takes them as constants.
+bool ConstantBsdfFrame(const BsdfInfo &b, double *thickness, double up[3]) {
+    std::array<double, 27> a{}, c{};
+    for (size_t i = 0; i < a.size(); ++i) a[i] = 0.1 * (i + 1), c[i] = -0.37 * (i + 2);
+    double ta[3], tc[3], ua[3], uc[3];
+    b.thickness->Evaluate(a, ta);
+    b.thickness->Evaluate(c, tc);
+    b.up->Evaluate(a, ua);
+    b.up->Evaluate(c, uc);
+    *thickness = ta[0];
+    for (int k = 0; k < 3; ++k) up[k] = ua[k];
+    return ta[0] == tc[0] && ua[0] == uc[0] && ua[1] == uc[1] && ua[2] == uc[2];
 }
 
 }  // namespace
@@ -167,7 +242,10 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     SceneMaterials table(scene, tracked);
     const auto basic = [](const Material &m) -> std::string {
         if (m.kind == Material::kMix) return "mixfunc of mixfuncs";
-        if (m.kind == Material::kBsdf) return "BSDF";
+        if (m.kind == Material::kBsdf) {
+            double thick, up[3];
+            if (!ConstantBsdfFrame(*m.bsdf, &thick, up)) return "BSDF with a ray-dependent frame";
+        }
         if (m.kind == Material::kDielectric) return "dielectric";
         if (m.kind == Material::kIllum) return "illum";
         return "";
@@ -197,6 +275,18 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         return static_cast<int>(patterns.size()) - 1;
     };
     const auto pattern_index = [&](const Material &m) { return pattern_of(m.pattern); };
+    // The BSDF materials' data, each once.
+    std::vector<float> klems;
+    std::map<const BsdfInfo *, int> klems_of;
+    const auto klems_index = [&](const BsdfInfo &b) {
+        auto [it, added] = klems_of.emplace(&b, 0);
+        if (added) {
+            double thick, up[3];
+            ConstantBsdfFrame(b, &thick, up);
+            it->second = PackKlems(b, thick, up, &klems);
+        }
+        return it->second;
+    };
     // Surfaces: one entry per (material, tracked modifier) the triangles use.
     std::vector<gpu::GpuSurface> surfaces;
     std::map<std::pair<const Material *, int>, int> surface_of;
@@ -215,6 +305,10 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             s.tracked = k;
             s.alpha2 = static_cast<float>(m.alpha2);
             s.pattern = pattern_index(m);
+            if (m.kind == Material::kBsdf) {
+                s.fore = klems_index(*m.bsdf);
+                if (m.bsdf->proxy) s.params.w = gpu::kSurfaceTransparent;
+            }
             if (m.kind == Material::kMix) {
                 s.pattern = pattern_of(m.mix->coef.get());
                 if (!m.mix->is_void[0]) s.fore = self(self, m.mix->fore, -1);
@@ -403,6 +497,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     define("LOCAL_SIZE", std::to_string(kLocalSize));
     define("STACK_SIZE", std::to_string(kStackSize));
     define("ACCUM_T", float_accumulators ? "float" : "double");
+    if (!klems.empty()) define("DAYFLUX_BSDF", "1");
     src += kShaderCommon;
     src += cal_glsl;
     src += pattern_glsl;
@@ -456,9 +551,10 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     for (std::unique_ptr<vk::GpuDevice> &device : opened) {
         DeviceState dev;
         const bool rq = device->RayQueries();
-        dev.spirv = CompileCached((rq ? "#version 460\n#extension GL_EXT_ray_query : require\n"
-                                      : "#version 460\n#define DAYFLUX_BVH 1\n") +
-                                  src);
+        // ([[dont_unroll]] keeps the BSDF's small loops, so its code is not copied.)
+        dev.spirv = CompileCached(
+            std::string("#version 460\n#extension GL_EXT_control_flow_attributes : enable\n") +
+            (rq ? "#extension GL_EXT_ray_query : require\n" : "#define DAYFLUX_BVH 1\n") + src);
         const uint64_t limit = device->MaxBufferBytes();
         if (pos.size() * sizeof(float) > limit || tris.size() * sizeof(gpu::GpuTriangle) > limit ||
             idx.size() * sizeof(uint32_t) > limit) {
@@ -482,6 +578,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         dev.surfaces = device->Resident(Bytes(surfaces));
         dev.sources = device->Resident(Bytes(srcs));
         dev.shapes = device->Resident(Bytes(shapes));
+        dev.klems = device->Resident(Bytes(klems));
         impl->names += (impl->names.empty() ? "" : " + ") + device->Name();
         dev.device = std::move(device);
         impl->devices.push_back(std::move(dev));
@@ -578,10 +675,14 @@ void VulkanContribIntegrator::Impl::TraceOn(DeviceState &dev, const double *rays
                                            G::OnDevice(dev.surfaces), G::OnDevice(dev.sources),
                                            G::InOut(&accum),          G::In(&task_bytes),
                                            G::InOut(&stats),          G::OnDevice(dev.shapes)};
+        std::vector<uint8_t> none;
         if (!dev.device->RayQueries()) {  // our BVH at binding 0, its entries after the rest
             buffers.insert(buffers.begin(), G::OnDevice(dev.bvh_nodes));
             buffers.push_back(G::OnDevice(dev.bvh_prims));
+        } else {
+            buffers.push_back(G::In(&none));  // binding 11 unused
         }
+        buffers.push_back(G::OnDevice(dev.klems));  // kBindingKlems
         dev.device->Run(dev.spirv, static_cast<uint32_t>(count), kLocalSize, buffers);
         uint32_t lost;
         std::memcpy(&lost, stats.data(), sizeof lost);
