@@ -203,18 +203,24 @@ size_t RecordBytes(const Options &o, const OutputStream &s) {
     return o.out == DataFormat::RGBE ? 4 * n : (o.out == DataFormat::Float ? 12 : 24) * n;
 }
 
-std::string ReadPrefix(const std::string &name, size_t bytes) {
+// Copies the first `bytes` of file `name` to out, in pieces (a recovered output may be large).
+void CopyPrefix(const std::string &name, size_t bytes, OutputFile *out) {
     std::ifstream f(name, std::ios::binary);
-    std::string data(bytes, '\0');
-    if (!f.read(data.data(), static_cast<std::streamsize>(bytes)))
-        ErrorExit("cannot read '" + name + "' to recover it");
-    return data;
+    std::vector<char> piece(size_t(1) << 22);
+    while (bytes > 0) {
+        const size_t n = std::min(bytes, piece.size());
+        if (!f.read(piece.data(), static_cast<std::streamsize>(n)))
+            ErrorExit("cannot read '" + name + "' to recover it");
+        out->Write(piece.data(), n);
+        bytes -= n;
+    }
 }
 
 // recover_output(): the number of complete records in every output (-1 if there is nothing to
 // recover), after checking that they are files of the format asked for. Sets prefix_bytes.
 long RecoverableRecords(const Options &o, std::vector<OutputStream> &outputs) {
     if (o.out == DataFormat::Ascii) ErrorExit("cannot recover ASCII output");
+    if (o.accumulate <= 0) ErrorExit("cannot recover with -c 0 (one record of all rays)");
     long last = -1;
     for (OutputStream &s : outputs) {
         if (s.name == "-") ErrorExit("cannot recover from stdout");
@@ -538,7 +544,7 @@ int Main(int argc, char **argv) {
         s.file = std::make_unique<OutputFile>(s.name);
         const int reclen = static_cast<int>(s.columns.size());
         if (recovered > 0) {
-            s.file->Write(ReadPrefix(s.name, s.prefix_bytes + recovered * RecordBytes(o, s)));
+            CopyPrefix(s.name, s.prefix_bytes + recovered * RecordBytes(o, s), s.file.get());
             continue;
         }
         if (o.header) {

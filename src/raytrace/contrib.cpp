@@ -370,7 +370,8 @@ struct ContribIntegrator::Impl {
             if (aimed_elsewhere && (m.kind != Material::kIllum || (front && sources[r.aimed].weak)))
                 return;
             const bool pass = m.kind == Material::kIllum && (r.aimed < 0 || aimed_elsewhere);
-            if (k >= 0) {
+            // A ray aimed at a source counts only there (trace_contrib()).
+            if (k >= 0 && !aimed_elsewhere) {
                 RGB radiance{1, 1, 1};
                 if (o.contributions && !(pass || !front))
                     radiance = PatternColour(m, r, point, normal, t);
@@ -379,11 +380,13 @@ struct ContribIntegrator::Impl {
                 Contribute(k, r, point, normal, t, source, radiance, ts, record);
             }
             if (!pass) return;
-            if (m.alternate)
-                ShadeMaterial(r, object, *m.alternate, point, normal, front, rod, t, rng, ts,
-                              record, depth);
-            else
+            if (!m.alternate) {
                 Transmit(r, RGB{1, 1, 1}, point, rng, ts, record, depth);
+                return;
+            }
+            // rayshade() with the alternate material: -i's rules below apply to it.
+            ShadeSurface(r, object, *m.alternate, point, normal, front, rod, t, rng, ts, record,
+                         depth);
             return;
         }
         // A ray aimed at a source counts only there (trace_contrib()).
@@ -393,6 +396,14 @@ struct ContribIntegrator::Impl {
             if (o.contributions) radiance = PatternColour(m, r, point, normal, t);
             Contribute(k, r, point, normal, t, source, radiance, ts, record);
         }
+        ShadeSurface(r, object, m, point, normal, front, rod, t, rng, ts, record, depth);
+    }
+
+    // What a surface does with a ray after its contribution: -i's irradiance substitution for
+    // the first opaque surface, else its material.
+    void ShadeSurface(const RayState &r, int object, const Material &m, const double point[3],
+                      const double normal[3], bool front, double rod, double t, Random &rng,
+                      ThreadState &ts, double *record, int depth) const {
         // -i: primary rays (and rays straight through transparent things before them) find the
         // first opaque surface and measure irradiance there, as off a Lambertian surface of
         // reflectance pi (RADIANCE's raytirrad()); light sources stay what they are.
@@ -557,8 +568,10 @@ struct ContribIntegrator::Impl {
     void ShadeDielectric(const RayState &r, const Material &m, const double point[3],
                          const double normal[3], bool front, double t, Random &rng, ThreadState &ts,
                          double *record, int depth) const {
-        const RGB pcol =
-            PatternColour(Material{Material::kDiffuse, RGB{1, 1, 1}}, r, point, normal, t);
+        Material unit;  // the pattern alone
+        unit.color = {1, 1, 1};
+        unit.pattern = m.pattern;
+        const RGB pcol = PatternColour(unit, r, point, normal, t);
         const auto extinction = [&](int k) {  // RADIANCE's mylog()
             const double x = m.color[k] * pcol[k];
             return x < 1e-40 ? 100. : x >= 1. ? 0. : -std::log(x);
@@ -567,6 +580,7 @@ struct ContribIntegrator::Impl {
         RayState in = r;  // the incident ray: inside, it travelled in the medium
         RGB ctrans{0, 0, 0};
         double cos1 = -(r.dir[0] * normal[0] + r.dir[1] * normal[1] + r.dir[2] * normal[2]);
+        in.t = t;  // its length, for the weights of the rays it spawns
         if (!front) {
             for (int k = 0; k < 3; ++k) in.cext[k] = extinction(k);
         } else {

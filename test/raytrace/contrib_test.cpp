@@ -1214,3 +1214,30 @@ TEST(RcontribGpu, LocalSourcesAsRadiance) {
 }
 
 }  // namespace dayflux::test
+
+namespace dayflux::test {
+
+// Shadow rays aimed at another source pass an illum without counting for it (trace_contrib():
+// a ray aimed at a source counts only there): a lamp behind an illum window leaves the illum's
+// coefficients as they are without the lamp (same seed, and the lamp's samples come after).
+TEST(RcontribGpu, IllumCountsOnlyItsOwnRays) {
+    TempDir tmp;
+    const std::string illum =
+        "void illum win 0 0 3 1 1 1\nwin polygon w 0 0 12 -1 -1 2 -1 1 2 1 1 2 1 -1 2\n";
+    WriteFile(tmp.path() / "illum.rad", illum);
+    WriteFile(tmp.path() / "both.rad",
+              illum +
+                  "void light lamp 0 0 3 5 5 5\n"
+                  "lamp polygon l 0 0 12 -.5 -.5 3 -.5 .5 3 .5 .5 3 .5 -.5 3\n");
+    const std::string run =
+        "echo '0 0 0 0 0 1' | rcontrib-gpu -h -faa -I+ -ab 0 -seed 3 -m win -m lamp ";
+    const std::vector<double> alone = RunForValues(run + "illum.rad", tmp.path());
+    const std::vector<double> both = RunForValues(run + "both.rad", tmp.path());
+    ASSERT_EQ(alone.size(), 6u);
+    ASSERT_EQ(both.size(), 6u);
+    EXPECT_GT(alone[0], 0);
+    EXPECT_EQ(both[0], alone[0]);
+    EXPECT_GT(both[3], 0) << "the lamp is seen through the illum";
+}
+
+}  // namespace dayflux::test
