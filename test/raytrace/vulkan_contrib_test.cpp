@@ -88,6 +88,18 @@ class VulkanContrib : public ::testing::Test {
         if (se) *se = Floats(ReadFile(se_file));
         return Floats(r.out);
     }
+    // The tutorial room's 100 sensors through both backends (args: options and scene), a
+    // matrix of ncols columns, compared entry by entry.
+    void RoomMatrixAsEmbree(const std::string &args, size_t ncols) {
+        const fs::path room = DataDir() / "scene" / "models" / "room";
+        const std::string all =
+            args + " < '" + (DataDir() / "rcontrib" / "points.txt").string() + "'";
+        std::vector<double> se_gpu, se_cpu;
+        const std::vector<double> gpu = Run("vulkan", all, room, &se_gpu);
+        const std::vector<double> cpu = Run("embree", all, room, &se_cpu);
+        ASSERT_EQ(gpu.size(), 100u * ncols * 3);
+        ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 5000);
+    }
     TempDir tmp_;
 };
 
@@ -156,16 +168,10 @@ TEST_F(VulkanContrib, FurnaceSumsTheSeries) {
 // The tutorial room's daylight coefficients from both backends: per-entry t-scores from the
 // two standard errors stay within what 7500 entries explain, and so does the total.
 TEST_F(VulkanContrib, TutorialRoomAgreesWithEmbree) {
-    const fs::path room = DataDir() / "scene" / "models" / "room";
-    const std::string args = "-I+ -ab 2 -ad 512 -lw 1e-3" + kBins +
-                             "-m skyglow materials.rad room.rad objects/Glazing.rad "
-                             "skyDomes/skyglow.rad < '" +
-                             (DataDir() / "rcontrib" / "points.txt").string() + "'";
-    std::vector<double> se_gpu, se_cpu;
-    const std::vector<double> gpu = Run("vulkan", args, room, &se_gpu);
-    const std::vector<double> cpu = Run("embree", args, room, &se_cpu);
-    ASSERT_EQ(gpu.size(), 100u * 146 * 3);
-    ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 5000);
+    RoomMatrixAsEmbree("-I+ -ab 2 -ad 512 -lw 1e-3" + kBins +
+                           "-m skyglow materials.rad room.rad objects/Glazing.rad "
+                           "skyDomes/skyglow.rad",
+                       146);
 }
 
 // Sun coefficients through the tutorial room's glazing (RADIANCE's octree with 5185 suns,
@@ -544,16 +550,10 @@ namespace {
 // The view matrix V of the three-phase method: the tutorial room's sensors to Klems Full
 // patches of the window (a glow sender, rfluxmtx's hemisphere basis), both backends.
 TEST_F(VulkanContrib, ViewMatrixAsEmbree) {
-    const fs::path room = DataDir() / "scene" / "models" / "room";
-    const std::string args =
+    RoomMatrixAsEmbree(
         "-I+ -ab 3 -ad 512 -lw 1e-3 -f klems_full.cal -b 'kbin(0,1,0,0,0,1)' -bn Nkbins "
-        "-m Glazing materials.rad room.rad objects/GlazingVmtx.rad < '" +
-        (DataDir() / "rcontrib" / "points.txt").string() + "'";
-    std::vector<double> se_gpu, se_cpu;
-    const std::vector<double> gpu = Run("vulkan", args, room, &se_gpu);
-    const std::vector<double> cpu = Run("embree", args, room, &se_cpu);
-    ASSERT_EQ(gpu.size(), 100u * 145 * 3);
-    ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 5000);
+        "-m Glazing materials.rad room.rad objects/GlazingVmtx.rad",
+        145);
 }
 
 // The daylight matrix D: rays leaving the window's outside face, cosine-distributed (as
