@@ -890,9 +890,6 @@ TEST(RcontribGpu, BouncedGroundLightMatchesRadiance) {
     }
 }
 
-}  // namespace dayflux::test
-
-namespace dayflux::test {
 
 // The window as a Klems BSDF of venetian blinds against RADIANCE 5.4 (12 runs each,
 // rcontrib/bsdf_room/radiance.txt): daylight coefficients through it (specular samples from the
@@ -960,9 +957,6 @@ TEST(RcontribGpu, KlemsBsdfWindowAsRadiance) {
     }
 }
 
-}  // namespace dayflux::test
-
-namespace dayflux::test {
 
 // -ss 4: a view ray meeting a rough metal (all specular) sends 4 Gaussian samples, each with a
 // quarter of the coefficient, as rcontrib does. Every ray's total is still the metal's colour,
@@ -999,9 +993,6 @@ TEST(RcontribGpu, SeveralSpecularSamples) {
     EXPECT_NEAR(var[1] / var[0], .25, .25 * 5 * std::sqrt(4. / n));
 }
 
-}  // namespace dayflux::test
-
-namespace dayflux::test {
 
 // A slab of dielectric (n 1.33) over two sensors. The sun's shadow rays refract in and out
 // (parallel faces: the same direction), so with -dj 0 a sensor gets ldot x solid angle x
@@ -1053,9 +1044,6 @@ TEST(RcontribGpu, DielectricAsRadiance) {
     EXPECT_NEAR(sky[0], 2.85626, 4 * std::sqrt(0.0025 * 0.0025 + 0.00095 * 0.00095));
 }
 
-}  // namespace dayflux::test
-
-namespace dayflux::test {
 
 // -r: an output cut short (4 records and part of a fifth) is completed from the input ray after
 // the last whole record, and ends byte for byte as the uninterrupted run (random numbers are
@@ -1095,9 +1083,6 @@ TEST(RcontribGpu, RecoverContinuesAnInterruptedRun) {
     EXPECT_NE(r.err.find("cannot recover from stdout"), std::string::npos) << r.err;
 }
 
-}  // namespace dayflux::test
-
-namespace dayflux::test {
 
 // A square light source (side .5, radiance 1) 1 m above a sensor facing it: with -dj 1 every
 // part of the source is sampled uniformly, so the estimate is the exact configuration factor
@@ -1213,9 +1198,6 @@ TEST(RcontribGpu, LocalSourcesAsRadiance) {
     near(t[2], 11.4688, 0.0015, 0.0058, "walls");
 }
 
-}  // namespace dayflux::test
-
-namespace dayflux::test {
 
 // Shadow rays aimed at another source pass an illum without counting for it (trace_contrib():
 // a ray aimed at a source counts only there): a lamp behind an illum window leaves the illum's

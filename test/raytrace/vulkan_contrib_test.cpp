@@ -469,11 +469,6 @@ TEST_F(VulkanContrib, DielectricFallsBackToEmbree) {
     }
 }
 
-}  // namespace
-}  // namespace dayflux::test
-
-namespace dayflux::test {
-namespace {
 
 // Our own BVH walk (for devices without ray queries) finds the hits ray queries find: with the
 // same random numbers, the tutorial room (triangles) and analytic surfaces (a bubble, sphere,
@@ -516,11 +511,6 @@ TEST_F(VulkanContrib, BvhTraversalFindsWhatRayQueriesFind) {
     }
 }
 
-}  // namespace
-}  // namespace dayflux::test
-
-namespace dayflux::test {
-namespace {
 
 // Two devices (here the same one opened twice) split the rays between them; rays keep their
 // random numbers, so the output is the one device's, byte for byte.
@@ -541,11 +531,6 @@ TEST_F(VulkanContrib, TwoDevicesSplitTheRays) {
     EXPECT_TRUE(a.out == b.out);
 }
 
-}  // namespace
-}  // namespace dayflux::test
-
-namespace dayflux::test {
-namespace {
 
 // The view matrix V of the three-phase method: the tutorial room's sensors to Klems Full
 // patches of the window (a glow sender, rfluxmtx's hemisphere basis), both backends.
@@ -582,11 +567,6 @@ TEST_F(VulkanContrib, DaylightMatrixAsEmbree) {
     ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 1000);
 }
 
-}  // namespace
-}  // namespace dayflux::test
-
-namespace dayflux::test {
-namespace {
 
 // The BSDF material on the GPU: the tutorial room with venetian blinds (a Klems BSDF) in its
 // window, a sky and a sun: specular samples from the matrix, the Lambertian part as ambient, the
