@@ -373,7 +373,7 @@ struct ContribIntegrator::Impl {
             // A ray aimed at a source counts only there (trace_contrib()).
             if (k >= 0 && !aimed_elsewhere) {
                 RGB radiance{1, 1, 1};
-                if (o.contributions && !(pass || !front))
+                if (o.contributions && !(pass || !front) && !m.SpotOut(r.dir))
                     radiance = PatternColour(m, r, point, normal, t);
                 else if (o.contributions)
                     radiance = RGB{0, 0, 0};
@@ -973,7 +973,11 @@ struct ContribIntegrator::Impl {
             else
                 dom = 1.;
             if (dom <= 1e-4) continue;  // behind the source
-            sample(dir, dom * s.area / (d * d));
+            const Material &m = table.OfObject(s.object);
+            if (m.SpotOut(dir)) continue;  // outside a spotlight's cone
+            // A spot's focus distance moves the point its solid angle is seen from (srcray()).
+            const double dist = d + (m.spot_size > 0 ? m.spot_flen : 0.);
+            sample(dir, dom * s.area / (dist * dist));
         }
     }
 

@@ -32,6 +32,8 @@ SceneMaterials::SceneMaterials(const FlatScene &scene, const std::vector<Tracked
         s.object = sh.object;
         s.skip = materials_[sh.object].kind == Material::kGlow;
         s.weak = s.skip || materials_[sh.object].kind == Material::kIllum;
+        if (materials_[sh.object].spot_size > 0)  // RADIANCE warns too, and then ignores it
+            Warning(&objs[sh.object].loc, "distant source is a spotlight");
         s.colour = materials_[sh.object].color;
         Tangents(s.dir, s.u, s.v);
         const double half_side = .5 * std::sqrt(s.solid_angle);
@@ -109,6 +111,17 @@ void SceneMaterials::AddLocalSource(int object) {
         ErrorExit(&p.loc, p.type + " '" + p.name +
                               "': light sources on this shape are not sampled yet (polygons, "
                               "rings and spheres are)");
+    }
+    // checkspot(): a flat spotlight aimed behind itself never lights anything.
+    const Material &m = materials_[object];
+    if (m.spot_size > 0 && s.shape == Source::kFlat) {
+        const double d =
+            m.spot_aim[0] * s.norm[0] + m.spot_aim[1] * s.norm[1] + m.spot_aim[2] * s.norm[2];
+        const double d1 = 1. - m.spot_size / (2. * M_PI);
+        if (!(d > kTiny || 1. - kTiny - d * d < d1 * d1)) {
+            Warning(&p.loc, "'" + p.name + "': invalid spotlight direction");
+            s.skip = true;
+        }
     }
     sources_.push_back(s);
 }
@@ -250,6 +263,16 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
     } else if (t == "light") {
         m.kind = Material::kLight;
         m.color = {f[0], f[1], f[2]};
+    } else if (t == "spotlight") {
+        if (f.size() != 7) ErrorExit(&p.loc, "spotlight '" + p.name + "': bad # arguments");
+        if (f[3] <= kTiny) ErrorExit(&p.loc, "spotlight '" + p.name + "': zero angle");
+        const double l = std::sqrt(f[4] * f[4] + f[5] * f[5] + f[6] * f[6]);
+        if (l == 0) ErrorExit(&p.loc, "spotlight '" + p.name + "': zero focus vector");
+        m.kind = Material::kLight;  // makespot()
+        m.color = {f[0], f[1], f[2]};
+        m.spot_size = 2. * M_PI * (1. - std::cos(M_PI / 180. / 2. * f[3]));
+        m.spot_aim = {f[4] / l, f[5] / l, f[6] / l};
+        m.spot_flen = l;
     } else if (t == "illum") {
         m.kind = Material::kIllum;
         m.color = {f[0], f[1], f[2]};

@@ -90,6 +90,16 @@ struct Material {
     const MixInfo *mix = nullptr;              // mixfunc: the two materials and the coefficient
     const BsdfInfo *bsdf = nullptr;            // BSDF: its data and arguments
     const Material *alternate = nullptr;       // illum: what rays not aimed at it see (null: void)
+    // spotlight (a light): the cone's solid angle (0: not a spot), its axis, the focus distance.
+    double spot_size = 0;
+    std::array<double, 3> spot_aim{0, 0, 0};
+    double spot_flen = 0;
+    // RADIANCE's spotout() for a local spot: a direction toward the source outside the cone.
+    bool SpotOut(const double dir[3]) const {
+        return spot_size > 0 && spot_size < 2. * M_PI *
+                                                (1. + spot_aim[0] * dir[0] + spot_aim[1] * dir[1] +
+                                                 spot_aim[2] * dir[2]);
+    }
 };
 
 // A mixfunc: foreground and background (void: transparent) and the function mixing them.
