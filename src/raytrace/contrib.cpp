@@ -369,6 +369,9 @@ struct ContribIntegrator::Impl {
             if ((r.crtype & (kAmbient | kSpecular)) && !(r.crtype & kShadow) && front) return;
             if (aimed_elsewhere && (m.kind != Material::kIllum || (front && sources[r.aimed].weak)))
                 return;
+            // direct() sends no shadow ray toward a sample it would reach from behind (its
+            // potential, from the source alone, is nought): open tube ends.
+            if ((r.crtype & kShadow) && r.aimed >= 0 && !aimed_elsewhere && !front) return;
             const bool pass = m.kind == Material::kIllum && (r.aimed < 0 || aimed_elsewhere);
             // A ray aimed at a source counts only there (trace_contrib()).
             if (k >= 0 && !aimed_elsewhere) {
@@ -880,7 +883,16 @@ struct ContribIntegrator::Impl {
         // distribution of turns); turning it so for every sample gives the same mean.
         double ss[3][3];
         std::copy(&s.ss[0][0], &s.ss[0][0] + 9, &ss[0][0]);
-        if (s.turned) {
+        if (s.turned && s.shape == Source::kCylinder) {
+            // cylsetsrc(): SW perpendicular to the axis, SV = SW x axis, both .8559 r0 long.
+            const double turn[4] = {rng.Uniform(), rng.Uniform(), rng.Uniform(), rng.Uniform()};
+            double sv[3];
+            RandomTangents(s.axis, turn, ss[2], sv);
+            for (int k = 0; k < 3; ++k) ss[2][k] *= .8559 * s.radius;
+            ss[1][0] = ss[2][1] * s.axis[2] - ss[2][2] * s.axis[1];
+            ss[1][1] = ss[2][2] * s.axis[0] - ss[2][0] * s.axis[2];
+            ss[1][2] = ss[2][0] * s.axis[1] - ss[2][1] * s.axis[0];
+        } else if (s.turned) {
             const double turn[4] = {rng.Uniform(), rng.Uniform(), rng.Uniform(), rng.Uniform()};
             RandomTangents(s.norm, turn, ss[0], ss[1]);
             const double mult = .5 * std::sqrt(s.area);
@@ -932,6 +944,44 @@ struct ContribIntegrator::Impl {
                 split(split, kMaxParts, s.loc, ss[0], ss[1], lim * len2(ss[0]), lim * len2(ss[1]),
                       Part{{0, 0}, {kMaxParts, kMaxParts}});
             }
+        } else if (s.shape == Source::kCylinder) {
+            // cylpart(): nothing from inside the extended cylinder; split along the axis unless
+            // too close or far enough.
+            const auto dot = [](const double *a, const double *b) {
+                return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+            };
+            const double rad2 = 1.365 * dot(ss[1], ss[1]);
+            double along = dot(v, ss[0]);
+            double safe2 = dot(ss[0], ss[0]);
+            along *= along / safe2;
+            const double cent2 = dot(v, v), off2 = cent2 - along;
+            if (off2 <= rad2) return;
+            const double ratio = o.source_size_ratio;
+            safe2 *= ratio > kTiny ? 4. * r.weight * r.weight / (ratio * ratio) : 0.;
+            if (ratio <= kTiny || off2 <= 4. * rad2 || cent2 >= safe2) {
+                parts[nparts++] = Part{{0, 0}, {kMaxParts, kMaxParts}};
+            } else {
+                const auto split = [&](auto &&self, int mp, const double cent[3],
+                                       const double axis[3], double d2lim, Part part) -> void {
+                    double d2 = 0;
+                    for (int k = 0; k < 3; ++k) d2 += (origin[k] - cent[k]) * (origin[k] - cent[k]);
+                    if (mp < 2 || d2 >= d2lim) {
+                        parts[nparts++] = part;
+                        return;
+                    }
+                    double half[3];
+                    for (int k = 0; k < 3; ++k) half[k] = .5 * axis[k];
+                    part.size[0] >>= 1;
+                    for (int side = -1; side <= 1; side += 2) {
+                        double c[3];
+                        for (int k = 0; k < 3; ++k) c[k] = cent[k] + side * half[k];
+                        Part sub = part;
+                        sub.cent[0] += side * part.size[0];
+                        self(self, mp / 2, c, half, .25 * d2lim, sub);
+                    }
+                };
+                split(split, kMaxParts, s.loc, ss[0], safe2, Part{{0, 0}, {kMaxParts, kMaxParts}});
+            }
         } else {
             parts[nparts++] = Part{{0, 0}, {kMaxParts, kMaxParts}};
         }
@@ -967,11 +1017,15 @@ struct ContribIntegrator::Impl {
             if (d == 0) continue;  // at the source
             for (double &x : dir) x /= d;
             double dom;
-            if (flat)
+            if (flat) {
                 dom = -(s.norm[0] * dir[0] + s.norm[1] * dir[1] + s.norm[2] * dir[2]) *
                       (static_cast<double>(size[0]) * size[1] / (kMaxParts * kMaxParts));
-            else
+            } else if (s.shape == Source::kCylinder) {  // scylform(): the projection's cosine
+                const double a = dir[0] * s.axis[0] + dir[1] * s.axis[1] + dir[2] * s.axis[2];
+                dom = std::sqrt(std::max(0., 1. - a * a)) * size[0] / kMaxParts;
+            } else {
                 dom = 1.;
+            }
             if (dom <= 1e-4) continue;  // behind the source
             const Material &m = table.OfObject(s.object);
             if (m.SpotOut(dir)) continue;  // outside a spotlight's cone

@@ -107,10 +107,26 @@ void SceneMaterials::AddLocalSource(int object) {
         for (int k = 0; k < 3; ++k) s.loc[k] = f[k];
         s.area = M_PI * f[3] * f[3];
         for (int k = 0; k < 3; ++k) s.ss[k][k] = 0.7236 * f[3];
+    } else if (p.type == "cylinder") {  // cylsetsrc()
+        const double r0 = f[6];
+        double ad[3] = {f[3] - f[0], f[4] - f[1], f[5] - f[2]};
+        const double al = std::sqrt(ad[0] * ad[0] + ad[1] * ad[1] + ad[2] * ad[2]);
+        if (r0 <= kTiny || al <= 0) ErrorExit(&p.loc, "'" + p.name + "': illegal source radius");
+        if (r0 > .2 * al) Warning(&p.loc, "'" + p.name + "': source aspect too small");
+        s.shape = Source::kCylinder;
+        s.turned = true;
+        for (int k = 0; k < 3; ++k) {
+            ad[k] /= al;
+            s.axis[k] = ad[k];
+            s.loc[k] = .5 * (f[k] + f[3 + k]);
+            s.ss[0][k] = .5 * al * ad[k];
+        }
+        s.area = 2. * r0 * al;  // its projected area
+        s.radius = r0;
     } else {
         ErrorExit(&p.loc, p.type + " '" + p.name +
                               "': light sources on this shape are not sampled yet (polygons, "
-                              "rings and spheres are)");
+                              "rings, spheres and cylinders are)");
     }
     // checkspot(): a flat spotlight aimed behind itself never lights anything.
     const Material &m = materials_[object];

@@ -123,7 +123,7 @@ struct BsdfInfo {
 // A light source direct() samples: distant (`source` with light, or glow: skipped), or local, a
 // polygon, ring or sphere with a light or illum material (RADIANCE's SRCREC).
 struct Source {
-    enum Shape { kDistant, kFlat, kSphere } shape = kDistant;
+    enum Shape { kDistant, kFlat, kSphere, kCylinder } shape = kDistant;
     double dir[3];       // distant: toward the source
     double solid_angle;  // distant: RADIANCE's ss2 = 2 pi (1 - cos(half angle))
     int object;
@@ -136,7 +136,9 @@ struct Source {
     double loc[3], norm[3], ss[3][3];
     double area = 0;
     bool circular = false;
-    bool turned = false;  // ss is setflatss()'s square, which RADIANCE turns at random
+    bool turned = false;  // ss is setflatss()'s square (a cylinder's SW and SV), turned at random
+    double axis[3] = {0, 0, 0};  // a cylinder's unit axis
+    double radius = 0;           // and its radius
 };
 
 // RADIANCE's Fresnel estimate for pure specular plastic and metal (normal.c).
