@@ -125,8 +125,8 @@ void SceneMaterials::AddLocalSource(int object) {
         s.radius = r0;
     } else {
         ErrorExit(&p.loc, p.type + " '" + p.name +
-                              "': light sources on this shape are not sampled yet (polygons, "
-                              "rings, spheres and cylinders are)");
+                              "': illegal material for a light source (RADIANCE samples lights on "
+                              "polygons, rings, spheres and cylinders only)");
     }
     // checkspot(): a flat spotlight aimed behind itself never lights anything.
     const Material &m = materials_[object];

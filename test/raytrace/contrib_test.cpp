@@ -835,6 +835,13 @@ TEST(RcontribGpu, BadInput) {
     WriteFile(tmp.path() / "absdf.rad", std::string(kSky) +
                                             "void aBSDF shade 5 a.xml 0 0 1 . 0 0\n"
                                             "shade polygon p 0 0 9 0 0 1 1 0 1 0 1 1\n");
+    WriteFile(tmp.path() / "cone.rad",
+              "void light l 0 0 3 1 1 1\nl cone c 0 0 8 0 0 2 0 0 3 .5 .2\n");
+    r = RunCommand("echo '0 0 0 0 0 1' | rcontrib-gpu -I+ -m l cone.rad", tmp.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("cone.rad:2: cone 'c': illegal material for a light source"),
+              std::string::npos)
+        << r.err;
     r = RunCommand("echo '0 0 0 0 0 1' | rcontrib-gpu -I+ -m skyglow absdf.rad", tmp.path());
     EXPECT_NE(r.err.find("absdf.rad:3: material type aBSDF ('shade') is not traced yet"),
               std::string::npos)
