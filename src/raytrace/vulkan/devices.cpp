@@ -98,13 +98,6 @@ std::vector<VkPhysicalDevice> ChooseDevices(
     return chosen;
 }
 
-VkPhysicalDevice ChooseDevice(VkInstance instance,
-                              const std::function<std::string(VkPhysicalDevice)> &lacks,
-                              bool allow_cpu, const std::string &what, std::string *why) {
-    const std::vector<VkPhysicalDevice> d = ChooseDevices(instance, lacks, allow_cpu, what, why);
-    return d.empty() ? VK_NULL_HANDLE : d[0];
-}
-
 bool ComputeQueueFamily(VkPhysicalDevice device, uint32_t *family) {
     uint32_t n = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(device, &n, nullptr);

@@ -23,10 +23,6 @@ VkInstance CreateInstance(std::string *why);
 std::vector<VkPhysicalDevice> ChooseDevices(
     VkInstance instance, const std::function<std::string(VkPhysicalDevice)> &lacks, bool allow_cpu,
     const std::string &what, std::string *why);
-// The first of them (VK_NULL_HANDLE if none).
-VkPhysicalDevice ChooseDevice(VkInstance instance,
-                              const std::function<std::string(VkPhysicalDevice)> &lacks,
-                              bool allow_cpu, const std::string &what, std::string *why);
 
 // The first queue family with compute; false when there is none.
 bool ComputeQueueFamily(VkPhysicalDevice device, uint32_t *family);
