@@ -44,6 +44,7 @@ DAYFLUX_GPU_CONST kMatGlow = 4;
 DAYFLUX_GPU_CONST kMatLight = 5;
 DAYFLUX_GPU_CONST kMatMix = 6;  // mixfunc: `pattern` mixes surfaces `fore` and `back` (-1: void)
 DAYFLUX_GPU_CONST kMatBsdf = 7;  // BSDF (Klems): its data at klems[fore]
+DAYFLUX_GPU_CONST kMatDielectric = 8;  // color: transmission per unit length, w: the index
 
 // A node of the BVH traversed where there are no ray queries (raytrace/bvh.h), depth first: an
 // inner node's first child follows it, `index` is its second; a leaf's primitives are

@@ -31,7 +31,8 @@ const float kPi = 3.14159265358979;
 const float kFresnelThreshold = 0.017999;
 
 // Ray types as RADIANCE's ray.h numbers them.
-const int kPrimary = 1, kShadow = 2, kReflected = 4, kTrans = 16, kAmbient = 32, kSpecular = 64;
+const int kPrimary = 1, kShadow = 2, kReflected = 4, kRefracted = 8, kTrans = 16, kAmbient = 32,
+          kSpecular = 64;
 const int kReflectionTypes = kShadow | kReflected | kAmbient | kSpecular;
 
 // ---- random numbers: counter-based (PCG hash), so a cell's draws can be replayed anywhere.
@@ -92,6 +93,10 @@ struct Ray {
     float weight; // RADIANCE's rweight
     int rlvl, crtype, adepth, aimed;
     int depth;    // rays above it in the tree (the CPU integrator's guard against loops)
+#ifdef DAYFLUX_DIELECTRIC
+    vec3 cext;    // extinction of the medium it travels in (rayorigin() weighs children by it)
+    float t;      // its length, where a dielectric set it
+#endif
 };
 const int kMaxDepth = 200;
 struct Item {
@@ -161,6 +166,11 @@ bool Spawn(Ray parent, int type, vec3 rc, out Ray child) {
     child.weight = parent.weight * rw;
     child.coef = parent.coef * rc;
     child.aimed = (type & kReflectionTypes) != 0 ? -1 : parent.aimed;
+#ifdef DAYFLUX_DIELECTRIC
+    child.t = 0;
+    float re = min(parent.cext.x, min(parent.cext.y, parent.cext.z)) * parent.t;
+    if (re > 0.1) child.weight = re > 92.0 ? 0.0 : child.weight * exp(-re);
+#endif
     if (child.weight <= 0) return false;
     if ((child.crtype & kShadow) != 0) return true;
     if (LR <= 0) {
@@ -795,11 +805,62 @@ void ShadeMaterial(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, floa
     }
 }
 
+#ifdef DAYFLUX_DIELECTRIC
+// m_dielectric() as the CPU integrator has it: Fresnel reflection and refraction, the refracted
+// ray carrying the solid angle ratio; the medium's extinction only weighs the rays it spawns
+// (raycontrib() leaves it out of contributions). cos1 = rod > 0, normal faces the ray.
+void ShadeDielectric(Ray r, GpuSurface m, vec3 point, vec3 normal, float cos1, float t) {
+    GpuSurface unit = m;
+    unit.color.rgb = vec3(1);
+    vec3 pcol = Colour(unit, r, point, normal, t), ext;
+    for (int k = 0; k < 3; ++k) {  // RADIANCE's mylog()
+        float x = m.color[k] * pcol[k];
+        ext[k] = x < 1e-38 ? 100.0 : x >= 1.0 ? 0.0 : -log(x);
+    }
+    float nratio = m.color.w;
+    Ray inc = r;  // the incident ray: inside, it travelled in the medium
+    inc.t = t;
+    vec3 ctrans = vec3(0);
+    if (!hit_front) {
+        inc.cext = ext;
+    } else {
+        nratio = 1.0 / nratio;
+        ctrans = ext;
+    }
+    float refl = 1.0;
+    float d2 = 1.0 - nratio * nratio * (1.0 - cos1 * cos1);
+    if (d2 >= kTiny) {  // else total reflection
+        float cos2 = sqrt(d2);
+        float a = (cos1 - nratio * cos2) / (cos1 + nratio * cos2);
+        float b = (1.0 / cos1 - nratio / cos2) / (1.0 / cos1 + nratio / cos2);
+        refl = .5 * (a * a + b * b);
+        Ray c;
+        if (Spawn(inc, kRefracted, vec3((1.0 - refl) * nratio * nratio), c)) {
+            c.org = point;
+            c.dir = normalize(nratio * r.dir + (nratio * cos1 - cos2) * normal);
+            c.cext = ctrans;
+            Item it;
+            it.r = c;
+            it.kind = kItemTrace;
+            Push(it);
+        }
+    }
+    if ((r.crtype & kShadow) != 0) return;
+    PushChild(inc, kReflected, vec3(refl), point, normalize(r.dir + 2.0 * cos1 * normal));
+}
+#endif
+
 void ShadeBasic(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t) {
     if (m.kind == kMatBlack || m.kind == kMatGlow || m.kind == kMatLight) return;
 #ifdef DAYFLUX_BSDF
     if (m.kind == kMatBsdf) {
         ShadeBsdf(r, m, point, normal, t);
+        return;
+    }
+#endif
+#ifdef DAYFLUX_DIELECTRIC
+    if (m.kind == kMatDielectric) {
+        ShadeDielectric(r, m, point, normal, rod, t);
         return;
     }
 #endif
@@ -1163,6 +1224,10 @@ void Task() {
     r.adepth = 0;
     r.aimed = -1;
     r.depth = 0;
+#ifdef DAYFLUX_DIELECTRIC
+    r.cext = vec3(0);
+    r.t = 0;
+#endif
     if (IRRADIANCE != 0) {
         // -I: a Lambertian surface of reflectance pi at the origin, facing the ray direction.
         vec3 point = org + 1e-4 * dir;

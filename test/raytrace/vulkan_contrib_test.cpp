@@ -442,22 +442,59 @@ TEST_F(VulkanContrib, MixfuncAsEmbree) {
     }
 }
 
+// Dielectric: an absorbing block (its extinction weighs the rays it spawns against -lw; rays
+// reflect inside it, totally at its sides) and a ball lens above it, which turns the sky
+// upside down, between sensors and the sky. Both backends within their standard errors, per
+// sky bin and per sensor.
+TEST_F(VulkanContrib, DielectricAsEmbree) {
+    WriteFile(tmp_.path() / "block.rad",
+              "void dielectric water 0 0 5 .5 .6 .7 1.5 0\n"
+              "water polygon bottom 0 0 12 -1 -1 1  -1 1 1  1 1 1  1 -1 1\n"
+              "water polygon top 0 0 12 -1 -1 2  1 -1 2  1 1 2  -1 1 2\n"
+              "water polygon south 0 0 12 -1 -1 1  1 -1 1  1 -1 2  -1 -1 2\n"
+              "water polygon north 0 0 12 -1 1 1  -1 1 2  1 1 2  1 1 1\n"
+              "water polygon west 0 0 12 -1 -1 1  -1 -1 2  -1 1 2  -1 1 1\n"
+              "water polygon east 0 0 12 1 -1 1  1 1 1  1 1 2  1 -1 2\n"
+              "void dielectric clear 0 0 5 1 1 1 1.5 0\n"
+              "clear sphere ball 0 0 4 0 0 3.5 1\n");
+    std::string rays;
+    for (int i = 0; i < 20; ++i) rays += std::to_string(-1.9 + 0.2 * i) + " 0 0 0 0 1\n";
+    WriteFile(tmp_.path() / "rays", rays);
+    const std::string args =
+        "-I+ -ab 3 -ad 512 -lw 0.02" + kBins + "-m skyglow block.rad sky.rad < rays";
+    std::vector<double> se_gpu, se_cpu;
+    const std::vector<double> gpu = Run("vulkan", args, tmp_.path(), &se_gpu);
+    const std::vector<double> cpu = Run("embree", args, tmp_.path(), &se_cpu);
+    ASSERT_EQ(gpu.size(), 20u * 146 * 3);
+    ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 2000);
+    for (int r = 0; r < 20; ++r) {
+        double g = 0, c = 0, var = 0;
+        for (int k = 0; k < 146 * 3; k += 3) {
+            const size_t i = r * 438 + k;
+            g += gpu[i], c += cpu[i], var += se_gpu[i] * se_gpu[i] + se_cpu[i] * se_cpu[i];
+        }
+        EXPECT_GT(c, 0.1);
+        EXPECT_NEAR(g, c, kZ * std::sqrt(var)) << "sensor " << r;
+    }
+}
+
 // What the GPU integrator does not trace yet goes to Embree, with one line saying why, and the
 // results are Embree's. So does a machine whose only device is a CPU one, unless it is named.
-TEST_F(VulkanContrib, DielectricFallsBackToEmbree) {
-    WriteFile(tmp_.path() / "slab.rad",
-              "void dielectric water 0 0 5 1 1 1 1.33 0\n"
-              "water polygon p 0 0 12 -1 -1 2  1 -1 2  1 1 2  -1 1 2\n");
+TEST_F(VulkanContrib, LocalSourcesFallBackToEmbree) {
+    WriteFile(tmp_.path() / "lamp.rad",
+              "void light lamp 0 0 3 10 10 10\n"
+              "lamp polygon p 0 0 12 -1 -1 2  -1 1 2  1 1 2  1 -1 2\n");
     WriteFile(tmp_.path() / "rays", "0 0 0 0 0 1\n");
-    const std::string args = "-h -faa -I+ -ab 2 -ad 64" + kBins + "-m skyglow slab.rad sky.rad";
+    const std::string args = "-h -faa -I+ -ab 1 -ad 64 -m lamp lamp.rad";
     CommandResult gpu =
         RunCommand(kDevice + "rcontrib-gpu -backend vulkan " + args + " < rays", tmp_.path());
     CommandResult cpu = RunCommand("rcontrib-gpu " + args + " < rays", tmp_.path());
     ASSERT_EQ(gpu.status, 0) << gpu.err;
-    EXPECT_NE(gpu.err.find("the Vulkan backend cannot take this run (dielectric"),
+    EXPECT_NE(gpu.err.find("the Vulkan backend cannot take this run (local light sources (p)"),
               std::string::npos)
         << gpu.err;
     EXPECT_EQ(gpu.out, cpu.out);
+    EXPECT_GT(std::stod(cpu.out), 0.1);
     CommandResult unnamed = RunCommand(
         "DAYFLUX_VULKAN_DEVICE= rcontrib-gpu -backend vulkan -h "
         "-I+ -ab 1 -ad 16" +
@@ -468,7 +505,6 @@ TEST_F(VulkanContrib, DielectricFallsBackToEmbree) {
         EXPECT_NE(unnamed.err.find("CPU device"), std::string::npos) << unnamed.err;
     }
 }
-
 
 // Our own BVH walk (for devices without ray queries) finds the hits ray queries find: with the
 // same random numbers, the tutorial room (triangles) and analytic surfaces (a bubble, sphere,
@@ -511,7 +547,6 @@ TEST_F(VulkanContrib, BvhTraversalFindsWhatRayQueriesFind) {
     }
 }
 
-
 // Two devices (here the same one opened twice) split the rays between them; rays keep their
 // random numbers, so the output is the one device's, byte for byte.
 TEST_F(VulkanContrib, TwoDevicesSplitTheRays) {
@@ -530,7 +565,6 @@ TEST_F(VulkanContrib, TwoDevicesSplitTheRays) {
     EXPECT_EQ(a.out.size(), 100u * 146 * 12);
     EXPECT_TRUE(a.out == b.out);
 }
-
 
 // The view matrix V of the three-phase method: the tutorial room's sensors to Klems Full
 // patches of the window (a glow sender, rfluxmtx's hemisphere basis), both backends.
@@ -566,7 +600,6 @@ TEST_F(VulkanContrib, DaylightMatrixAsEmbree) {
     ASSERT_EQ(gpu.size(), 20u * 146 * 3);
     ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 1000);
 }
-
 
 // The BSDF material on the GPU: the tutorial room with venetian blinds (a Klems BSDF) in its
 // window, a sky and a sun: specular samples from the matrix, the Lambertian part as ambient, the

@@ -145,6 +145,8 @@ int GpuKind(Material::Kind kind) {
             return gpu::kMatMix;
         case Material::kBsdf:
             return gpu::kMatBsdf;
+        case Material::kDielectric:
+            return gpu::kMatDielectric;
         default:
             CHECK(false);  // refused by Create's unsupported()
             return gpu::kMatBlack;
@@ -246,7 +248,6 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             double thick, up[3];
             if (!ConstantBsdfFrame(*m.bsdf, &thick, up)) return "BSDF with a ray-dependent frame";
         }
-        if (m.kind == Material::kDielectric) return "dielectric";
         if (m.kind == Material::kIllum) return "illum";
         return "";
     };
@@ -288,6 +289,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         return it->second;
     };
     // Surfaces: one entry per (material, tracked modifier) the triangles use.
+    bool dielectric = false, warned_media = false;
     std::vector<gpu::GpuSurface> surfaces;
     std::map<std::pair<const Material *, int>, int> surface_of;
     const auto surface = [&](auto &&self, const Material &m, int k) -> int {
@@ -305,6 +307,16 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             s.tracked = k;
             s.alpha2 = static_cast<float>(m.alpha2);
             s.pattern = pattern_index(m);
+            if (m.kind == Material::kDielectric) {
+                dielectric = true;
+                // As the CPU integrator's: an absorbing medium's extinction is left out of
+                // contributions (RADIANCE's raycontrib() says the same).
+                if ((m.pattern || std::min({m.color[0], m.color[1], m.color[2]}) < 1) &&
+                    !warned_media) {
+                    Warning("ray contribution calculation does not support participating media");
+                    warned_media = true;
+                }
+            }
             if (m.kind == Material::kBsdf) {
                 s.fore = klems_index(*m.bsdf);
                 if (m.bsdf->proxy) s.params.w = gpu::kSurfaceTransparent;
@@ -498,6 +510,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     define("STACK_SIZE", std::to_string(kStackSize));
     define("ACCUM_T", float_accumulators ? "float" : "double");
     if (!klems.empty()) define("DAYFLUX_BSDF", "1");
+    if (dielectric) define("DAYFLUX_DIELECTRIC", "1");
     src += kShaderCommon;
     src += cal_glsl;
     src += pattern_glsl;
