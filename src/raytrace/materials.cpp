@@ -52,10 +52,33 @@ SceneMaterials::SceneMaterials(const FlatScene &scene, const std::vector<Tracked
 
 // fsetsrc(), rsetsrc() and sphsetsrc(): a polygon's centre, normal, area and half-size vectors
 // (half its first two edges for four vertices, else a square of its area), a ring's (a disc's),
-// a sphere's.
+// a sphere's; from the flattened scene, where transforms are applied.
 void SceneMaterials::AddLocalSource(int object) {
     const Primitive &p = scene_.scene.objects[object];
-    const auto &f = p.fargs;
+    // A polygon's vertices; a ring's centre, normal, inner and outer radius; a sphere's centre
+    // and radius; a cylinder's ends and radius: as its arguments are, transformed.
+    std::vector<double> f;
+    if (p.type == "polygon") {
+        const FlatScene::VertexRange range = scene_.polygon_vertices[object];
+        for (uint32_t v = range.first; v < range.first + range.count; ++v)
+            f.insert(f.end(), scene_.vertices[v].begin(), scene_.vertices[v].end());
+    } else {
+        for (const AnalyticShape &sh : scene_.shapes) {
+            if (sh.object != object) continue;
+            f.assign(sh.p0.begin(), sh.p0.end());
+            if (sh.kind == AnalyticShape::kRing) {
+                f.insert(f.end(), sh.p1.begin(), sh.p1.end());
+                f.push_back(sh.r0);
+                f.push_back(sh.r1);
+            } else if (sh.kind == AnalyticShape::kCylinder) {
+                f.insert(f.end(), sh.p1.begin(), sh.p1.end());
+                f.push_back(sh.r0);
+            } else {
+                f.push_back(sh.r0);
+            }
+            break;
+        }
+    }
     Source s{};
     s.object = object;
     s.skip = false;
@@ -69,6 +92,7 @@ void SceneMaterials::AddLocalSource(int object) {
     };
     if (p.type == "polygon") {
         const size_t nv = f.size() / 3;
+        if (nv < 3) ErrorExit(&p.loc, "'" + p.name + "': zero source area");
         double c[3] = {0, 0, 0}, a[3] = {0, 0, 0};
         for (size_t v = 0; v < nv; ++v)
             for (int k = 0; k < 3; ++k) c[k] += f[3 * v + k] / nv;

@@ -116,6 +116,9 @@ class Flattener {
         if (tris.empty()) return;
         const uint32_t base = static_cast<uint32_t>(out_->vertices.size());
         out_->vertices.insert(out_->vertices.end(), v.begin(), v.end());
+        if (out_->polygon_vertices.size() <= static_cast<size_t>(object))
+            out_->polygon_vertices.resize(object + 1);
+        out_->polygon_vertices[object] = {base, static_cast<uint32_t>(v.size())};
         for (const auto &t : tris) {
             out_->triangles.push_back({base + t[0], base + t[1], base + t[2]});
             out_->triangle_object.push_back(object);
@@ -131,8 +134,10 @@ class Flattener {
 FlatScene Flatten(Scene scene) {
     FlatScene flat;
     flat.scene = std::move(scene);
+    flat.top_level_objects = static_cast<int>(flat.scene.objects.size());
     Flattener f(&flat);
-    f.Add(0, static_cast<int>(flat.scene.objects.size()), Transform{}, 0);
+    f.Add(0, flat.top_level_objects, Transform{}, 0);
+    flat.polygon_vertices.resize(flat.scene.objects.size());
     return flat;
 }
 

@@ -28,6 +28,13 @@ struct FlatScene {
     // -1.
     std::vector<int> triangle_material;
     std::vector<AnalyticShape> shapes;
+    // Each polygon's transformed vertices, in order: vertices[first .. first + count - 1]
+    // (count 0 for other objects and degenerate polygons); indexed by scene object.
+    struct VertexRange {
+        uint32_t first = 0, count = 0;
+    };
+    std::vector<VertexRange> polygon_vertices;
+    int top_level_objects = 0;  // the scene's own objects; those after came from instances
     // Scene objects (from instances too), so triangle_object indexes into it.
     Scene scene;
 };

@@ -1089,29 +1089,36 @@ TEST(RcontribGpu, RecoverContinuesAnInterruptedRun) {
 // A square light source (side .5, radiance 1) 1 m above a sensor facing it: with -dj 1 every
 // part of the source is sampled uniformly, so the estimate is the exact configuration factor
 // times pi, 2 (X atan(X / sqrt(1 + X^2)) / sqrt(1 + X^2)) x 2 for X = .25 / h, whole (-ds 0) or
-// split by -ds; a sensor behind the source gets nothing. 4 standard errors of 2000 rays.
+// split by -ds, or put in place by xform; a sensor behind the source gets nothing. 4 standard
+// errors of 2000 rays.
 TEST(RcontribGpu, LocalLightIsItsFormFactor) {
     TempDir tmp;
     WriteFile(tmp.path() / "lamp.rad",
               "void light lamp 0 0 3 1 1 1\n"
               "lamp polygon panel 0 0 12 -.25 -.25 1 -.25 .25 1 .25 .25 1 .25 -.25 1\n");
+    WriteFile(tmp.path() / "panel.rad",
+              "lamp polygon panel 0 0 12 -.25 .25 0 -.25 -.25 0 .25 -.25 0 .25 .25 0\n");
+    WriteFile(tmp.path() / "moved.rad",
+              "void light lamp 0 0 3 1 1 1\n!xform -rx 180 -t 0 0 1 panel.rad\n");
     std::ostringstream rays;
     for (int i = 0; i < 2000; ++i) rays << "0 0 0 0 0 1\n";
     rays << "0 0 2 0 0 -1\n";
     WriteFile(tmp.path() / "rays.txt", rays.str());
     const double x = .25 / (1 - 1e-4), q = std::sqrt(1 + x * x);  // -I starts 1e-4 up
     const double expect = 4 * x / q * std::atan(x / q);
-    for (const char *ds : {"0", ".2", ".02"}) {
+    const std::pair<std::string, std::string> runs[] = {
+        {"0", "lamp.rad"}, {".2", "lamp.rad"}, {".02", "lamp.rad"}, {"0", "moved.rad"}};
+    for (const auto &[ds, scene] : runs) {
         const std::vector<double> v =
-            RunForValues(std::string("rcontrib-gpu -h -faa -I+ -ab 0 -dj 1 -seed 8 -ds ") + ds +
-                             " -m lamp lamp.rad < rays.txt",
+            RunForValues("rcontrib-gpu -h -faa -I+ -ab 0 -dj 1 -seed 8 -ds " + ds + " -m lamp " +
+                             scene + " < rays.txt",
                          tmp.path());
         ASSERT_EQ(v.size(), 3u * 2001);
         std::vector<double> e;
         for (int i = 0; i < 2000; ++i) e.push_back(v[3 * i]);
         double mean, se;
         MeanAndStandardError(e, &mean, &se);
-        EXPECT_NEAR(mean, expect, 4 * se) << "-ds " << ds;
+        EXPECT_NEAR(mean, expect, 4 * se) << "-ds " << ds << " " << scene;
         EXPECT_LT(se, 0.003 * expect);
         EXPECT_EQ(v[3 * 2000], 0.) << "behind the source";
     }
