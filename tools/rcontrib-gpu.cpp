@@ -420,10 +420,12 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
             o.contrib.source_jitter = number(a);
         } else if (a == "-ds") {
             o.contrib.source_size_ratio = number(a);
+        } else if (a == "-dr") {
+            o.contrib.direct_relays = static_cast<int>(number(a));
         } else if (a == "-aa" || a == "-as" || a == "-dt" || a == "-ar" || a == "-aw" ||
-                   a == "-dc" || a == "-dr" || a == "-dp") {
-            // forced by rcontrib (-aa 0 -as 0 -dt 0, making -dc moot), or about local or
-            // virtual sources (-ds -dr -dp), which this version does not sample
+                   a == "-dc" || a == "-dp") {
+            // forced by rcontrib (-aa 0 -as 0 -dt 0, making -dc moot), or the pretest of
+            // virtual sources (-dp), which we do not need (docs/compat.md)
             value(a);
         } else if (a == "-se") {
             o.stderr_file = value(a);

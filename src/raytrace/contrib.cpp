@@ -12,6 +12,7 @@
 #include "raytrace/klems.h"
 #include "raytrace/materials.h"
 #include "raytrace/sampling.h"
+#include "raytrace/virtuals.h"
 
 namespace dayflux {
 
@@ -91,7 +92,8 @@ struct ContribIntegrator::Impl {
     std::vector<TrackedModifier> tracked;
     std::function<std::unique_ptr<cal::Context>(int)> make_context;
     SceneMaterials table;
-    const std::vector<Source> &sources;
+    std::vector<Source> sources;      // the table's, then their images in mirrors
+    std::vector<MirrorRelay> relays;  // the mirrors those are seen through
 
     struct ThreadState {
         std::vector<std::unique_ptr<cal::Context>> contexts;
@@ -130,7 +132,8 @@ struct ContribIntegrator::Impl {
           tracked(std::move(t)),
           make_context(std::move(mc)),
           table(s, tracked),
-          sources(table.Sources()) {}
+          sources(table.Sources()),
+          relays(AddMirrorImages(s, table, opt.direct_relays, true, &sources)) {}
 
     // rayorigin(): the child's coefficient and weight, Russian roulette. False if the ray dies.
     bool Spawn(const RayState &parent, int type, const RGB &rc, Random &rng,
@@ -326,7 +329,7 @@ struct ContribIntegrator::Impl {
         const size_t last = r.aimed >= 0 ? r.aimed + 1 : sources.size();
         for (size_t i = first; i < last; ++i) {
             const Source &s = sources[i];
-            if (s.shape != Source::kDistant) continue;
+            if (s.shape != Source::kDistant || s.relay >= 0) continue;  // images are not met
             const double c = s.dir[0] * r.dir[0] + s.dir[1] * r.dir[1] + s.dir[2] * r.dir[2];
             if (2. * M_PI * (1. - c) > s.solid_angle) continue;
             if (s.skip && r.aimed < 0) {
@@ -523,12 +526,9 @@ struct ContribIntegrator::Impl {
                 Direct(r, ds, point, normal, rng, ts, record, depth);
                 return;
             }
-            case Material::kMirror: {
-                if (r.crtype & kShadow) return;
-                Reflect(r, PatternColour(m, r, point, normal, t), point, normal, rod, rng, ts,
-                        record, depth);
+            case Material::kMirror:
+                ShadeMirror(r, object, m, point, normal, front, rod, t, rng, ts, record, depth);
                 return;
-            }
             case Material::kGlass: {
                 RGB mc = PatternColour(m, r, point, normal, t);
                 const bool hastrans = Max3(mc) > 1e-15;
@@ -562,6 +562,46 @@ struct ContribIntegrator::Impl {
                 return;
             }
         }
+    }
+
+    // m_mirror(): the substitute material it may name sees rays other than those the direct
+    // calculation sends through the mirror (ambient and specular rays meeting its front stay
+    // with the mirror: the light they would find comes through its virtual sources); shadow rays
+    // aimed at other sources stop here; the back is black.
+    void ShadeMirror(const RayState &r, int object, const Material &m, const double point[3],
+                     const double normal[3], bool front, double rod, double t, Random &rng,
+                     ThreadState &ts, double *record, int depth) const {
+        const bool relayed =
+            r.aimed >= 0 && sources[r.aimed].relay >= 0 && sources[r.aimed].object == object;
+        if (m.mirror_alternate && !relayed && !((r.crtype & (kAmbient | kSpecular)) && front)) {
+            if (m.alternate)
+                ShadeSurface(r, object, *m.alternate, point, normal, front, rod, t, rng, ts, record,
+                             depth);
+            else
+                Transmit(r, RGB{1, 1, 1}, point, rng, ts, record, depth);
+            return;
+        }
+        if (r.aimed >= 0 && !relayed) return;
+        if (!front) return;
+        const RGB colour = PatternColour(m, r, point, normal, t);
+        if (!relayed) {
+            Reflect(r, colour, point, normal, rod, rng, ts, record, depth);
+            return;
+        }
+        // A shadow ray through the mirror toward the source it images: on to the next source,
+        // whatever the limits (rayorigin()'s verdict is ignored there).
+        RayState child = r;
+        child.rlvl = r.rlvl + 1;
+        child.crtype = r.crtype | kReflected;
+        child.aimed = sources[r.aimed].next;
+        child.t = 0;
+        for (int k = 0; k < 3; ++k) {
+            child.coef[k] = r.coef[k] * colour[k];
+            child.org[k] = point[k];
+            child.dir[k] = r.dir[k] + 2. * rod * normal[k];
+        }
+        Normalize(child.dir);
+        Trace(child, rng, ts, record, depth + 1);
     }
 
     // m_dielectric(): Fresnel reflection and refraction at an interface of index n (+ the
@@ -818,6 +858,7 @@ struct ContribIntegrator::Impl {
             if (s.skip) continue;
             if (s.shape != Source::kDistant) {
                 LocalSamples(s, r, point, rng, [&](const double dir[3], double omega) {
+                    if (s.relay >= 0 && !relays[s.relay].Meets(point, dir)) return;
                     ShadowRay(r, point, dir, coef_of(dir, omega), static_cast<int>(i), rng, ts,
                               record, depth);
                 });
@@ -837,6 +878,7 @@ struct ContribIntegrator::Impl {
                 for (int k = 0; k < 3; ++k) dir[k] += pu * s.u[k] + pv * s.v[k];
                 Normalize(dir);
             }
+            if (s.relay >= 0 && !relays[s.relay].Meets(point, dir)) continue;
             ShadowRay(r, point, dir, coef_of(dir, s.solid_angle), static_cast<int>(i), rng, ts,
                       record, depth);
         }
@@ -1027,8 +1069,9 @@ struct ContribIntegrator::Impl {
                 dom = 1.;
             }
             if (dom <= 1e-4) continue;  // behind the source
-            const Material &m = table.OfObject(s.object);
-            if (m.SpotOut(dir)) continue;  // outside a spotlight's cone
+            const Material &m = table.OfObject(s.emitter);
+            // outside a spotlight's cone (an image's cone is mirrored)
+            if (m.SpotOut(dir, s.relay >= 0 ? s.spot_aim : m.spot_aim.data())) continue;
             // A spot's focus distance moves the point its solid angle is seen from (srcray()).
             const double dist = d + (m.spot_size > 0 ? m.spot_flen : 0.);
             sample(dir, dom * s.area / (dist * dist));

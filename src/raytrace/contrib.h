@@ -34,6 +34,7 @@ struct ContribOptions {
     double specular_jitter = 1.0;       // -ss
     double source_jitter = 0.9;      // -dj (rcontrib's default): shadow rays spread over a source
     double source_size_ratio = 0.2;  // -ds: local sources split where larger than this x distance
+    int direct_relays = 3;           // -dr (rcontrib's default): mirrors a source is seen through
     uint64_t seed = 0;
 };
 

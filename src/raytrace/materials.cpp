@@ -29,7 +29,7 @@ SceneMaterials::SceneMaterials(const FlatScene &scene, const std::vector<Tracked
         Source s;
         for (int k = 0; k < 3; ++k) s.dir[k] = sh.p0[k] / l;
         s.solid_angle = 2. * M_PI * (1. - std::cos(sh.r0 * (M_PI / 360.)));
-        s.object = sh.object;
+        s.object = s.emitter = sh.object;
         s.skip = materials_[sh.object].kind == Material::kGlow;
         s.weak = s.skip || materials_[sh.object].kind == Material::kIllum;
         if (materials_[sh.object].spot_size > 0)  // RADIANCE warns too, and then ignores it
@@ -80,7 +80,7 @@ void SceneMaterials::AddLocalSource(int object) {
         }
     }
     Source s{};
-    s.object = object;
+    s.object = s.emitter = object;
     s.skip = false;
     s.weak = materials_[object].kind == Material::kIllum;
     s.colour = materials_[object].color;
@@ -295,8 +295,15 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
         m.rindex = f[3] + f[4] / 500.;
         m.transparent = true;
     } else if (t == "mirror") {
+        if (f.size() != 3 || p.sargs.size() > 1)
+            ErrorExit(&p.loc, "mirror '" + p.name + "': bad number of arguments");
         m.kind = Material::kMirror;
         m.color = {f[0], f[1], f[2]};
+        if (!p.sargs.empty()) {
+            m.mirror_alternate = true;
+            if (p.sargs[0] != "void")
+                m.alternate = &Resolved(FindModifier(mod, p.sargs[0], p.loc), pattern_of);
+        }
     } else if (t == "glow") {
         m.kind = Material::kGlow;
         m.color = {f[0], f[1], f[2]};

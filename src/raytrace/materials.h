@@ -90,16 +90,18 @@ struct Material {
     const MixInfo *mix = nullptr;              // mixfunc: the two materials and the coefficient
     const BsdfInfo *bsdf = nullptr;            // BSDF: its data and arguments
     const Material *alternate = nullptr;       // illum: what rays not aimed at it see (null: void)
+    bool mirror_alternate = false;             // mirror: it names one (m_mirror()'s substitute)
     // spotlight (a light): the cone's solid angle (0: not a spot), its axis, the focus distance.
     double spot_size = 0;
     std::array<double, 3> spot_aim{0, 0, 0};
     double spot_flen = 0;
-    // RADIANCE's spotout() for a local spot: a direction toward the source outside the cone.
-    bool SpotOut(const double dir[3]) const {
-        return spot_size > 0 && spot_size < 2. * M_PI *
-                                                (1. + spot_aim[0] * dir[0] + spot_aim[1] * dir[1] +
-                                                 spot_aim[2] * dir[2]);
+    // RADIANCE's spotout() for a local spot: a direction toward the source outside the cone
+    // (about aim: the spot's axis, or its mirror image's).
+    bool SpotOut(const double dir[3], const double *aim) const {
+        return spot_size > 0 &&
+               spot_size < 2. * M_PI * (1. + aim[0] * dir[0] + aim[1] * dir[1] + aim[2] * dir[2]);
     }
+    bool SpotOut(const double dir[3]) const { return SpotOut(dir, spot_aim.data()); }
 };
 
 // A mixfunc: foreground and background (void: transparent) and the function mixing them.
@@ -139,6 +141,11 @@ struct Source {
     bool turned = false;  // ss is setflatss()'s square (a cylinder's SW and SV), turned at random
     double axis[3] = {0, 0, 0};  // a cylinder's unit axis
     double radius = 0;           // and its radius
+    // An image of a source in a mirror (RADIANCE's virtual source, -dr): object is the mirror,
+    // relay its index among the relays (else -1), next the source the image is of, emitter the
+    // object whose material gives the light, spot_aim a spotlight's axis mirrored likewise.
+    int relay = -1, next = -1, emitter = -1;
+    double spot_aim[3] = {0, 0, 0};
 };
 
 // RADIANCE's Fresnel estimate for pure specular plastic and metal (normal.c).

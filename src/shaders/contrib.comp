@@ -865,8 +865,8 @@ void ShadeBasic(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t
     }
 #endif
     vec3 c = Colour(m, r, point, normal, t);
-    if (m.kind == kMatMirror) {
-        if ((r.crtype & kShadow) != 0) return;
+    if (m.kind == kMatMirror) {  // its back is black
+        if ((r.crtype & kShadow) != 0 || !hit_front) return;
         PushChild(r, kReflected, c, point, normalize(r.dir + 2 * rod * normal));
         return;
     }

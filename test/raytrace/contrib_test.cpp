@@ -1124,6 +1124,93 @@ TEST(RcontribGpu, LocalLightIsItsFormFactor) {
     }
 }
 
+// Mirrors relay sources (RADIANCE's virtual sources, -dr): a sun seen in a mirror shelf, and in
+// a mirror wall then the shelf, by sensors under a ceiling (-dj 0: exactly the mirrors' colours,
+// once or twice, times the cosine and the sun's solid angle; checked by hand against RADIANCE
+// 5.4, which gives the same to its 4 digits); -dr 1 keeps only the first, -dr 0 neither. A
+// lamp seen in a mirror floor is its image's form factor times the mirror's reflectance. The
+// back of a mirror is black; a mirror naming void as its substitute lets rays aimed at other
+// sources through.
+TEST(RcontribGpu, MirrorsRelaySources) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "shelf.rad",
+              "void light solar 0 0 3 1e6 1e6 1e6\n"
+              "solar source sun 0 0 4 0.3 -1 1.2 0.533\n"
+              "void plastic white 0 0 5 .7 .7 .7 0 0\n"
+              "white polygon ceiling 0 0 12 -3 -3 4 3 -3 4 3 3 4 -3 3 4\n"
+              "void mirror silver 0 0 3 .85 .8 .75\n"
+              "silver polygon shelf 0 0 12 -2 -2 1  2 -2 1  2 0 1  -2 0 1\n"
+              "silver polygon wall 0 0 12 -3 1 0  3 1 0  3 1 4  -3 1 4\n"
+              "void plastic black 0 0 5 0 0 0 0 0\n"
+              "black polygon strip 0 0 12 -3 -.5 2 3 -.5 2 3 .2 2 -3 .2 2\n");
+    // Unlit, lit twice over (wall, shelf), lit by the shelf, lit both ways.
+    WriteFile(tmp.path() / "sensors.txt",
+              ".1 -.5 3.95 0 0 -1\n.1 .1 3.95 0 0 -1\n.1 .65 3.95 0 0 -1\n.1 .95 3.95 0 0 -1\n");
+    const double cosine = 1.2 / std::sqrt(.09 + 1 + 1.44);
+    const double omega = 2 * M_PI * (1 - std::cos(.533 / 2 * M_PI / 180));
+    const double colour[3] = {.85, .8, .75};
+    for (int dr : {3, 1, 0}) {
+        const std::vector<double> v =
+            RunForValues("rcontrib-gpu -h -faa -I+ -ab 0 -dj 0 -dr " + std::to_string(dr) +
+                             " -m solar shelf.rad < sensors.txt",
+                         tmp.path());
+        ASSERT_EQ(v.size(), 12u);
+        for (int c = 0; c < 3; ++c) {
+            const double once = dr >= 1 ? colour[c] * cosine * omega : 0;
+            const double twice = dr >= 2 ? colour[c] * colour[c] * cosine * omega : 0;
+            EXPECT_EQ(v[c], 0) << "-dr " << dr;
+            EXPECT_NEAR(v[3 + c], twice, 1e-6 * omega) << "-dr " << dr;
+            EXPECT_NEAR(v[6 + c], once, 1e-6 * omega) << "-dr " << dr;
+            EXPECT_NEAR(v[9 + c], once + twice, 1e-6 * omega) << "-dr " << dr;
+        }
+    }
+
+    WriteFile(tmp.path() / "floor.rad",
+              "void light lamp 0 0 3 1 1 1\n"
+              "lamp polygon panel 0 0 12 -.25 -.25 2 -.25 .25 2 .25 .25 2 .25 -.25 2\n"
+              "void mirror silver 0 0 3 .8 .8 .8\n"
+              "silver polygon floor 0 0 12 -2 -2 0 2 -2 0 2 2 0 -2 2 0\n");
+    std::ostringstream rays;
+    for (int i = 0; i < 2000; ++i) rays << "0 0 1 0 0 -1\n";
+    WriteFile(tmp.path() / "down.txt", rays.str());
+    std::vector<double> v = RunForValues(
+        "rcontrib-gpu -h -faa -I+ -ab 0 -dj 1 -seed 3 -m lamp floor.rad < down.txt", tmp.path());
+    ASSERT_EQ(v.size(), 3u * 2000);
+    std::vector<double> e;
+    for (int i = 0; i < 2000; ++i) e.push_back(v[3 * i]);
+    double mean, se;
+    MeanAndStandardError(e, &mean, &se);
+    const double x = .25 / (3 - 1e-4), q = std::sqrt(1 + x * x);  // the image is 3 m away
+    EXPECT_NEAR(mean, .8 * 4 * x / q * std::atan(x / q), 4 * se);
+    EXPECT_LT(se, 0.003 * mean);
+
+    // A glow floor under the mirror's back: a sensor between them facing up sees black; the sun
+    // reaches a sensor under a mirror whose substitute is void, not one under a plain mirror.
+    WriteFile(tmp.path() / "back.rad",
+              "void glow floorglow 0 0 4 1 1 1 0\n"
+              "floorglow polygon ground 0 0 12 -50 -50 0 -50 50 0 50 50 0 50 -50 0\n"
+              "void mirror plain 0 0 3 .9 .9 .9\n"
+              "plain polygon roof 0 0 12 -50 -50 1 50 -50 1 50 50 1 -50 50 1\n");
+    v = RunForValues(
+        "echo '0 0 .5 0 0 1' | rcontrib-gpu -h -faa -I+ -ab 1 -ad 64 -m floorglow "
+        "back.rad",
+        tmp.path());
+    ASSERT_EQ(v.size(), 3u);
+    EXPECT_EQ(v[0], 0) << "the back of a mirror is black";
+    for (const char *sub : {"0", "1 void"}) {
+        WriteFile(tmp.path() / "sub.rad",
+                  "void light solar 0 0 3 1e6 1e6 1e6\nsolar source sun 0 0 4 0 0 1 0.533\n"
+                  "void mirror m " +
+                      std::string(sub) +
+                      " 0 3 .9 .9 .9\nm polygon roof 0 0 12 -5 -5 1 5 -5 1 5 5 1 -5 5 1\n");
+        v = RunForValues(
+            "echo '0 0 .5 0 0 1' | rcontrib-gpu -h -faa -I+ -ab 0 -dj 0 -m solar sub.rad",
+            tmp.path());
+        ASSERT_EQ(v.size(), 3u);
+        EXPECT_NEAR(v[0], sub[0] == '0' ? 0 : omega, 1e-6 * omega) << "mirror " << sub;
+    }
+}
+
 // Each sensor ray ("x y z dx dy dz") written `reps` times to dir/name, for -c `reps`.
 std::string ReplicatedSensors(const fs::path &dir, const std::string &name,
                               const std::vector<std::string> &sensors, int reps) {

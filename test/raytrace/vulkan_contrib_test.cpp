@@ -495,6 +495,18 @@ TEST_F(VulkanContrib, LocalSourcesFallBackToEmbree) {
         << gpu.err;
     EXPECT_EQ(gpu.out, cpu.out);
     EXPECT_GT(std::stod(cpu.out), 0.1);
+    // So do sources seen in mirrors (RADIANCE's virtual sources).
+    WriteFile(tmp_.path() / "shelf.rad",
+              "void light solar 0 0 3 1e6 1e6 1e6\nsolar source sun 0 0 4 0 -1 1 0.533\n"
+              "void mirror silver 0 0 3 .9 .9 .9\n"
+              "silver polygon shelf 0 0 12 -2 -2 -1  2 -2 -1  2 2 -1  -2 2 -1\n");
+    const std::string shelf = "-h -faa -I+ -ab 0 -dj 0 -m solar shelf.rad";
+    gpu = RunCommand(kDevice + "rcontrib-gpu -backend vulkan " + shelf + " < rays", tmp_.path());
+    cpu = RunCommand("rcontrib-gpu " + shelf + " < rays", tmp_.path());
+    EXPECT_NE(gpu.err.find("(sources seen in mirrors (-dr) are sampled on the CPU only)"),
+              std::string::npos)
+        << gpu.err;
+    EXPECT_EQ(gpu.out, cpu.out);
     CommandResult unnamed = RunCommand(
         "DAYFLUX_VULKAN_DEVICE= rcontrib-gpu -backend vulkan -h "
         "-I+ -ab 1 -ad 16" +

@@ -20,6 +20,7 @@
 #include "raytrace/analytic.h"
 #include "raytrace/bvh.h"
 #include "raytrace/materials.h"
+#include "raytrace/virtuals.h"
 #include "raytrace/vulkan/raytracing.h"
 #include "shaders/common.h"
 #include "shaders/embedded.h"
@@ -249,6 +250,8 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             if (!ConstantBsdfFrame(*m.bsdf, &thick, up)) return "BSDF with a ray-dependent frame";
         }
         if (m.kind == Material::kIllum) return "illum";
+        if (m.kind == Material::kMirror && m.mirror_alternate)
+            return "a mirror with a substitute material";
         return "";
     };
     const auto unsupported = [&](const Material &m) -> std::string {
@@ -405,6 +408,12 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         ShapeBounds(sh, impl->centre, a, b);
         for (int k = 0; k < 3; ++k) boxes.push_back(static_cast<float>(a[k]));
         for (int k = 0; k < 3; ++k) boxes.push_back(static_cast<float>(b[k]));
+    }
+    std::vector<Source> images = table.Sources();
+    if (!AddMirrorImages(scene, table, options.direct_relays, false, &images).empty() &&
+        images.size() > table.Sources().size()) {
+        *why = "sources seen in mirrors (-dr) are sampled on the CPU only";
+        return nullptr;
     }
     std::vector<gpu::GpuSource> srcs;
     for (const Source &s : table.Sources()) {
