@@ -81,6 +81,7 @@ struct RayState {
     int aimed = -1;  // for shadow rays and rays they spawn: the source aimed at (RADIANCE's rsrc)
     RGB cext{0, 0, 0};  // extinction of the medium it travels in (inside a dielectric), per unit
     double t = 0;       // its length, once it hit something (where cext matters)
+    uint64_t clip = 0;  // modifiers antimatter made it pass unseen (RADIANCE's clipset)
 };
 
 }  // namespace
@@ -146,6 +147,7 @@ struct ContribIntegrator::Impl {
         for (int k = 0; k < 3; ++k) child->coef[k] = parent.coef[k] * rc[k];
         child->aimed = (type & kReflectionTypes) ? -1 : parent.aimed;
         child->cext = parent.cext;
+        child->clip = parent.clip;
         child->t = 0;
         // rayorigin()'s estimate of the parent's extinction
         if (const double re = std::min({parent.cext[0], parent.cext[1], parent.cext[2]}) * parent.t;
@@ -314,6 +316,17 @@ struct ContribIntegrator::Impl {
         double point[3], normal[3];
         for (int k = 0; k < 3; ++k) point[k] = hit.point[k], normal[k] = hit.normal[k];
         const int mat = hit.shape >= 0 ? -1 : scene.triangle_material[hit.triangle];
+        if (r.clip &
+            (mat >= 0 ? table.ClipMaskOfMeshMaterial(mat) : table.ClipMaskOfObject(object))) {
+            // raycont(): antimatter hides the surface; rcontrib's trace_contrib() still sees the
+            // hit, so a tracked modifier counts its coefficient (we have no value for -V).
+            const int k =
+                mat >= 0 ? table.TrackedOfMeshMaterial(mat) : table.TrackedOfObject(object);
+            if (k >= 0 && !o.contributions && (r.aimed < 0 || object == sources[r.aimed].object))
+                Contribute(k, r, point, normal, hit.t, -1, RGB{1, 1, 1}, ts, record);
+            Transmit(r, RGB{1, 1, 1}, point, rng, ts, record, depth);
+            return;
+        }
         if (mat >= 0)  // a RADIANCE mesh's own material, tracked by its name
             Shade(r, object, table.TrackedOfMeshMaterial(mat), table.OfMeshMaterial(mat), point,
                   normal, hit.t, rng, ts, record, depth);
@@ -410,6 +423,12 @@ struct ContribIntegrator::Impl {
     void ShadeSurface(const RayState &r, int object, const Material &m, const double point[3],
                       const double normal[3], bool front, double rod, double t, Random &rng,
                       ThreadState &ts, double *record, int depth) const {
+        if (m.kind == Material::kAntimatter) {  // m_clip(), not a surface -i measures at
+            RayState through = r;
+            through.clip = front ? r.clip | m.clip_mask : r.clip & ~m.clip_mask;
+            Transmit(through, RGB{1, 1, 1}, point, rng, ts, record, depth);
+            return;
+        }
         // -i: primary rays (and rays straight through transparent things before them) find the
         // first opaque surface and measure irradiance there, as off a Lambertian surface of
         // reflectance pi (RADIANCE's raytirrad()); light sources stay what they are.
@@ -463,7 +482,8 @@ struct ContribIntegrator::Impl {
             case Material::kBlack:
             case Material::kGlow:
             case Material::kLight:
-            case Material::kIllum:  // as a side of a mixfunc: Shade() handles lights
+            case Material::kAntimatter:  // as a side of a mixfunc: not RADIANCE's use of it
+            case Material::kIllum:       // as a side of a mixfunc: Shade() handles lights
                 return;
             case Material::kDiffuse: {
                 // m_normal(): pure specular reflection with RADIANCE's Fresnel estimate raising
@@ -897,6 +917,7 @@ struct ContribIntegrator::Impl {
         child.ambient_depth = r.ambient_depth;
         child.aimed = source;
         child.cext = r.cext;
+        child.clip = r.clip;
         for (int k = 0; k < 3; ++k) {
             child.coef[k] = r.coef[k] * coef[k];
             child.org[k] = point[k];

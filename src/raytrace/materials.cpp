@@ -18,6 +18,10 @@ SceneMaterials::SceneMaterials(const FlatScene &scene, const std::vector<Tracked
             materials_[i] = Resolved(p.modifier, pattern_of);
         }
     }
+    clip_of_object_.assign(objs.size(), 0);
+    for (size_t i = 0; i < objs.size(); ++i)
+        if (auto it = clip_bits_.find(objs[i].modifier); it != clip_bits_.end())
+            clip_of_object_[i] = uint64_t{1} << it->second;
     for (int mat : scene_.triangle_material)
         if (mat >= 0 && !tracked_of_mesh_material_.count(mat)) {
             Resolved(mat, pattern_of);
@@ -320,6 +324,30 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
         m.spot_size = 2. * M_PI * (1. - std::cos(M_PI / 180. / 2. * f[3]));
         m.spot_aim = {f[4] / l, f[5] / l, f[6] / l};
         m.spot_flen = l;
+    } else if (t == "antimatter") {
+        // m_clip() with void first: its front adds these modifiers to the set a ray passes
+        // through unseen, its back takes them away. (A material to shade with is refused.)
+        if (p.sargs.empty()) ErrorExit(&p.loc, "antimatter '" + p.name + "': bad # arguments");
+        if (p.sargs[0] != "void")
+            ErrorExit(&p.loc, "antimatter '" + p.name + "': a material for its inside ('" +
+                                  p.sargs[0] + "') is not supported yet (void is)");
+        m.kind = Material::kAntimatter;
+        for (size_t s = 1; s < p.sargs.size(); ++s) {
+            int j = mod - 1;  // lastmod(): the definition before the antimatter
+            while (j >= 0 &&
+                   !(objs[j].name == p.sargs[s] && objs[j].info->kind != PrimitiveKind::kSurface &&
+                     objs[j].info->kind != PrimitiveKind::kVolume))
+                --j;
+            if (j < 0) {
+                Warning(&p.loc,
+                        "antimatter '" + p.name + "': unknown modifier \"" + p.sargs[s] + "\"");
+                continue;
+            }
+            const int bit =
+                clip_bits_.emplace(j, static_cast<int>(clip_bits_.size())).first->second;
+            if (bit >= 64) ErrorExit(&p.loc, "antimatter: more than 64 modifiers clipped");
+            m.clip_mask |= uint64_t{1} << bit;
+        }
     } else if (t == "illum") {
         m.kind = Material::kIllum;
         m.color = {f[0], f[1], f[2]};

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <string>
@@ -77,7 +78,8 @@ struct Material {
         kLight,
         kMix,
         kBsdf,
-        kIllum
+        kIllum,
+        kAntimatter
     } kind = kBlack;
     RGB color{0, 0, 0};
     double spec = 0;              // plastic/metal/trans specularity
@@ -91,6 +93,7 @@ struct Material {
     const BsdfInfo *bsdf = nullptr;            // BSDF: its data and arguments
     const Material *alternate = nullptr;       // illum: what rays not aimed at it see (null: void)
     bool mirror_alternate = false;             // mirror: it names one (m_mirror()'s substitute)
+    uint64_t clip_mask = 0;  // antimatter: the modifiers it clips (SceneMaterials::ClipMaskOf*)
     // spotlight (a light): the cone's solid angle (0: not a spot), its axis, the focus distance.
     double spot_size = 0;
     std::array<double, 3> spot_aim{0, 0, 0};
@@ -165,6 +168,13 @@ class SceneMaterials {
     const Material &OfMeshMaterial(int mat) const { return by_modifier_.at(mat); }
     int TrackedOfMeshMaterial(int mat) const { return tracked_of_mesh_material_.at(mat); }
     const std::vector<Source> &Sources() const { return sources_; }
+    // The antimatter bit of an object's own modifier (or a mesh material), 0 if none clips it.
+    uint64_t ClipMaskOfObject(int object) const { return clip_of_object_[object]; }
+    uint64_t ClipMaskOfMeshMaterial(int mat) const {
+        auto it = clip_bits_.find(mat);
+        return it == clip_bits_.end() ? 0 : uint64_t{1} << it->second;
+    }
+    bool HasAntimatter() const { return !clip_bits_.empty(); }
 
   private:
     int TrackedIndex(const std::string &modifier) const;
@@ -184,6 +194,8 @@ class SceneMaterials {
     std::vector<std::unique_ptr<BsdfInfo>> bsdfs_;
     std::map<std::string, std::shared_ptr<const KlemsScattering>> klems_by_path_;
     std::vector<Source> sources_;
+    std::map<int, int> clip_bits_;          // modifier clipped by some antimatter -> its bit
+    std::vector<uint64_t> clip_of_object_;  // per object: its modifier's bit (or 0)
 };
 
 }  // namespace dayflux

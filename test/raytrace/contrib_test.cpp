@@ -441,6 +441,62 @@ TEST(RcontribGpu, ViewFactorOfAWindow) {
     EXPECT_LT(se, 0.01 * exact);  // and the estimate is a good one
 }
 
+// Antimatter cuts a window in a black ceiling under a glow sky: the box it bounds clips the
+// ceiling's material for rays inside it, and leaving the box restores it, so a second black
+// plane above the box over half the window hides that half: pi times half the window's view
+// factor. Black walls close the room (the scene is kept small: a ray leaving the box within
+// 1e-6 of the scene's size of entering it misses its exit). RADIANCE 5.4 agrees by hand on a
+// room with a hole cut in a wall, -ab 2.
+TEST(RcontribGpu, AntimatterCutsAWindow) {
+    TempDir tmp;
+    const double a = 1.5, b = 1.0, c = 1.2;
+    std::ostringstream s;
+    s << "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 360\n"
+      << "void plastic black 0 0 5 0 0 0 0 0\n"
+      << "black polygon ceiling 0 0 12 -9 -9 " << c << " -9 9 " << c << " 9 9 " << c << " 9 -9 "
+      << c << "\n"
+      << "black polygon upper 0 0 12 0 -9 " << c + .5 << " 0 9 " << c + .5 << " 9 9 " << c + .5
+      << " 9 -9 " << c + .5 << "\n"
+      << "black polygon w1 0 0 12 -9 -9 -1 9 -9 -1 9 -9 2 -9 -9 2\n"
+      << "black polygon w2 0 0 12 -9 9 -1 -9 9 2 9 9 2 9 9 -1\n"
+      << "black polygon w3 0 0 12 -9 -9 -1 -9 -9 2 -9 9 2 -9 9 -1\n"
+      << "black polygon w4 0 0 12 9 -9 -1 9 9 -1 9 9 2 9 -9 2\n"
+      << "void antimatter hole 2 void black 0 0\n";
+    // The box [-a, a] x [-b, b] x [c - .1, c + .1], its faces' normals outward.
+    const double x0 = -a, x1 = a, y0 = -b, y1 = b, z0 = c - .1, z1 = c + .1;
+    const auto face = [&](const char *name, std::initializer_list<double> v) {
+        s << "hole polygon " << name << " 0 0 12";
+        for (double x : v) s << " " << x;
+        s << "\n";
+    };
+    face("bottom", {x0, y0, z0, x0, y1, z0, x1, y1, z0, x1, y0, z0});
+    face("top", {x0, y0, z1, x1, y0, z1, x1, y1, z1, x0, y1, z1});
+    face("south", {x0, y0, z0, x1, y0, z0, x1, y0, z1, x0, y0, z1});
+    face("north", {x0, y1, z0, x0, y1, z1, x1, y1, z1, x1, y1, z0});
+    face("west", {x0, y0, z0, x0, y0, z1, x0, y1, z1, x0, y1, z0});
+    face("east", {x1, y0, z0, x1, y1, z0, x1, y1, z1, x1, y0, z1});
+    WriteFile(tmp.path() / "cut.rad", s.str());
+    const double exact = M_PI * ParallelRectangleViewFactor(a, b, c) / 2;
+    const std::vector<double> t = RecordTotals(
+        tmp.path(), "-I+ -ab 1 -ad 1024 -lw 1e-6 -m skyglow cut.rad", 200, "0 0 0 0 0 1");
+    ASSERT_EQ(t.size(), 200u);
+    double mean, se;
+    MeanAndStandardError(t, &mean, &se);
+    EXPECT_GT(se, 0);
+    EXPECT_NEAR(mean, exact, 4 * se);
+    EXPECT_LT(se, 0.01 * exact);
+    // A material to shade the inside with (RADIANCE's non-void first argument) is refused.
+    WriteFile(tmp.path() / "shaded.rad",
+              "void plastic grey 0 0 5 .5 .5 .5 0 0\nvoid antimatter cutter 2 grey grey 0 0\n"
+              "cutter sphere s 0 0 4 0 0 2 1\n");
+    const CommandResult r =
+        RunCommand("echo '0 0 0 0 0 1' | rcontrib-gpu -I+ -m grey shaded.rad", tmp.path());
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.err.find("shaded.rad:2: antimatter 'cutter': a material for its inside"),
+              std::string::npos)
+        << r.err;
+}
+
 // The tutorial room against RADIANCE's converged runs. RADIANCE's own runs at these settings
 // differ from the converged matrix by 0.071-0.073 (DC) and 0.078-0.079 (V) per entry, 1-2 % on
 // row sums, and by up to 0.9 % (DC) and 0.5 % (V) in total (shared/data/references/README.md).

@@ -250,6 +250,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             if (!ConstantBsdfFrame(*m.bsdf, &thick, up)) return "BSDF with a ray-dependent frame";
         }
         if (m.kind == Material::kIllum) return "illum";
+        if (m.kind == Material::kAntimatter) return "antimatter";
         if (m.kind == Material::kMirror && m.mirror_alternate)
             return "a mirror with a substitute material";
         return "";
