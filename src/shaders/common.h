@@ -45,6 +45,9 @@ DAYFLUX_GPU_CONST kMatLight = 5;
 DAYFLUX_GPU_CONST kMatMix = 6;  // mixfunc: `pattern` mixes surfaces `fore` and `back` (-1: void)
 DAYFLUX_GPU_CONST kMatBsdf = 7;  // BSDF (Klems): its data at klems[fore]
 DAYFLUX_GPU_CONST kMatDielectric = 8;  // color: transmission per unit length, w: the index
+// kMatLight, kMatIllum: params.xyz a spotlight's axis, params.w its focus distance, alpha2 the
+// cone's solid angle (0: not a spot); kMatIllum: fore is its alternate material (-1: void).
+DAYFLUX_GPU_CONST kMatIllum = 9;
 
 // A node of the BVH traversed where there are no ray queries (raytrace/bvh.h), depth first: an
 // inner node's first child follows it, `index` is its second; a leaf's primitives are
@@ -89,12 +92,24 @@ struct GpuShape {
     int object;   // scene object
 };
 
-// A distant source (RADIANCE's 'source'): direction, size, what it is made of.
+// Light sources, as raytrace/materials.h's Source: distant (RADIANCE's 'source') or local, a
+// polygon or ring (flat), sphere or cylinder with light or illum. Flags in GpuSource.v.w.
+DAYFLUX_GPU_CONST kSourceDistant = 0;
+DAYFLUX_GPU_CONST kSourceFlat = 1;
+DAYFLUX_GPU_CONST kSourceSphere = 2;
+DAYFLUX_GPU_CONST kSourceCylinder = 3;
+DAYFLUX_GPU_CONST kSourceCircular = 1;  // round: samples are trimmed toward a disc
+DAYFLUX_GPU_CONST kSourceTurned = 2;    // sampled over a square turned at random
+DAYFLUX_GPU_CONST kSourceWeak = 4;      // illum (or glow): passes rays aimed at others
+
 struct GpuSource {
-    vec4 dir;     // xyz unit direction, w: solid angle (2 pi (1 - cos(half angle)))
+    vec4 dir;     // distant: unit direction, w: solid angle; local: centre (recentred), w: area
     vec4 colour;  // rgb radiance of its material; w: 1 for glow (found only by escaping rays)
-    vec4 u;       // half side of the square -dj jitters over, along one axis; w unused
-    vec4 v;       // and the other
+    vec4 u;       // distant: half side of the square -dj jitters over; local: ss[SU]; w: shape
+    vec4 v;       // distant: the other half side; local: ss[SV]; w: flags
+    vec4 w;       // local: ss[SW]; w: a cylinder's radius
+    vec4 norm;    // a flat source's normal or a cylinder's axis; w: spot cone (0: not a spot)
+    vec4 spot;    // a spotlight's axis; w: its focus distance
     int object;   // scene object
     int tracked;  // -m index, or -1
     int kind;     // its material's kMat*
@@ -122,7 +137,7 @@ struct GpuTasks {
     int ndirect;  // sources sampled with shadow rays (not glow)
     int pad1;
     float lw, dj, tmin, st;  // -lw, -dj, the ray start offset, -st
-    float ss, pad2, pad3, pad4;  // -ss
+    float ss, ds, pad3, pad4;  // -ss, -ds
     double centre_x, centre_y, centre_z, pad5;  // added back to positions for the bins
 };
 

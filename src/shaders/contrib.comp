@@ -111,6 +111,8 @@ struct Item {
     vec3 spec, incident;  // kItemDirect: rough specular colour and the ray's direction;
                           // kItemAmbient: incident holds the hemisphere's (turned) tangent
     float alpha2;         // kItemDirect: its roughness squared (0: none)
+    int part;             // kItemDirect*: the part of local source `next` sampled next
+    uint turn;            // kItemDirect*: keys the random turn of local sources' squares
 };
 Item stack[STACK_SIZE];
 int top = 0;
@@ -373,6 +375,7 @@ bool Closest(vec3 org, vec3 dir, out float t, out int prim, out int shape) {
 #endif
 
 void ShadeMaterial(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t);
+void PushChild(Ray r, int type, vec3 coef, vec3 org, vec3 dir);
 
 // A ray reaches something (tracked modifier k, material m); normal faces the ray afterwards.
 bool hit_front;  // whether the ray being shaded met its surface's front (BSDF frames need it)
@@ -382,12 +385,41 @@ void Shade(Ray r, int object, int k, GpuSurface m, vec3 point, vec3 geo_normal, 
     hit_front = rod > 0;
     vec3 normal = rod < 0 ? -geo_normal : geo_normal;
     rod = abs(rod);
-    if (r.aimed >= 0 && object != sources[r.aimed].object) k = -1;
-    bool light = m.kind == kMatLight;
-    bool bad = light && (r.crtype & (kAmbient | kSpecular)) != 0 && (r.crtype & kShadow) == 0;
-    if (k >= 0 && !bad)
+    bool aimed_elsewhere = r.aimed >= 0 && object != sources[r.aimed].object;
+    if (aimed_elsewhere) k = -1;
+    bool light = m.kind == kMatLight || m.kind == kMatIllum;
+    if (light) {
+        // m_light() (as the CPU integrator's Shade()): ambient and specular rays meeting a light's
+        // front count nothing; a shadow ray aimed elsewhere stops, unless at an illum it may
+        // pass; a shadow ray meeting its source from behind counts nothing; an illum passes the
+        // rays not aimed at it to its alternate material.
+        bool shadow = (r.crtype & kShadow) != 0;
+        if ((r.crtype & (kAmbient | kSpecular)) != 0 && !shadow && hit_front) return;
+        if (aimed_elsewhere &&
+            (m.kind != kMatIllum ||
+             (hit_front && (int(sources[r.aimed].v.w) & kSourceWeak) != 0)))
+            return;
+        if (shadow && r.aimed >= 0 && !aimed_elsewhere && !hit_front) return;
+        bool pass = m.kind == kMatIllum && (r.aimed < 0 || aimed_elsewhere);
+        if (k >= 0) {
+            bool lit = !pass && hit_front &&
+                       !(m.alpha2 > 0 && m.alpha2 < 2. * kPi * (1. + dot(m.params.xyz, r.dir)));
+            Contribute(k, r, point, normal, t,
+                       CONTRIBUTIONS == 0 ? vec3(1)
+                       : lit              ? Colour(m, r, point, normal, t)
+                                          : vec3(0));
+        }
+        if (!pass) return;
+        if (m.fore < 0) {
+            PushChild(r, kTrans, vec3(1), point, r.dir);
+            return;
+        }
+        m = surfaces[m.fore];  // rayshade() with the alternate material
+        light = false;
+    } else if (k >= 0) {
         Contribute(k, r, point, normal, t,
                    CONTRIBUTIONS != 0 ? Colour(m, r, point, normal, t) : vec3(1));
+    }
     if (FIRST_HIT != 0 && (r.crtype & ~(kPrimary | kTrans)) == 0 && !light && m.kind != kMatGlow) {
         if ((int(m.params.w) & kSurfaceTransparent) != 0) {
             Ray c;
@@ -456,6 +488,8 @@ void PushDirect(Ray r, vec3 colour, float rdiff, float tdiff, float trans, bool 
     it.incident = r.dir;
     it.next = 0;
     it.end = NSOURCES;
+    it.part = 0;
+    it.turn = Pcg(rng ^ 0x68e31da4u);
     Push(it);
 }
 
@@ -763,6 +797,8 @@ void ShadeBsdf(Ray r, GpuSurface m, vec3 point, vec3 normal, float t) {
     it.n = b;
     it.next = 0;
     it.end = NSOURCES;
+    it.part = 0;
+    it.turn = Pcg(rng ^ 0x68e31da4u);
     bool reflect_only = Bright(tdiff) <= kTiny && KI(b + 19) < 0 && KI(b + 20) < 0;
     it.point = point;
     it.fresnel = (front ? 1 : 0) | 2 | (reflect_only || thick != 0 ? 0 : 4);
@@ -851,7 +887,8 @@ void ShadeDielectric(Ray r, GpuSurface m, vec3 point, vec3 normal, float cos1, f
 #endif
 
 void ShadeBasic(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t) {
-    if (m.kind == kMatBlack || m.kind == kMatGlow || m.kind == kMatLight) return;
+    if (m.kind == kMatBlack || m.kind == kMatGlow || m.kind == kMatLight || m.kind == kMatIllum)
+        return;
 #ifdef DAYFLUX_BSDF
     if (m.kind == kMatBsdf) {
         ShadeBsdf(r, m, point, normal, t);
@@ -940,6 +977,7 @@ bool Escape(Ray r, out Hit h) {
     int glow = -1, chosen = -1;
     int first = r.aimed >= 0 ? r.aimed : 0, last = r.aimed >= 0 ? r.aimed + 1 : NSOURCES;
     for (int i = first; i < last; ++i) {
+        if (int(sources[i].u.w) != kSourceDistant) continue;
         float c = dot(sources[i].dir.xyz, r.dir);
         if (2. * kPi * (1. - c) > sources[i].dir.w) continue;
         if (sources[i].colour.w > 0.5 && r.aimed < 0) {
@@ -960,6 +998,8 @@ bool Escape(Ray r, out Hit h) {
     h.m.pattern = s.pattern;
     h.m.kind = s.kind;
     h.m.tracked = s.tracked;
+    h.m.fore = -1;
+    h.m.back = -1;
     h.point = r.dir * 1e30;
     h.normal = -r.dir;
     h.t = 1e30;
@@ -1032,10 +1072,168 @@ void ShadowRay(Item it, int i, GpuSource s, vec3 dir, vec3 coef) {
     Push(sh);
 }
 
+// nextssamp() for local source s seen from origin (the CPU integrator's LocalSamples()): a
+// flat source split into parts no larger than -ds times their distance (as the ray's weight
+// allows), a cylinder split along its axis, a sphere whole. Returns the number of parts; with
+// want >= 0, dir and omega (0: none) of a sample jittered by -dj in part `want`. The squares of
+// turned sources are turned by numbers keyed by `turn`, the same for every part.
+const int kMaxParts = 64;  // RADIANCE's MAXSPART
+struct PartNode {
+    ivec4 part;  // centre (xy) and size (zw) in 64ths
+    vec3 cent, u, w;
+    float du2, dv2;
+    int mp;
+};
+int LocalSample(GpuSource s, int i, vec3 origin, float weight, uint turn, int want, out vec3 dir,
+                out float omega) {
+    dir = vec3(0);
+    omega = 0;
+    int shape = int(s.u.w), flags = int(s.v.w);
+    bool isflat = shape == kSourceFlat;
+    vec3 loc = s.dir.xyz, axis = s.norm.xyz, ss0 = s.u.xyz, ss1 = s.v.xyz, ss2 = s.w.xyz;
+    if ((flags & kSourceTurned) != 0) {
+        uint saved = rng;
+        rng = Key(turn, uint(i), 3u, 11u);
+        float r0 = Rand(), r1 = Rand(), r2 = Rand(), r3 = Rand();
+        rng = saved;
+        if (shape == kSourceCylinder) {  // cylsetsrc(): SW across the axis, SV = SW x axis
+            ss2 = RandomTangent(axis, r0, r1, r2, r3) * (.8559 * s.w.w);
+            ss1 = cross(ss2, axis);
+        } else {  // setflatss(): a square of the source's area
+            float mult = .5 * sqrt(s.dir.w);
+            ss0 = RandomTangent(axis, r0, r1, r2, r3);
+            ss1 = cross(axis, ss0) * mult;
+            ss0 *= mult;
+        }
+    }
+    vec3 v = origin - loc;
+    int nparts = 0;
+    ivec4 chosen = ivec4(0, 0, kMaxParts, kMaxParts);
+    PartNode nodes[8];
+    int sp = 0;
+    if (isflat) {
+        if (dot(v, axis) <= 0) return 0;  // behind
+        if (DS <= kTiny) {
+            nparts = 1;
+        } else {
+            float lim = 2. * weight / DS;
+            lim *= lim;
+            nodes[0] = PartNode(ivec4(0, 0, kMaxParts, kMaxParts), loc, ss0, ss1,
+                                lim * dot(ss0, ss0), lim * dot(ss1, ss1), kMaxParts);
+            sp = 1;
+            while (sp > 0) {  // flt_partit(), depth first, the lower halfv first
+                PartNode e = nodes[--sp];
+                float d2 = dot(origin - e.cent, origin - e.cent);
+                if (e.mp < 2 || (d2 >= e.du2 && d2 >= e.dv2)) {
+                    if (nparts == want) chosen = e.part;
+                    ++nparts;
+                    continue;
+                }
+                int ax = e.du2 > e.dv2 ? 0 : 1;
+                vec3 halfv = .5 * (ax == 0 ? e.u : e.w);
+                PartNode c = e;
+                c.mp = e.mp / 2;
+                if (ax == 0) { c.u = halfv; c.du2 *= .25; } else { c.w = halfv; c.dv2 *= .25; }
+                c.part[2 + ax] >>= 1;
+                for (int side = 1; side >= -1; side -= 2) {
+                    PartNode sub = c;
+                    sub.cent = e.cent + float(side) * halfv;
+                    sub.part[ax] += side * c.part[2 + ax];
+                    nodes[sp++] = sub;
+                }
+            }
+        }
+    } else if (shape == kSourceCylinder) {  // cylpart()
+        float rad2 = 1.365 * dot(ss1, ss1);
+        float along = dot(v, ss0), safe2 = dot(ss0, ss0);
+        along *= along / safe2;
+        float cent2 = dot(v, v), off2 = cent2 - along;
+        if (off2 <= rad2) return 0;  // inside the extended cylinder
+        safe2 *= DS > kTiny ? 4. * weight * weight / (DS * DS) : 0.;
+        if (DS <= kTiny || off2 <= 4. * rad2 || cent2 >= safe2) {
+            nparts = 1;
+        } else {
+            nodes[0] = PartNode(ivec4(0, 0, kMaxParts, kMaxParts), loc, ss0, vec3(0), safe2, 0,
+                                kMaxParts);
+            sp = 1;
+            while (sp > 0) {
+                PartNode e = nodes[--sp];
+                float d2 = dot(origin - e.cent, origin - e.cent);
+                if (e.mp < 2 || d2 >= e.du2) {
+                    if (nparts == want) chosen = e.part;
+                    ++nparts;
+                    continue;
+                }
+                vec3 halfv = .5 * e.u;
+                PartNode c = e;
+                c.mp = e.mp / 2;
+                c.u = halfv;
+                c.du2 *= .25;
+                c.part.z >>= 1;
+                for (int side = 1; side >= -1; side -= 2) {
+                    PartNode sub = c;
+                    sub.cent = e.cent + float(side) * halfv;
+                    sub.part.x += side * c.part.z;
+                    nodes[sp++] = sub;
+                }
+            }
+        }
+    } else {
+        nparts = 1;
+    }
+    if (want < 0 || want >= nparts) return nparts;
+    vec3 vpos = vec3(0);
+    ivec3 size = ivec3(chosen.zw, kMaxParts);
+    if (DJ > kTiny)
+        for (int k = 0; k < (isflat ? 2 : 3); ++k)
+            vpos[k] = DJ * (1. - 2. * Rand()) * float(size[k]) / float(kMaxParts);
+    vpos.xy += vec2(chosen.xy) / float(kMaxParts);
+    if ((flags & kSourceCircular) != 0 && (nparts > 1 || DJ > 0.7)) {  // toward the disc
+        if (isflat) {
+            float c = 1.12837917;
+            float tu = c * sqrt(1. - .5 * vpos.y * vpos.y), tv = c * sqrt(1. - .5 * vpos.x * vpos.x);
+            vpos.x *= tu;
+            vpos.y *= tv;
+        } else {
+            float sum = dot(vpos, vpos), mx = max(vpos.x * vpos.x, max(vpos.y * vpos.y, vpos.z * vpos.z));
+            vpos *= sum > kTiny * kTiny ? sqrt(mx / sum) / 0.7236 : 0.;
+        }
+    }
+    vec3 to = loc + vpos.x * ss0 + vpos.y * ss1 + vpos.z * ss2 - origin;
+    float d = length(to);
+    if (d == 0) return nparts;  // at the source
+    dir = to / d;
+    float dom = 1.;
+    if (isflat) {
+        dom = -dot(axis, dir) * float(size.x * size.y) / float(kMaxParts * kMaxParts);
+    } else if (shape == kSourceCylinder) {  // scylform()
+        float a = dot(dir, axis);
+        dom = sqrt(max(0., 1. - a * a)) * float(size.x) / float(kMaxParts);
+    }
+    if (dom <= 1e-4) return nparts;  // behind the source
+    if (s.norm.w > 0 && s.norm.w < 2. * kPi * (1. + dot(s.spot.xyz, dir))) return nparts;
+    float dist = d + (s.norm.w > 0 ? s.spot.w : 0.);  // a spot's focus distance (srcray())
+    omega = dom * s.dir.w / (dist * dist);
+    return nparts;
+}
+
+// A sample of source i for a direct item: its direction and solid angle (0: none).
+bool SourceSample(Item it, int i, GpuSource s, out vec3 dir, out float omega) {
+    if (int(s.u.w) == kSourceDistant) {
+        dir = SourceDirection(s);
+        omega = s.dir.w;
+        return true;
+    }
+    LocalSample(s, i, it.point, it.r.weight, it.turn, it.part, dir, omega);
+    return omega > 0;
+}
+
 void DirectStep(Item it, int i) {
     GpuSource s = sources[i];
     if (s.colour.w > 0.5) return;  // glow: found only by escaping rays
-    vec3 dir = SourceDirection(s);
+    vec3 dir;
+    float omega;
+    if (!SourceSample(it, i, s, dir, omega)) return;
     float ldot = dot(it.normal, dir);
     if (ldot < 0 ? it.trans <= kTiny : it.trans >= 1 - kTiny) return;
     float lrdiff = it.rdiff, ltdiff = it.tdiff;
@@ -1045,19 +1243,19 @@ void DirectStep(Item it, int i) {
         ltdiff *= f;
     }
     float k = 0;
-    if (ldot > kTiny && lrdiff > kTiny) k = ldot * s.dir.w * lrdiff / kPi;
-    if (ldot < -kTiny && ltdiff > kTiny) k = -ldot * s.dir.w * ltdiff / kPi;
+    if (ldot > kTiny && lrdiff > kTiny) k = ldot * omega * lrdiff / kPi;
+    if (ldot < -kTiny && ltdiff > kTiny) k = -ldot * omega * ltdiff / kPi;
     vec3 coef = it.colour * k;
     if (it.alpha2 > 0 && ldot > kTiny) {
         // The Gaussian lobe toward the source, widened by the source's size.
-        float a2 = it.alpha2 + s.dir.w * (0.25 / kPi);
+        float a2 = it.alpha2 + omega * (0.25 / kPi);
         vec3 h = dir - it.incident;
         float d2 = dot(h, it.normal);
         d2 *= d2;
         float d3 = dot(h, h);
         float d4 = (d3 - d2) / d2;
         float g = exp(-d4 / a2) * d3 / (kPi * d2 * d2 * a2);
-        if (g > kTiny) coef += it.spec * g * ldot * s.dir.w;
+        if (g > kTiny) coef += it.spec * g * ldot * omega;
     }
     ShadowRay(it, i, s, dir, coef);
 }
@@ -1068,11 +1266,12 @@ void DirectStep(Item it, int i) {
 void DirectStepBsdf(Item it, int i) {
     GpuSource s = sources[i];
     if (s.colour.w > 0.5) return;
-    vec3 dir = SourceDirection(s);
+    vec3 dir;
+    float omega;
+    if (!SourceSample(it, i, s, dir, omega)) return;
     float ldot = dot(it.normal, dir);
     bool reflect = (it.fresnel & 2) != 0, transmit = (it.fresnel & 4) != 0;
     if (abs(ldot) <= kTiny || (ldot > 0 && !reflect) || (ldot < 0 && !transmit)) return;
-    float omega = s.dir.w;
     vec3 diffuse = ldot > 0 ? it.colour : it.spec;
     vec3 coef = Bright(diffuse) > kTiny ? diffuse * abs(ldot) * omega / kPi : vec3(0);
     bool front = (it.fresnel & 1) != 0;
@@ -1189,8 +1388,24 @@ void RunStack() {
             }
         } else {  // kItemDirect, kItemDirectBsdf
             if (it.next < it.end) {
-                int i = it.next++;
-                if (it.next < it.end) Push(it);
+                // The rest of the sources (and parts) first, under this one's shadow ray.
+                int i = it.next;
+                GpuSource s = sources[i];
+                vec3 unused;
+                float unused_omega;
+                int nparts = int(s.u.w) == kSourceDistant || s.colour.w > 0.5
+                                 ? 1
+                                 : LocalSample(s, i, it.point, it.r.weight, it.turn, -1, unused,
+                                               unused_omega);
+                Item rest = it;
+                if (it.part + 1 < nparts) {
+                    rest.part = it.part + 1;
+                } else {
+                    rest.part = 0;
+                    rest.next = i + 1;
+                }
+                if (rest.next < rest.end) Push(rest);
+                if (nparts == 0) continue;
 #ifdef DAYFLUX_BSDF
                 if (it.kind == kItemDirectBsdf) {
                     DirectStepBsdf(it, i);

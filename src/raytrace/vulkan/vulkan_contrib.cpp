@@ -34,7 +34,7 @@ namespace {
 
 // The std430 layouts the shader sees (common.h): vec4s and 4-byte scalars, doubles 8-aligned.
 static_assert(sizeof(gpu::GpuTriangle) == 32 && sizeof(gpu::GpuSurface) == 64);
-static_assert(sizeof(gpu::GpuSource) == 80 && sizeof(gpu::GpuTasks) == 128);
+static_assert(sizeof(gpu::GpuSource) == 128 && sizeof(gpu::GpuTasks) == 128);
 static_assert(offsetof(gpu::GpuTasks, lw) == 64 && offsetof(gpu::GpuTasks, centre_x) == 96);
 
 constexpr int kLocalSize = 64;
@@ -148,6 +148,8 @@ int GpuKind(Material::Kind kind) {
             return gpu::kMatBsdf;
         case Material::kDielectric:
             return gpu::kMatDielectric;
+        case Material::kIllum:
+            return gpu::kMatIllum;
         default:
             CHECK(false);  // refused by Create's unsupported()
             return gpu::kMatBlack;
@@ -249,8 +251,11 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             double thick, up[3];
             if (!ConstantBsdfFrame(*m.bsdf, &thick, up)) return "BSDF with a ray-dependent frame";
         }
-        if (m.kind == Material::kIllum) return "illum";
         if (m.kind == Material::kAntimatter) return "antimatter";
+        if (m.kind == Material::kIllum && m.alternate &&
+            (m.alternate->kind == Material::kMix || m.alternate->kind == Material::kBsdf ||
+             m.alternate->kind == Material::kIllum))
+            return "illum with a mixfunc, BSDF or illum behind it";
         if (m.kind == Material::kMirror && m.mirror_alternate)
             return "a mirror with a substitute material";
         return "";
@@ -325,6 +330,11 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
                 s.fore = klems_index(*m.bsdf);
                 if (m.bsdf->proxy) s.params.w = gpu::kSurfaceTransparent;
             }
+            if (m.kind == Material::kLight || m.kind == Material::kIllum) {
+                s.params = Vec4(m.spot_aim[0], m.spot_aim[1], m.spot_aim[2], m.spot_flen);
+                s.alpha2 = static_cast<float>(m.spot_size);
+            }
+            if (m.kind == Material::kIllum && m.alternate) s.fore = self(self, *m.alternate, -1);
             if (m.kind == Material::kMix) {
                 s.pattern = pattern_of(m.mix->coef.get());
                 if (!m.mix->is_void[0]) s.fore = self(self, m.mix->fore, -1);
@@ -419,11 +429,6 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     std::vector<gpu::GpuSource> srcs;
     for (const Source &s : table.Sources()) {
         const Material &m = table.OfObject(s.object);
-        if (s.shape != Source::kDistant) {
-            *why = "local light sources (" + scene.scene.objects[s.object].name +
-                   ") are sampled on the CPU only";
-            return nullptr;
-        }
         if (std::string u = unsupported(m); !u.empty()) {
             *why = u + " (" + scene.scene.objects[s.object].name + ") is traced on the CPU only";
             return nullptr;
@@ -433,6 +438,24 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         g.colour = Vec4(s.colour[0], s.colour[1], s.colour[2], s.skip ? 1 : 0);
         g.u = Vec4(s.u[0], s.u[1], s.u[2]);
         g.v = Vec4(s.v[0], s.v[1], s.v[2]);
+        if (s.shape != Source::kDistant) {
+            g.dir = Vec4(s.loc[0] - impl->centre[0], s.loc[1] - impl->centre[1],
+                         s.loc[2] - impl->centre[2], s.area);
+            const bool cyl = s.shape == Source::kCylinder;
+            g.u = Vec4(s.ss[0][0], s.ss[0][1], s.ss[0][2],
+                       cyl                             ? gpu::kSourceCylinder
+                       : s.shape == Source::kSphere ? gpu::kSourceSphere
+                                                      : gpu::kSourceFlat);
+            g.v = Vec4(s.ss[1][0], s.ss[1][1], s.ss[1][2],
+                       (s.circular ? gpu::kSourceCircular : 0) |
+                           (s.turned ? gpu::kSourceTurned : 0) | (s.weak ? gpu::kSourceWeak : 0));
+            g.w = Vec4(s.ss[2][0], s.ss[2][1], s.ss[2][2], s.radius);
+            const double *n = cyl ? s.axis : s.norm;
+            g.norm = Vec4(n[0], n[1], n[2], m.spot_size);
+            g.spot = Vec4(m.spot_aim[0], m.spot_aim[1], m.spot_aim[2], m.spot_flen);
+        } else if (s.weak) {
+            g.v.w = gpu::kSourceWeak;
+        }
         g.object = s.object;
         g.tracked = table.TrackedOfObject(s.object);
         g.kind = GpuKind(m.kind);
@@ -510,6 +533,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     define("TMIN", "tasks.tmin");
     define("ST", "tasks.st");
     define("SS", "tasks.ss");
+    define("DS", "tasks.ds");
     define("CENTRE_X", "tasks.centre_x");
     define("CENTRE_Y", "tasks.centre_y");
     define("CENTRE_Z", "tasks.centre_z");
@@ -686,6 +710,7 @@ void VulkanContribIntegrator::Impl::TraceOn(DeviceState &dev, const double *rays
         tasks.tmin = static_cast<float>(std::max(1e-6 * d.extent, 1e-9));
         tasks.st = static_cast<float>(d.o.specular_threshold);
         tasks.ss = static_cast<float>(d.o.specular_jitter);
+        tasks.ds = static_cast<float>(d.o.source_size_ratio);
         tasks.centre_x = d.centre[0];
         tasks.centre_y = d.centre[1];
         tasks.centre_z = d.centre[2];
