@@ -94,7 +94,9 @@ struct ContribIntegrator::Impl {
     std::function<std::unique_ptr<cal::Context>(int)> make_context;
     SceneMaterials table;
     std::vector<Source> sources;      // the table's, then their images in mirrors
+    const size_t real_sources;        // the table's
     std::vector<MirrorRelay> relays;  // the mirrors those are seen through
+    double image_spread = 0;          // the widest angle -dj moves a distant image's direction by
 
     struct ThreadState {
         std::vector<std::unique_ptr<cal::Context>> contexts;
@@ -115,7 +117,7 @@ struct ContribIntegrator::Impl {
 
     ThreadState &State() const {
         ThreadState &t = threads.local();
-        if (t.source_bins.empty()) t.source_bins.resize(sources.size() * tracked.size() + 1);
+        if (t.source_bins.empty()) t.source_bins.resize(real_sources * tracked.size() + 1);
         if (t.contexts.empty())
             for (size_t k = 0; k < tracked.size(); ++k) {
                 t.contexts.push_back(make_context(static_cast<int>(k)));
@@ -134,7 +136,18 @@ struct ContribIntegrator::Impl {
           make_context(std::move(mc)),
           table(s, tracked),
           sources(table.Sources()),
-          relays(AddMirrorImages(s, table, opt.direct_relays, true, &sources)) {}
+          real_sources(sources.size()),
+          relays(AddMirrorImages(s, table, opt.direct_relays, true, &sources)) {
+        for (const Source &src : sources)
+            if (src.relay >= 0 && src.shape == Source::kDistant) {
+                const double u = std::sqrt(src.u[0] * src.u[0] + src.u[1] * src.u[1] +
+                                           src.u[2] * src.u[2]),
+                             v = std::sqrt(src.v[0] * src.v[0] + src.v[1] * src.v[1] +
+                                           src.v[2] * src.v[2]);
+                // nextssamp()'s offset is at most dj (1.13 dj with the disc's trim) per side.
+                image_spread = std::max(image_spread, 1.2 * o.source_jitter * (u + v));
+            }
+    }
 
     // rayorigin(): the child's coefficient and weight, Russian roulette. False if the ray dies.
     bool Spawn(const RayState &parent, int type, const RGB &rc, Random &rng,
@@ -339,7 +352,7 @@ struct ContribIntegrator::Impl {
         int glow = -1, chosen = -1;
         // A ray aimed at a source can reach only that one (sourcehit()).
         const size_t first = r.aimed >= 0 ? r.aimed : 0;
-        const size_t last = r.aimed >= 0 ? r.aimed + 1 : sources.size();
+        const size_t last = r.aimed >= 0 ? r.aimed + 1 : real_sources;
         for (size_t i = first; i < last; ++i) {
             const Source &s = sources[i];
             if (s.shape != Source::kDistant || s.relay >= 0) continue;  // images are not met
@@ -873,9 +886,37 @@ struct ContribIntegrator::Impl {
     template <class CoefOf>
     void DirectSources(const RayState &r, const double point[3], Random &rng, ThreadState &ts,
                        double *record, int depth, const CoefOf &coef_of) const {
+        // Where each mirror is seen from here: not at all from behind (its back is black), and
+        // within a cone about its centre (wide enough for -dj's spread of a distant source), so
+        // that images of distant sources outside it need no sample (many suns, many images).
+        constexpr size_t kCulledRelays = 64;
+        double cone_axis[kCulledRelays][3], cone_cos[kCulledRelays];
+        bool behind[kCulledRelays];
+        const bool cull = !relays.empty() && relays.size() <= kCulledRelays;
+        for (size_t k = 0; cull && k < relays.size(); ++k) {
+            const MirrorRelay &m = relays[k];
+            behind[k] = m.normal[0] * point[0] + m.normal[1] * point[1] + m.normal[2] * point[2] <=
+                        m.offset;
+            double d2 = 0;
+            for (int j = 0; j < 3; ++j) {
+                cone_axis[k][j] = m.centre[j] - point[j];
+                d2 += cone_axis[k][j] * cone_axis[k][j];
+            }
+            const double d = std::sqrt(d2);
+            for (double &x : cone_axis[k]) x /= d;
+            const double angle = d2 <= m.radius2 ? M_PI : std::asin(std::sqrt(m.radius2 / d2));
+            cone_cos[k] = std::cos(std::min(M_PI, angle + image_spread + 1e-6));
+        }
         for (size_t i = 0; i < sources.size(); ++i) {
             const Source &s = sources[i];
             if (s.skip) continue;
+            if (s.relay >= 0 && cull) {
+                if (behind[s.relay]) continue;
+                const double *a = cone_axis[s.relay];
+                if (s.shape == Source::kDistant &&
+                    s.dir[0] * a[0] + s.dir[1] * a[1] + s.dir[2] * a[2] < cone_cos[s.relay])
+                    continue;
+            }
             if (s.shape != Source::kDistant) {
                 LocalSamples(s, r, point, rng, [&](const double dir[3], double omega) {
                     if (s.relay >= 0 && !relays[s.relay].Meets(point, dir)) return;

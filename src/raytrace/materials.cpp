@@ -27,8 +27,9 @@ SceneMaterials::SceneMaterials(const FlatScene &scene, const std::vector<Tracked
             Resolved(mat, pattern_of);
             tracked_of_mesh_material_[mat] = TrackedIndex(objs[mat].name);
         }
+    // marksources(): the scene's own objects, not those of instances.
     for (const AnalyticShape &sh : scene_.shapes) {
-        if (sh.kind != AnalyticShape::kSource) continue;
+        if (sh.kind != AnalyticShape::kSource || sh.object >= scene_.top_level_objects) continue;
         const double l = std::sqrt(sh.p0[0] * sh.p0[0] + sh.p0[1] * sh.p0[1] + sh.p0[2] * sh.p0[2]);
         Source s;
         for (int k = 0; k < 3; ++k) s.dir[k] = sh.p0[k] / l;
@@ -45,7 +46,7 @@ SceneMaterials::SceneMaterials(const FlatScene &scene, const std::vector<Tracked
         sources_.push_back(s);
     }
     // Light on local surfaces: sampled as area sources.
-    for (size_t i = 0; i < objs.size(); ++i) {
+    for (size_t i = 0; i < static_cast<size_t>(scene_.top_level_objects); ++i) {
         const Material::Kind kind = materials_[i].kind;
         if ((kind == Material::kLight || kind == Material::kIllum) &&
             objs[i].info->kind == PrimitiveKind::kSurface && objs[i].type != "source" &&
@@ -317,12 +318,15 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
     } else if (t == "spotlight") {
         if (f.size() != 7) ErrorExit(&p.loc, "spotlight '" + p.name + "': bad # arguments");
         if (f[3] <= kTiny) ErrorExit(&p.loc, "spotlight '" + p.name + "': zero angle");
-        const double l = std::sqrt(f[4] * f[4] + f[5] * f[5] + f[6] * f[6]);
+        // The focus vector as xform leaves it (turned and scaled with the spotlight).
+        double aim[3];
+        p.xf.ApplyDirection(&f[4], aim);
+        const double l = std::sqrt(aim[0] * aim[0] + aim[1] * aim[1] + aim[2] * aim[2]);
         if (l == 0) ErrorExit(&p.loc, "spotlight '" + p.name + "': zero focus vector");
         m.kind = Material::kLight;  // makespot()
         m.color = {f[0], f[1], f[2]};
         m.spot_size = 2. * M_PI * (1. - std::cos(M_PI / 180. / 2. * f[3]));
-        m.spot_aim = {f[4] / l, f[5] / l, f[6] / l};
+        m.spot_aim = {aim[0] / l, aim[1] / l, aim[2] / l};
         m.spot_flen = l;
     } else if (t == "antimatter") {
         // m_clip() with void first: its front adds these modifiers to the set a ray passes

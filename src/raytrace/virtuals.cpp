@@ -28,8 +28,14 @@ bool InFront(const Source &s, const MirrorRelay &m) {
         corr = 1.12837917;  // setflatss()'s square
     else if (s.circular)
         corr = 1. / 0.7236;  // sphsetsrc()'s
-    double sc[3];
+    double sc[3], sv[3], sw[3];
     const double *axes[3] = {distant ? s.u : s.ss[0], distant ? s.v : s.ss[1], s.ss[2]};
+    if (s.shape == Source::kCylinder) {  // cylsetsrc()'s SV and SW (we turn them per sample)
+        Tangents(s.axis, sw, sv);
+        for (int k = 0; k < 3; ++k) sv[k] *= .8559 * s.radius, sw[k] *= .8559 * s.radius;
+        axes[1] = sv;
+        axes[2] = sw;
+    }
     const int n = s.shape == Source::kFlat || distant ? 2 : 3;
     for (int k = 0; k < 3; ++k) sc[k] = distant ? s.dir[k] : s.loc[k];
     for (int i = 0; i < n; ++i) {

@@ -1267,6 +1267,22 @@ TEST(RcontribGpu, MirrorsRelaySources) {
     }
 }
 
+// A spotlight put in place by xform keeps its cone about the transformed focus vector (turned
+// down here, as RADIANCE's xform turns it), and its focus distance (1 m) moves the point its
+// solid angle is seen from: a 20 cm panel 2 m up gives nearly .04 / 3^2. (RADIANCE 5.4:
+// 4.434e-3.)
+TEST(RcontribGpu, SpotlightUnderXform) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "spot.rad",
+              "void spotlight sp 0 0 7 100 100 100 40 0 0 1\n"
+              "sp polygon panel 0 0 12 -.1 .1 0 -.1 -.1 0 .1 -.1 0 .1 .1 0\n");
+    WriteFile(tmp.path() / "turned.rad", "!xform -rx 180 -t 0 0 2 spot.rad\n");
+    const std::vector<double> v = RunForValues(
+        "echo '0 0 0 0 0 1' | rcontrib-gpu -h -faa -I+ -ab 0 -c 400 -m sp turned.rad", tmp.path());
+    ASSERT_EQ(v.size(), 3u);
+    EXPECT_NEAR(v[0], .04 / 9, .005 * .04 / 9);
+}
+
 // Each sensor ray ("x y z dx dy dz") written `reps` times to dir/name, for -c `reps`.
 std::string ReplicatedSensors(const fs::path &dir, const std::string &name,
                               const std::vector<std::string> &sensors, int reps) {

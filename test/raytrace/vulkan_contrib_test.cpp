@@ -511,9 +511,10 @@ TEST_F(VulkanContrib, LocalSourcesAsEmbree) {
               "winillum polygon win 0 0 12  1 0 1  1 0 2  4 0 2  4 0 1\n");
     std::string lamp_rays, room_rays;
     for (int i = 0; i < 10; ++i) {
-        lamp_rays += std::to_string(-2.7 + .6 * i) + " " + std::to_string(.3 * i - 1.3) +
-                     " .5 0 0 1\n";
-        room_rays += std::to_string(.5 + .4 * i) + " " + std::to_string(.5 + .3 * i) + " .8 0 0 1\n";
+        lamp_rays +=
+            std::to_string(-2.7 + .6 * i) + " " + std::to_string(.3 * i - 1.3) + " .5 0 0 1\n";
+        room_rays +=
+            std::to_string(.5 + .4 * i) + " " + std::to_string(.5 + .3 * i) + " .8 0 0 1\n";
     }
     WriteFile(tmp_.path() / "lamp_rays", lamp_rays);
     WriteFile(tmp_.path() / "room_rays", room_rays);
@@ -531,9 +532,10 @@ TEST_F(VulkanContrib, LocalSourcesAsEmbree) {
         }
         EXPECT_GT(total, 0.1);
     };
-    compare("-I+ -ab 1 -ad 256 -lw 1e-4 -m lamp -m hexlamp -m globe -m spot -m tubelamp "
-            "lamps.rad < lamp_rays",
-            5);
+    compare(
+        "-I+ -ab 1 -ad 256 -lw 1e-4 -m lamp -m hexlamp -m globe -m spot -m tubelamp "
+        "lamps.rad < lamp_rays",
+        5);
     compare("-I+ -ab 2 -ad 256 -lw 1e-5 -m winillum -m wall illum.rad < room_rays", 2);
 }
 
