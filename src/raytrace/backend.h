@@ -16,6 +16,10 @@ struct TraceRay {
     double org[3];
     double dir[3];  // unit length
     double tmax;    // infinity for unbounded rays
+    // The scene object the ray leaves, or -1. Its own surface is not met again where it starts
+    // (a polygon, being planar, not at all), while any other surface is met however near: a
+    // ray leaving a floor next to a wall finds the wall, whatever the scene's size.
+    int from_object = -1;
 };
 
 struct TraceHit {

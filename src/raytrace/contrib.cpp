@@ -82,6 +82,8 @@ struct RayState {
     RGB cext{0, 0, 0};  // extinction of the medium it travels in (inside a dielectric), per unit
     double t = 0;       // its length, once it hit something (where cext matters)
     uint64_t clip = 0;  // modifiers antimatter made it pass unseen (RADIANCE's clipset)
+    int from_object = -1;  // the object it leaves (TraceRay::from_object), or -1
+    int at_object = -1;    // the object it met, which the rays it spawns leave
 };
 
 }  // namespace
@@ -161,6 +163,8 @@ struct ContribIntegrator::Impl {
         child->aimed = (type & kReflectionTypes) ? -1 : parent.aimed;
         child->cext = parent.cext;
         child->clip = parent.clip;
+        child->from_object = parent.at_object;
+        child->at_object = -1;
         child->t = 0;
         // rayorigin()'s estimate of the parent's extinction
         if (const double re = std::min({parent.cext[0], parent.cext[1], parent.cext[2]}) * parent.t;
@@ -307,6 +311,7 @@ struct ContribIntegrator::Impl {
         std::copy(r.org, r.org + 3, tr.org);
         std::copy(r.dir, r.dir + 3, tr.dir);
         tr.tmax = std::numeric_limits<double>::infinity();
+        tr.from_object = r.from_object;
         TraceHit hit;
         backend.Closest(&tr, &hit, 1);
         if (!hit.hit) {
@@ -322,10 +327,12 @@ struct ContribIntegrator::Impl {
         }
     }
 
-    void ShadeHit(const RayState &r, const TraceHit &hit, Random &rng, ThreadState &ts,
+    void ShadeHit(const RayState &incoming, const TraceHit &hit, Random &rng, ThreadState &ts,
                   double *record, int depth) const {
         const int object =
             hit.shape >= 0 ? scene.shapes[hit.shape].object : scene.triangle_object[hit.triangle];
+        RayState r = incoming;
+        r.at_object = object;
         double point[3], normal[3];
         for (int k = 0; k < 3; ++k) point[k] = hit.point[k], normal[k] = hit.normal[k];
         const int mat = hit.shape >= 0 ? -1 : scene.triangle_material[hit.triangle];
@@ -628,6 +635,8 @@ struct ContribIntegrator::Impl {
         child.crtype = r.crtype | kReflected;
         child.aimed = sources[r.aimed].next;
         child.t = 0;
+        child.from_object = r.at_object;
+        child.at_object = -1;
         for (int k = 0; k < 3; ++k) {
             child.coef[k] = r.coef[k] * colour[k];
             child.org[k] = point[k];
@@ -959,6 +968,7 @@ struct ContribIntegrator::Impl {
         child.aimed = source;
         child.cext = r.cext;
         child.clip = r.clip;
+        child.from_object = r.at_object;
         for (int k = 0; k < 3; ++k) {
             child.coef[k] = r.coef[k] * coef[k];
             child.org[k] = point[k];

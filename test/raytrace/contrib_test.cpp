@@ -1283,6 +1283,32 @@ TEST(RcontribGpu, SpotlightUnderXform) {
     EXPECT_NEAR(v[0], .04 / 9, .005 * .04 / 9);
 }
 
+// A closed room under a glow sky lets no light in, however large the scene: with a 2 km ground
+// plane around it, rays leaving the floor next to a wall must still find the wall (a start
+// offset of 1e-6 of the scene's size, 2 mm, let 0.03 % of the sky in at the corners).
+TEST(RcontribGpu, ClosedRoomInALargeSceneIsDark) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "box.rad",
+              "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 360\n"
+              "void plastic white 0 0 5 .8 .8 .8 0 0\n"
+              "white polygon floor 0 0 12  0 0 0  0 4 0  5 4 0  5 0 0\n"
+              "white polygon ceil 0 0 12  0 0 3  5 0 3  5 4 3  0 4 3\n"
+              "white polygon w1 0 0 12  0 0 0  5 0 0  5 0 3  0 0 3\n"
+              "white polygon w2 0 0 12  5 0 0  5 4 0  5 4 3  5 0 3\n"
+              "white polygon w3 0 0 12  5 4 0  0 4 0  0 4 3  5 4 3\n"
+              "white polygon w4 0 0 12  0 4 0  0 0 0  0 0 3  0 4 3\n"
+              "void plastic gnd 0 0 5 .2 .2 .2 0 0\n"
+              "gnd polygon ground 0 0 12 -1e3 -1e3 -10 1e3 -1e3 -10 1e3 1e3 -10 -1e3 1e3 -10\n");
+    std::string rays;
+    for (int i = 0; i < 10; ++i)
+        rays += std::to_string(.5 + .4 * i) + " " + std::to_string(.5 + .3 * i) + " .8 0 0 1\n";
+    WriteFile(tmp.path() / "rays", rays);
+    const std::vector<double> v = RunForValues(
+        "rcontrib-gpu -h -faa -I+ -ab 4 -ad 1024 -lw 1e-5 -m skyglow box.rad < rays", tmp.path());
+    ASSERT_EQ(v.size(), 30u);
+    for (double x : v) EXPECT_EQ(x, 0);
+}
+
 // Each sensor ray ("x y z dx dy dz") written `reps` times to dir/name, for -c `reps`.
 std::string ReplicatedSensors(const fs::path &dir, const std::string &name,
                               const std::vector<std::string> &sensors, int reps) {

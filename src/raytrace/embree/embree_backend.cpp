@@ -65,6 +65,7 @@ class EmbreeBackend : public Backend {
             centre_[k] = empty ? 0 : 0.5 * (lo[k] + hi[k]);
             extent_ = std::max(extent_, empty ? 0 : hi[k] - lo[k]);
         }
+        near_ = 1e-6 * extent_;
         scene_ = rtcNewScene(device_);
         rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
         rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
@@ -81,6 +82,9 @@ class EmbreeBackend : public Backend {
                                         3 * sizeof(unsigned), flat.triangles.size()));
             for (size_t i = 0; i < flat.triangles.size(); ++i)
                 for (int k = 0; k < 3; ++k) ib[3 * i + k] = flat.triangles[i][k];
+            rtcSetGeometryUserData(g, this);
+            rtcSetGeometryIntersectFilterFunction(g, TriangleFilterFunction);
+            rtcSetGeometryOccludedFilterFunction(g, TriangleFilterFunction);
             rtcCommitGeometry(g);
             triangles_id_ = rtcAttachGeometry(scene_, g);
             rtcReleaseGeometry(g);
@@ -229,6 +233,26 @@ class EmbreeBackend : public Backend {
         for (int k = 0; k < 3; ++k) org[k] = r.org[k] - centre_[k], dir[k] = r.dir[k];
     }
 
+    // A triangle of the object the ray leaves: a polygon's never (it is planar, as RADIANCE's
+    // polygons are), a mesh's not within near_ of the origin.
+    static void TriangleFilterFunction(const RTCFilterFunctionNArguments *args) {
+        CHECK(args->N == 1);
+        const TraceRay &r = *shape_query.ray;
+        if (r.from_object < 0 || !args->valid[0]) return;
+        const auto *self = static_cast<const EmbreeBackend *>(args->geometryUserPtr);
+        const unsigned prim = RTCHitN_primID(args->hit, 1, 0);
+        if (self->flat_->triangle_object[prim] != r.from_object) return;
+        if (self->flat_->triangle_material[prim] < 0 || RTCRayN_tfar(args->ray, 1, 0) < self->near_)
+            args->valid[0] = 0;
+    }
+
+    // The nearest distance an analytic surface is met at: its own surface, near_.
+    double ShapeNear(int prim, float tnear) const {
+        return shape_query.ray->from_object == flat_->shapes[surfaces_[prim]].object
+                   ? std::max(static_cast<double>(tnear), near_)
+                   : tnear;
+    }
+
     static void ShapeIntersectFunction(const RTCIntersectFunctionNArguments *args) {
         if (!args->valid[0]) return;
         CHECK(args->N == 1);
@@ -237,9 +261,10 @@ class EmbreeBackend : public Backend {
         RTCHitN *hit = RTCRayHitN_HitN(args->rayhit, 1);
         double org[3], dir[3];
         self->RayOf(org, dir);
-        const double t =
-            IntersectShape(self->flat_->shapes[self->surfaces_[args->primID]], self->centre_, org,
-                           dir, RTCRayN_tnear(ray, 1, 0), RTCRayN_tfar(ray, 1, 0));
+        const double t = IntersectShape(self->flat_->shapes[self->surfaces_[args->primID]],
+                                        self->centre_, org, dir,
+                                        self->ShapeNear(args->primID, RTCRayN_tnear(ray, 1, 0)),
+                                        RTCRayN_tfar(ray, 1, 0));
         if (t < 0) return;
         shape_query.t = t;
         RTCRayN_tfar(ray, 1, 0) = static_cast<float>(t);
@@ -256,9 +281,10 @@ class EmbreeBackend : public Backend {
         const auto *self = static_cast<const EmbreeBackend *>(args->geometryUserPtr);
         double org[3], dir[3];
         self->RayOf(org, dir);
-        const double t =
-            IntersectShape(self->flat_->shapes[self->surfaces_[args->primID]], self->centre_, org,
-                           dir, RTCRayN_tnear(args->ray, 1, 0), RTCRayN_tfar(args->ray, 1, 0));
+        const double t = IntersectShape(
+            self->flat_->shapes[self->surfaces_[args->primID]], self->centre_, org, dir,
+            self->ShapeNear(args->primID, RTCRayN_tnear(args->ray, 1, 0)),
+            RTCRayN_tfar(args->ray, 1, 0));
         if (t >= 0) RTCRayN_tfar(args->ray, 1, 0) = -std::numeric_limits<float>::infinity();
     }
 
@@ -269,8 +295,9 @@ class EmbreeBackend : public Backend {
         r->dir_x = static_cast<float>(in.dir[0]);
         r->dir_y = static_cast<float>(in.dir[1]);
         r->dir_z = static_cast<float>(in.dir[2]);
-        // Start just off the surface: relative to the scene's size, not a fixed length.
-        r->tnear = static_cast<float>(1e-6 * extent_);
+        // Rays leaving a surface start at once (their own surface is filtered out); others
+        // just off where they start, relative to the scene's size.
+        r->tnear = static_cast<float>(in.from_object >= 0 ? 1e-9 * extent_ : near_);
         r->tfar = std::isinf(in.tmax) ? std::numeric_limits<float>::infinity()
                                       : static_cast<float>(in.tmax);
         r->mask = 0xffffffffu;
@@ -286,6 +313,7 @@ class EmbreeBackend : public Backend {
     unsigned triangles_id_ = RTC_INVALID_GEOMETRY_ID, shapes_id_ = RTC_INVALID_GEOMETRY_ID;
     double centre_[3] = {0, 0, 0};
     double extent_ = 0;
+    double near_ = 0;  // 1e-6 of the scene's size: closer than that, a surface meets itself
 };
 
 }  // namespace
