@@ -461,20 +461,8 @@ TEST(RcontribGpu, AntimatterCutsAWindow) {
       << "black polygon w2 0 0 12 -9 9 -1 -9 9 2 9 9 2 9 9 -1\n"
       << "black polygon w3 0 0 12 -9 -9 -1 -9 -9 2 -9 9 2 -9 9 -1\n"
       << "black polygon w4 0 0 12 9 -9 -1 9 9 -1 9 9 2 9 -9 2\n"
-      << "void antimatter hole 2 void black 0 0\n";
-    // The box [-a, a] x [-b, b] x [c - .1, c + .1], its faces' normals outward.
-    const double x0 = -a, x1 = a, y0 = -b, y1 = b, z0 = c - .1, z1 = c + .1;
-    const auto face = [&](const char *name, std::initializer_list<double> v) {
-        s << "hole polygon " << name << " 0 0 12";
-        for (double x : v) s << " " << x;
-        s << "\n";
-    };
-    face("bottom", {x0, y0, z0, x0, y1, z0, x1, y1, z0, x1, y0, z0});
-    face("top", {x0, y0, z1, x1, y0, z1, x1, y1, z1, x0, y1, z1});
-    face("south", {x0, y0, z0, x1, y0, z0, x1, y0, z1, x0, y0, z1});
-    face("north", {x0, y1, z0, x0, y1, z1, x1, y1, z1, x1, y1, z0});
-    face("west", {x0, y0, z0, x0, y0, z1, x0, y1, z1, x0, y1, z0});
-    face("east", {x1, y0, z0, x1, y1, z0, x1, y1, z1, x1, y0, z1});
+      << "void antimatter hole 2 void black 0 0\n"
+      << test::BoxOfPolygons("hole", "cut", {-a, -b, c - .1}, {a, b, c + .1});
     WriteFile(tmp.path() / "cut.rad", s.str());
     const double exact = M_PI * ParallelRectangleViewFactor(a, b, c) / 2;
     const std::vector<double> t = RecordTotals(
@@ -1354,22 +1342,10 @@ TEST(RcontribGpu, LocalSourcesAsRadiance) {
               "lamp polygon hex 0 0 18  3.7 1.2 2.99  3.7 1.5 2.99  4 1.7 2.99  4.3 1.5 2.99  4.3 "
               "1.2 2.99  4 1 2.99\n");
     WriteFile(tmp.path() / "illum.rad",
-              "void glow skyglow 0 0 4 1 1 1 0\n"
-              "skyglow source sky 0 0 4 0 0 1 180\n"
-              "void plastic wall 0 0 5 .5 .5 .5 0 0\n"
-              "wall polygon floor 0 0 12  0 0 0  0 4 0  5 4 0  5 0 0\n"
-              "wall polygon ceil 0 0 12  0 0 3  5 0 3  5 4 3  0 4 3\n"
-              "wall polygon w1a 0 0 12  0 0 0  5 0 0  5 0 1  0 0 1\n"
-              "wall polygon w1b 0 0 12  0 0 2  5 0 2  5 0 3  0 0 3\n"
-              "wall polygon w1c 0 0 12  0 0 1  1 0 1  1 0 2  0 0 2\n"
-              "wall polygon w1d 0 0 12  4 0 1  5 0 1  5 0 2  4 0 2\n"
-              "wall polygon w2 0 0 12  5 0 0  5 4 0  5 4 3  5 0 3\n"
-              "wall polygon w3 0 0 12  5 4 0  0 4 0  0 4 3  5 4 3\n"
-              "wall polygon w4 0 0 12  0 4 0  0 0 0  0 0 3  0 4 3\n"
-              "void illum winillum 0 0 3 2 2 2\n"
-              "winillum polygon win 0 0 12  1 0 1  1 0 2  4 0 2  4 0 1\n"
-              "void glass clear 0 0 3 .9 .9 .9\n"
-              "clear polygon pane 0 0 12  1 -0.01 1  1 -0.01 2  4 -0.01 2  4 -0.01 1\n");
+              "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 180\n" +
+                  test::IllumWindowRoom() +
+                  "void glass clear 0 0 3 .9 .9 .9\n"
+                  "clear polygon pane 0 0 12  1 -0.01 1  1 -0.01 2  4 -0.01 2  4 -0.01 1\n");
     ReplicatedSensors(tmp.path(), "pts.txt",
                       {"2.5 2 0.8 0 0 1", "1 1 0.8 0 0 1", "4 3 0.8 0 0 1", "0.5 3.5 1 1 0 0"},
                       200);

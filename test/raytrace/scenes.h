@@ -1,21 +1,50 @@
 // Small scenes shared by the integrator tests of both backends.
 #pragma once
 
+#include <array>
+#include <sstream>
 #include <string>
 
 namespace dayflux::test {
 
-// The six faces of a closed 2 m cube around the origin as RADIANCE polygons of modifier mod
-// (written out rather than made with genbox, so the tests need only dayflux).
+// The six faces of the box [lo, hi] as RADIANCE polygons of modifier mod named name0..name5,
+// their normals outward (written out rather than made with genbox, so the tests need only
+// dayflux).
+inline std::string BoxOfPolygons(const std::string &mod, const std::string &name,
+                                 const std::array<double, 3> &lo, const std::array<double, 3> &hi) {
+    // Each face's corners, a bit per axis: 0 at lo, 1 at hi.
+    static const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                    {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    std::ostringstream box;
+    for (int f = 0; f < 6; ++f) {
+        box << mod << " polygon " << name << f << " 0 0 12";
+        for (int c : faces[f])
+            for (int k = 0; k < 3; ++k) box << " " << ((c >> k & 1) ? hi[k] : lo[k]);
+        box << "\n";
+    }
+    return box.str();
+}
+
+// A closed 2 m cube around the origin.
 inline std::string CubeOfPolygons(const std::string &mod) {
-    static const char *const faces[6] = {
-        "-1 -1 -1  -1 1 -1  1 1 -1  1 -1 -1", "-1 -1 1  1 -1 1  1 1 1  -1 1 1",
-        "-1 -1 -1  1 -1 -1  1 -1 1  -1 -1 1", "-1 1 -1  -1 1 1  1 1 1  1 1 -1",
-        "-1 -1 -1  -1 -1 1  -1 1 1  -1 1 -1", "1 -1 -1  1 1 -1  1 1 1  1 -1 1"};
-    std::string box;
-    for (int f = 0; f < 6; ++f)
-        box += mod + " polygon f" + std::to_string(f) + " 0 0 12 " + faces[f] + "\n";
-    return box;
+    return BoxOfPolygons(mod, "f", {-1, -1, -1}, {1, 1, 1});
+}
+
+// A 5 x 4 x 3 m room of grey plastic `wall` whose wall at y = 0 has a 3 x 1 m window of illum
+// `winillum` (radiance 2, void behind it).
+inline std::string IllumWindowRoom() {
+    return "void plastic wall 0 0 5 .5 .5 .5 0 0\n"
+           "wall polygon floor 0 0 12  0 0 0  0 4 0  5 4 0  5 0 0\n"
+           "wall polygon ceil 0 0 12  0 0 3  5 0 3  5 4 3  0 4 3\n"
+           "wall polygon w1a 0 0 12  0 0 0  5 0 0  5 0 1  0 0 1\n"
+           "wall polygon w1b 0 0 12  0 0 2  5 0 2  5 0 3  0 0 3\n"
+           "wall polygon w1c 0 0 12  0 0 1  1 0 1  1 0 2  0 0 2\n"
+           "wall polygon w1d 0 0 12  4 0 1  5 0 1  5 0 2  4 0 2\n"
+           "wall polygon w2 0 0 12  5 0 0  5 4 0  5 4 3  5 0 3\n"
+           "wall polygon w3 0 0 12  5 4 0  0 4 0  0 4 3  5 4 3\n"
+           "wall polygon w4 0 0 12  0 4 0  0 0 0  0 0 3  0 4 3\n"
+           "void illum winillum 0 0 3 2 2 2\n"
+           "winillum polygon win 0 0 12  1 0 1  1 0 2  4 0 2  4 0 1\n";
 }
 
 }  // namespace dayflux::test

@@ -62,6 +62,24 @@ void ExpectSameMatrix(const std::vector<double> &gpu, const std::vector<double> 
     EXPECT_NEAR(sum_gpu, sum_cpu, 4 * std::sqrt(var));
 }
 
+// Per sensor (record) totals of two backends' matrices of ncols columns: all above .1 and
+// within kZ combined standard errors.
+void ExpectSameSensorTotals(const std::vector<double> &gpu, const std::vector<double> &se_gpu,
+                            const std::vector<double> &cpu, const std::vector<double> &se_cpu,
+                            int sensors, int ncols) {
+    ASSERT_EQ(gpu.size(), static_cast<size_t>(sensors) * ncols * 3);
+    ASSERT_EQ(cpu.size(), gpu.size());
+    for (int r = 0; r < sensors; ++r) {
+        double g = 0, c = 0, var = 0;
+        for (int k = 0; k < ncols * 3; k += 3) {
+            const size_t i = static_cast<size_t>(r) * ncols * 3 + k;
+            g += gpu[i], c += cpu[i], var += se_gpu[i] * se_gpu[i] + se_cpu[i] * se_cpu[i];
+        }
+        EXPECT_GT(c, 0.1);
+        EXPECT_NEAR(g, c, kZ * std::sqrt(var)) << "sensor " << r;
+    }
+}
+
 class VulkanContrib : public ::testing::Test {
   protected:
     void SetUp() override {
@@ -431,15 +449,7 @@ TEST_F(VulkanContrib, MixfuncAsEmbree) {
     const std::vector<double> cpu = Run("embree", args, tmp_.path(), &se_cpu);
     ASSERT_EQ(gpu.size(), 20u * 146 * 3);
     ASSERT_EQ(cpu.size(), gpu.size());
-    for (int r = 0; r < 20; ++r) {
-        double g = 0, c = 0, var = 0;
-        for (int k = 0; k < 146 * 3; k += 3) {
-            const size_t i = r * 438 + k;
-            g += gpu[i], c += cpu[i], var += se_gpu[i] * se_gpu[i] + se_cpu[i] * se_cpu[i];
-        }
-        EXPECT_GT(c, 0.1);
-        EXPECT_NEAR(g, c, kZ * std::sqrt(var)) << "sensor " << r;
-    }
+    ExpectSameSensorTotals(gpu, se_gpu, cpu, se_cpu, 20, 146);
 }
 
 // Dielectric: an absorbing block (its extinction weighs the rays it spawns against -lw; rays
@@ -448,15 +458,10 @@ TEST_F(VulkanContrib, MixfuncAsEmbree) {
 // sky bin and per sensor.
 TEST_F(VulkanContrib, DielectricAsEmbree) {
     WriteFile(tmp_.path() / "block.rad",
-              "void dielectric water 0 0 5 .5 .6 .7 1.5 0\n"
-              "water polygon bottom 0 0 12 -1 -1 1  -1 1 1  1 1 1  1 -1 1\n"
-              "water polygon top 0 0 12 -1 -1 2  1 -1 2  1 1 2  -1 1 2\n"
-              "water polygon south 0 0 12 -1 -1 1  1 -1 1  1 -1 2  -1 -1 2\n"
-              "water polygon north 0 0 12 -1 1 1  -1 1 2  1 1 2  1 1 1\n"
-              "water polygon west 0 0 12 -1 -1 1  -1 -1 2  -1 1 2  -1 1 1\n"
-              "water polygon east 0 0 12 1 -1 1  1 1 1  1 1 2  1 -1 2\n"
-              "void dielectric clear 0 0 5 1 1 1 1.5 0\n"
-              "clear sphere ball 0 0 4 0 0 3.5 1\n");
+              "void dielectric water 0 0 5 .5 .6 .7 1.5 0\n" +
+                  test::BoxOfPolygons("water", "block", {-1, -1, 1}, {1, 1, 2}) +
+                  "void dielectric clear 0 0 5 1 1 1 1.5 0\n"
+                  "clear sphere ball 0 0 4 0 0 3.5 1\n");
     std::string rays;
     for (int i = 0; i < 20; ++i) rays += std::to_string(-1.9 + 0.2 * i) + " 0 0 0 0 1\n";
     WriteFile(tmp_.path() / "rays", rays);
@@ -467,15 +472,7 @@ TEST_F(VulkanContrib, DielectricAsEmbree) {
     const std::vector<double> cpu = Run("embree", args, tmp_.path(), &se_cpu);
     ASSERT_EQ(gpu.size(), 20u * 146 * 3);
     ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 2000);
-    for (int r = 0; r < 20; ++r) {
-        double g = 0, c = 0, var = 0;
-        for (int k = 0; k < 146 * 3; k += 3) {
-            const size_t i = r * 438 + k;
-            g += gpu[i], c += cpu[i], var += se_gpu[i] * se_gpu[i] + se_cpu[i] * se_cpu[i];
-        }
-        EXPECT_GT(c, 0.1);
-        EXPECT_NEAR(g, c, kZ * std::sqrt(var)) << "sensor " << r;
-    }
+    ExpectSameSensorTotals(gpu, se_gpu, cpu, se_cpu, 20, 146);
 }
 
 // Local light sources on the GPU: a square panel, a hexagon (sampled over a turned square) facing
@@ -496,19 +493,7 @@ TEST_F(VulkanContrib, LocalSourcesAsEmbree) {
               "tubelamp cylinder tube 0 0 7 -2 -3 2.2 2 -3 2.2 .05\n"
               "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
               "grey polygon floor 0 0 12 -6 -6 0 6 -6 0 6 6 0 -6 6 0\n");
-    WriteFile(tmp_.path() / "illum.rad",
-              "void plastic wall 0 0 5 .5 .5 .5 0 0\n"
-              "wall polygon floor 0 0 12  0 0 0  0 4 0  5 4 0  5 0 0\n"
-              "wall polygon ceil 0 0 12  0 0 3  5 0 3  5 4 3  0 4 3\n"
-              "wall polygon w1a 0 0 12  0 0 0  5 0 0  5 0 1  0 0 1\n"
-              "wall polygon w1b 0 0 12  0 0 2  5 0 2  5 0 3  0 0 3\n"
-              "wall polygon w1c 0 0 12  0 0 1  1 0 1  1 0 2  0 0 2\n"
-              "wall polygon w1d 0 0 12  4 0 1  5 0 1  5 0 2  4 0 2\n"
-              "wall polygon w2 0 0 12  5 0 0  5 4 0  5 4 3  5 0 3\n"
-              "wall polygon w3 0 0 12  5 4 0  0 4 0  0 4 3  5 4 3\n"
-              "wall polygon w4 0 0 12  0 4 0  0 0 0  0 0 3  0 4 3\n"
-              "void illum winillum 0 0 3 2 2 2\n"
-              "winillum polygon win 0 0 12  1 0 1  1 0 2  4 0 2  4 0 1\n");
+    WriteFile(tmp_.path() / "illum.rad", test::IllumWindowRoom());
     std::string lamp_rays, room_rays;
     for (int i = 0; i < 10; ++i) {
         lamp_rays +=
