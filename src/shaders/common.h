@@ -63,7 +63,8 @@ struct GpuTriangle {
     vec4 normal;  // unit geometric normal (triangle winding); w unused
     int surface;  // index into the surfaces
     int object;   // scene object (sources' objects are compared with it)
-    int pad0, pad1;
+    int mesh;     // 1: a mesh's (not planar as a polygon is: it may meet rays leaving it)
+    int pad1;
 };
 
 // A material as the integrator needs it, with the tracked modifier it counts for.

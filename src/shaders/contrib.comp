@@ -93,6 +93,7 @@ struct Ray {
     float weight; // RADIANCE's rweight
     int rlvl, crtype, adepth, aimed;
     int depth;    // rays above it in the tree (the CPU integrator's guard against loops)
+    int from;     // the object it leaves (-1: none), which it does not meet again where it starts
 #ifdef DAYFLUX_DIELECTRIC
     vec3 cext;    // extinction of the medium it travels in (rayorigin() weighs children by it)
     float t;      // its length, where a dielectric set it
@@ -291,10 +292,19 @@ vec3 ShapeNormal(GpuShape s, vec3 p) {
     return s.inward != 0 ? -n : n;
 }
 
+// Rays leaving a surface (from >= 0) meet every other surface from the start and their own
+// object not at all where they start (a polygon never: it is planar; a mesh or analytic surface
+// not before TMIN), as the CPU backend's filter has it; other rays start TMIN off.
+float StartOf(int from) { return from >= 0 ? 1e-3 * TMIN : TMIN; }
+bool OwnTriangle(int p, int from, float t) {
+    return triangles[p].object == from && (triangles[p].mesh == 0 || t < TMIN);
+}
+float ShapeStart(int s, int from) { return shapes[s].object == from ? TMIN : StartOf(from); }
+
 #ifdef DAYFLUX_BVH
 // Moller-Trumbore, with a hair of slack at the edges so that rays do not slip between
 // triangles sharing one (the hit is moved into its triangle afterwards).
-float IntersectTriangle(int p, vec3 org, vec3 dir, float tmax) {
+float IntersectTriangle(int p, vec3 org, vec3 dir, float tmin, float tmax) {
     vec3 a = Vertex(indices[3 * p]), b = Vertex(indices[3 * p + 1]), c = Vertex(indices[3 * p + 2]);
     vec3 e1 = b - a, e2 = c - a, pv = cross(dir, e2);
     float det = dot(e1, pv);
@@ -307,16 +317,17 @@ float IntersectTriangle(int p, vec3 org, vec3 dir, float tmax) {
     float v = dot(dir, q) * inv;
     if (v < -1e-6 || u + v > 1 + 1e-6) return -1;
     float t = dot(e2, q) * inv;
-    return t > TMIN && t < tmax ? t : -1;
+    return t > tmin && t < tmax ? t : -1;
 }
 
 // The nearest hit: a triangle (shape < 0) or an analytic surface, by walking our BVH (no ray
 // queries on this device). Leaf entries are triangles, or -(shape + 1).
-bool Closest(vec3 org, vec3 dir, out float t, out int prim, out int shape) {
+bool Closest(vec3 org, vec3 dir, int from, out float t, out int prim, out int shape) {
     t = 1e30;
     prim = -1;
     shape = -1;
     if (bvh_nodes.length() == 0) return false;
+    float tmin = StartOf(from);
     vec3 safe = mix(vec3(1e-20), -vec3(1e-20), lessThan(dir, vec3(0)));
     vec3 inv = 1.0 / mix(dir, safe, lessThan(abs(dir), vec3(1e-20)));
     int stack[64];
@@ -325,7 +336,7 @@ bool Closest(vec3 org, vec3 dir, out float t, out int prim, out int shape) {
         GpuBvhNode n = bvh_nodes[node];
         vec3 t0 = (n.lo.xyz - org) * inv, t1 = (n.hi.xyz - org) * inv;
         vec3 tn = min(t0, t1), tf = max(t0, t1);
-        float enter = max(max(tn.x, tn.y), max(tn.z, TMIN));
+        float enter = max(max(tn.x, tn.y), max(tn.z, tmin));
         float leave = min(min(tf.x, tf.y), min(tf.z, t));
         if (enter <= leave * 1.000001) {
             if (n.count == 0) {
@@ -336,10 +347,10 @@ bool Closest(vec3 org, vec3 dir, out float t, out int prim, out int shape) {
             for (int i = 0; i < n.count; ++i) {
                 int p = bvh_prims[n.index + i];
                 if (p >= 0) {
-                    float th = IntersectTriangle(p, org, dir, t);
-                    if (th > 0) { t = th; prim = p; shape = -1; }
+                    float th = IntersectTriangle(p, org, dir, tmin, t);
+                    if (th > 0 && !OwnTriangle(p, from, th)) { t = th; prim = p; shape = -1; }
                 } else {
-                    float th = IntersectShape(shapes[-p - 1], org, dir, TMIN, t);
+                    float th = IntersectShape(shapes[-p - 1], org, dir, ShapeStart(-p - 1, from), t);
                     if (th >= 0 && th < t) { t = th; prim = -p - 1; shape = prim; }
                 }
             }
@@ -351,26 +362,34 @@ bool Closest(vec3 org, vec3 dir, out float t, out int prim, out int shape) {
 }
 #else
 // The nearest hit: a triangle (shape < 0) or an analytic surface.
-bool Closest(vec3 org, vec3 dir, out float t, out int prim, out int shape) {
-    rayQueryEXT q;
-    rayQueryInitializeEXT(q, scene, gl_RayFlagsOpaqueEXT, 0xFF, org, TMIN, dir, 1e30);
-    while (rayQueryProceedEXT(q)) {
-        if (rayQueryGetIntersectionTypeEXT(q, false) !=
-            gl_RayQueryCandidateIntersectionAABBEXT)
-            continue;
-        float tmax = rayQueryGetIntersectionTypeEXT(q, true) != gl_RayQueryCommittedIntersectionNoneEXT
-                         ? rayQueryGetIntersectionTEXT(q, true)
-                         : 1e30;
-        float th = IntersectShape(shapes[rayQueryGetIntersectionPrimitiveIndexEXT(q, false)], org,
-                                  dir, TMIN, tmax);
-        if (th >= 0) rayQueryGenerateIntersectionEXT(q, th);
+// Triangles are opaque (no candidates to filter), so a ray that meets its own object where it
+// starts is cast again from beyond that point, from further off each time (at last TMIN).
+bool Closest(vec3 org, vec3 dir, int from, out float t, out int prim, out int shape) {
+    float tmin = StartOf(from);
+    for (int attempt = 0; attempt < 4; ++attempt) {
+        rayQueryEXT q;
+        rayQueryInitializeEXT(q, scene, gl_RayFlagsOpaqueEXT, 0xFF, org, tmin, dir, 1e30);
+        while (rayQueryProceedEXT(q)) {
+            if (rayQueryGetIntersectionTypeEXT(q, false) !=
+                gl_RayQueryCandidateIntersectionAABBEXT)
+                continue;
+            float tmax = rayQueryGetIntersectionTypeEXT(q, true) !=
+                                 gl_RayQueryCommittedIntersectionNoneEXT
+                             ? rayQueryGetIntersectionTEXT(q, true)
+                             : 1e30;
+            int s = rayQueryGetIntersectionPrimitiveIndexEXT(q, false);
+            float th = IntersectShape(shapes[s], org, dir, max(tmin, ShapeStart(s, from)), tmax);
+            if (th >= 0) rayQueryGenerateIntersectionEXT(q, th);
+        }
+        uint type = rayQueryGetIntersectionTypeEXT(q, true);
+        if (type == gl_RayQueryCommittedIntersectionNoneEXT) return false;
+        t = rayQueryGetIntersectionTEXT(q, true);
+        prim = rayQueryGetIntersectionPrimitiveIndexEXT(q, true);
+        shape = type == gl_RayQueryCommittedIntersectionGeneratedEXT ? prim : -1;
+        if (shape >= 0 || attempt == 3 || !OwnTriangle(prim, from, t)) return true;
+        tmin = attempt == 2 ? max(2. * t, TMIN) : max(2. * t, 10. * tmin);
     }
-    uint type = rayQueryGetIntersectionTypeEXT(q, true);
-    if (type == gl_RayQueryCommittedIntersectionNoneEXT) return false;
-    t = rayQueryGetIntersectionTEXT(q, true);
-    prim = rayQueryGetIntersectionPrimitiveIndexEXT(q, true);
-    shape = type == gl_RayQueryCommittedIntersectionGeneratedEXT ? prim : -1;
-    return true;
+    return false;
 }
 #endif
 
@@ -381,6 +400,7 @@ void PushChild(Ray r, int type, vec3 coef, vec3 org, vec3 dir);
 bool hit_front;  // whether the ray being shaded met its surface's front (BSDF frames need it)
 
 void Shade(Ray r, int object, int k, GpuSurface m, vec3 point, vec3 geo_normal, float t) {
+    r.from = object;  // the rays it spawns leave this object
     float rod = -dot(r.dir, geo_normal);
     hit_front = rod > 0;
     vec3 normal = rod < 0 ? -geo_normal : geo_normal;
@@ -1009,7 +1029,7 @@ bool Escape(Ray r, out Hit h) {
 bool FindHit(Ray r, out Hit h) {
     float t;
     int prim, shape;
-    if (!Closest(r.org, r.dir, t, prim, shape)) return Escape(r, h);
+    if (!Closest(r.org, r.dir, r.from, t, prim, shape)) return Escape(r, h);
     if (shape >= 0) {
         GpuShape s = shapes[shape];
         h.point = r.org + t * r.dir;
@@ -1439,6 +1459,7 @@ void Task() {
     r.adepth = 0;
     r.aimed = -1;
     r.depth = 0;
+    r.from = -1;
 #ifdef DAYFLUX_DIELECTRIC
     r.cext = vec3(0);
     r.t = 0;

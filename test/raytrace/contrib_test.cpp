@@ -1276,17 +1276,7 @@ TEST(RcontribGpu, SpotlightUnderXform) {
 // offset of 1e-6 of the scene's size, 2 mm, let 0.03 % of the sky in at the corners).
 TEST(RcontribGpu, ClosedRoomInALargeSceneIsDark) {
     TempDir tmp;
-    WriteFile(tmp.path() / "box.rad",
-              "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 360\n"
-              "void plastic white 0 0 5 .8 .8 .8 0 0\n"
-              "white polygon floor 0 0 12  0 0 0  0 4 0  5 4 0  5 0 0\n"
-              "white polygon ceil 0 0 12  0 0 3  5 0 3  5 4 3  0 4 3\n"
-              "white polygon w1 0 0 12  0 0 0  5 0 0  5 0 3  0 0 3\n"
-              "white polygon w2 0 0 12  5 0 0  5 4 0  5 4 3  5 0 3\n"
-              "white polygon w3 0 0 12  5 4 0  0 4 0  0 4 3  5 4 3\n"
-              "white polygon w4 0 0 12  0 4 0  0 0 0  0 0 3  0 4 3\n"
-              "void plastic gnd 0 0 5 .2 .2 .2 0 0\n"
-              "gnd polygon ground 0 0 12 -1e3 -1e3 -10 1e3 -1e3 -10 1e3 1e3 -10 -1e3 1e3 -10\n");
+    WriteFile(tmp.path() / "box.rad", test::ClosedRoomInALargeScene());
     std::string rays;
     for (int i = 0; i < 10; ++i)
         rays += std::to_string(.5 + .4 * i) + " " + std::to_string(.5 + .3 * i) + " .8 0 0 1\n";

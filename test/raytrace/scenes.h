@@ -30,6 +30,16 @@ inline std::string CubeOfPolygons(const std::string &mod) {
     return BoxOfPolygons(mod, "f", {-1, -1, -1}, {1, 1, 1});
 }
 
+// A closed 5 x 4 x 3 m room of white plastic under a glow sky (`skyglow`), a 2 km ground plane
+// 10 m below it: the scene is large, the room must stay dark.
+inline std::string ClosedRoomInALargeScene() {
+    return "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 360\n"
+           "void plastic white 0 0 5 .8 .8 .8 0 0\n" +
+           BoxOfPolygons("white", "room", {0, 0, 0}, {5, 4, 3}) +
+           "void plastic gnd 0 0 5 .2 .2 .2 0 0\n"
+           "gnd polygon ground 0 0 12 -1e3 -1e3 -10 1e3 -1e3 -10 1e3 1e3 -10 -1e3 1e3 -10\n";
+}
+
 // A 5 x 4 x 3 m room of grey plastic `wall` whose wall at y = 0 has a 3 x 1 m window of illum
 // `winillum` (radiance 2, void behind it).
 inline std::string IllumWindowRoom() {

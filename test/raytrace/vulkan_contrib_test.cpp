@@ -475,6 +475,25 @@ TEST_F(VulkanContrib, DielectricAsEmbree) {
     ExpectSameSensorTotals(gpu, se_gpu, cpu, se_cpu, 20, 146);
 }
 
+// A closed room in a large scene (a 2 km ground) stays dark on the GPU too, by either traversal:
+// rays leaving a surface meet every other one from the start.
+TEST_F(VulkanContrib, ClosedRoomInALargeSceneIsDark) {
+    WriteFile(tmp_.path() / "box.rad", test::ClosedRoomInALargeScene());
+    std::string rays;
+    for (int i = 0; i < 10; ++i)
+        rays += std::to_string(.5 + .4 * i) + " " + std::to_string(.5 + .3 * i) + " .8 0 0 1\n";
+    WriteFile(tmp_.path() / "rays", rays);
+    for (const char *traversal : {"rayquery", "bvh"}) {
+        const std::vector<double> v =
+            Run("vulkan",
+                std::string("-gpu_traversal ") + traversal + " -I+ -ab 4 -ad 1024 -lw 1e-5" +
+                    kBins + "-m skyglow box.rad < rays",
+                tmp_.path());
+        ASSERT_EQ(v.size(), 10u * 146 * 3) << traversal;
+        for (double x : v) ASSERT_EQ(x, 0) << traversal;
+    }
+}
+
 // Local light sources on the GPU: a square panel, a hexagon (sampled over a turned square) facing
 // away, a sphere, a spotlight disc and a tube, split by -ds, over a grey floor (-ab 1); then a
 // window of illum (void behind it) in a room under a glow sky (-ab 2). Both backends within

@@ -389,6 +389,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         gt.normal = len > 0 ? Vec4(n[0] / len, n[1] / len, n[2] / len) : Vec4(0, 0, 1);
         gt.surface = surface(surface, m, k);
         gt.object = object;
+        gt.mesh = scene.triangle_material[i] >= 0 ? 1 : 0;
         tris.push_back(gt);
     }
     // Analytic surfaces: procedural boxes the shader intersects itself.
