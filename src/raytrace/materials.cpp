@@ -173,12 +173,17 @@ void SceneMaterials::AddLocalSource(int object) {
 
 // The last modifier of that name before object `before` (how RADIANCE finds the materials a
 // mixfunc or an illum names).
-int SceneMaterials::FindModifier(int before, const std::string &name, const FileLoc &loc) const {
+int SceneMaterials::LastModifier(int before, const std::string &name) const {
     const auto &objs = scene_.scene.objects;
     int j = before - 1;
     while (j >= 0 && !(objs[j].name == name && objs[j].info->kind != PrimitiveKind::kSurface &&
                        objs[j].info->kind != PrimitiveKind::kVolume))
         --j;
+    return j;
+}
+
+int SceneMaterials::FindModifier(int before, const std::string &name, const FileLoc &loc) const {
+    const int j = LastModifier(before, name);
     if (j < 0) ErrorExit(&loc, "undefined modifier '" + name + "'");
     return j;
 }
@@ -337,11 +342,7 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
                                   p.sargs[0] + "') is not supported yet (void is)");
         m.kind = Material::kAntimatter;
         for (size_t s = 1; s < p.sargs.size(); ++s) {
-            int j = mod - 1;  // lastmod(): the definition before the antimatter
-            while (j >= 0 &&
-                   !(objs[j].name == p.sargs[s] && objs[j].info->kind != PrimitiveKind::kSurface &&
-                     objs[j].info->kind != PrimitiveKind::kVolume))
-                --j;
+            const int j = LastModifier(mod, p.sargs[s]);  // RADIANCE warns, and goes on
             if (j < 0) {
                 Warning(&p.loc,
                         "antimatter '" + p.name + "': unknown modifier \"" + p.sargs[s] + "\"");

@@ -180,6 +180,9 @@ class SceneMaterials {
     int TrackedIndex(const std::string &modifier) const;
     const Material &Resolved(int mod, std::vector<int> &pattern_of);
     void AddLocalSource(int object);
+    // RADIANCE's lastmod(): the modifier named name defined before object `before`, or -1;
+    // FindModifier() makes -1 an error.
+    int LastModifier(int before, const std::string &name) const;
     int FindModifier(int before, const std::string &name, const FileLoc &loc) const;
     Material Resolve(int mod, std::vector<int> &pattern_of);
 
