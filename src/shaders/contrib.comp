@@ -1092,6 +1092,7 @@ void ShadowRay(Item it, int i, GpuSource s, vec3 dir, vec3 coef) {
     Push(sh);
 }
 
+#ifdef DAYFLUX_LOCAL_SOURCES  // only scenes with local light sources compile this
 // nextssamp() for local source s seen from origin (the CPU integrator's LocalSamples()): a
 // flat source split into parts no larger than -ds times their distance (as the ray's weight
 // allows), a cylinder split along its axis, a sphere whole. Returns the number of parts; with
@@ -1237,6 +1238,8 @@ int LocalSample(GpuSource s, int i, vec3 origin, float weight, uint turn, int wa
     return nparts;
 }
 
+#endif
+
 // A sample of source i for a direct item: its direction and solid angle (0: none).
 bool SourceSample(Item it, int i, GpuSource s, out vec3 dir, out float omega) {
     if (int(s.u.w) == kSourceDistant) {
@@ -1244,8 +1247,12 @@ bool SourceSample(Item it, int i, GpuSource s, out vec3 dir, out float omega) {
         omega = s.dir.w;
         return true;
     }
+#ifdef DAYFLUX_LOCAL_SOURCES
     LocalSample(s, i, it.point, it.r.weight, it.turn, it.part, dir, omega);
     return omega > 0;
+#else
+    return false;
+#endif
 }
 
 void DirectStep(Item it, int i) {
@@ -1410,13 +1417,15 @@ void RunStack() {
             if (it.next < it.end) {
                 // The rest of the sources (and parts) first, under this one's shadow ray.
                 int i = it.next;
+                int nparts = 1;
+#ifdef DAYFLUX_LOCAL_SOURCES
                 GpuSource s = sources[i];
                 vec3 unused;
                 float unused_omega;
-                int nparts = int(s.u.w) == kSourceDistant || s.colour.w > 0.5
-                                 ? 1
-                                 : LocalSample(s, i, it.point, it.r.weight, it.turn, -1, unused,
-                                               unused_omega);
+                if (int(s.u.w) != kSourceDistant && s.colour.w < 0.5)
+                    nparts = LocalSample(s, i, it.point, it.r.weight, it.turn, -1, unused,
+                                         unused_omega);
+#endif
                 Item rest = it;
                 if (it.part + 1 < nparts) {
                     rest.part = it.part + 1;

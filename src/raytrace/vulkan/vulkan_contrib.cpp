@@ -546,6 +546,11 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     define("ACCUM_T", float_accumulators ? "float" : "double");
     if (!klems.empty()) define("DAYFLUX_BSDF", "1");
     if (dielectric) define("DAYFLUX_DIELECTRIC", "1");
+    for (const gpu::GpuSource &g : srcs)
+        if (static_cast<int>(g.u.w) != gpu::kSourceDistant) {
+            define("DAYFLUX_LOCAL_SOURCES", "1");
+            break;
+        }
     src += kShaderCommon;
     src += cal_glsl;
     src += pattern_glsl;
