@@ -422,8 +422,8 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         for (int k = 0; k < 3; ++k) boxes.push_back(static_cast<float>(b[k]));
     }
     std::vector<Source> images = table.Sources();
-    if (!AddMirrorImages(scene, table, options.direct_relays, false, &images).empty() &&
-        images.size() > table.Sources().size()) {
+    AddMirrorImages(scene, table, options.direct_relays, false, &images);
+    if (images.size() > table.Sources().size()) {
         *why = "sources seen in mirrors (-dr) are sampled on the CPU only";
         return nullptr;
     }
