@@ -174,7 +174,6 @@ class SceneMaterials {
         auto it = clip_bits_.find(mat);
         return it == clip_bits_.end() ? 0 : uint64_t{1} << it->second;
     }
-    bool HasAntimatter() const { return !clip_bits_.empty(); }
 
   private:
     int TrackedIndex(const std::string &modifier) const;
