@@ -28,6 +28,7 @@ DAYFLUX_GPU_CONST kBindingStats = 9;      // uint: stack items dropped (should s
 DAYFLUX_GPU_CONST kBindingShapes = 10;    // GpuShape per analytic surface (procedural boxes)
 DAYFLUX_GPU_CONST kBindingBvhPrims = 11;  // int per BVH leaf entry: triangle, or shape + triangles
 DAYFLUX_GPU_CONST kBindingKlems = 12;     // float: the BSDF materials' Klems data (PackKlems)
+DAYFLUX_GPU_CONST kBindingRelays = 13;    // vec4: the mirrors that relay sources (GpuSource.relay)
 
 // Analytic surfaces, as scene/flatten.h's AnalyticShape::Kind.
 DAYFLUX_GPU_CONST kShapeSphere = 0;
@@ -42,12 +43,14 @@ DAYFLUX_GPU_CONST kMatGlass = 2;
 DAYFLUX_GPU_CONST kMatMirror = 3;
 DAYFLUX_GPU_CONST kMatGlow = 4;
 DAYFLUX_GPU_CONST kMatLight = 5;
-DAYFLUX_GPU_CONST kMatMix = 6;  // mixfunc: `pattern` mixes surfaces `fore` and `back` (-1: void)
+DAYFLUX_GPU_CONST kMatMix = 6;   // mixfunc: `pattern` mixes surfaces `fore` and `back` (-1: void)
 DAYFLUX_GPU_CONST kMatBsdf = 7;  // BSDF (Klems): its data at klems[fore]
 DAYFLUX_GPU_CONST kMatDielectric = 8;  // color: transmission per unit length, w: the index
 // kMatLight, kMatIllum: params.xyz a spotlight's axis, params.w its focus distance, alpha2 the
 // cone's solid angle (0: not a spot); kMatIllum: fore is its alternate material (-1: void).
 DAYFLUX_GPU_CONST kMatIllum = 9;
+// antimatter (m_clip() with a void inside): fore holds the bits of the modifiers it clips.
+DAYFLUX_GPU_CONST kMatAntimatter = 10;
 
 // A node of the BVH traversed where there are no ray queries (raytrace/bvh.h), depth first: an
 // inner node's first child follows it, `index` is its second; a leaf's primitives are
@@ -73,14 +76,16 @@ DAYFLUX_GPU_CONST kSurfaceMetal = 1;
 DAYFLUX_GPU_CONST kSurfaceTransparent = 2;
 
 struct GpuSurface {
-    vec4 color;   // rgb; w: glass refractive index
-    vec4 params;  // x: specularity, y: transmissivity, z: transmitted specular fraction, w: flags
+    vec4 color;    // rgb; w: glass refractive index
+    vec4 params;   // x: specularity, y: transmissivity, z: transmitted specular fraction, w: flags
     int kind;      // kMat*
     int tracked;   // -m index, or -1
     float alpha2;  // roughness squared (0: pure specular)
     int pattern;   // brightfunc/colorfunc multiplying the colour, or -1 (mixfunc: its mix)
     int fore, back;  // mixfunc: its two materials' surfaces (-1: void)
-    int pad0, pad1;
+    uint clip;       // the antimatter bit of the surface's modifier: a ray whose clip set has
+                     // it passes unseen (RADIANCE's raycont())
+    int pad1;
 };
 
 // An analytic surface (sphere/bubble, cone/cup, cylinder/tube, ring), recentred.
@@ -111,10 +116,17 @@ struct GpuSource {
     vec4 w;       // local: ss[SW]; w: a cylinder's radius
     vec4 norm;    // a flat source's normal or a cylinder's axis; w: spot cone (0: not a spot)
     vec4 spot;    // a spotlight's axis; w: its focus distance
-    int object;   // scene object
+    int object;   // scene object (an image's: its mirror)
     int tracked;  // -m index, or -1
     int kind;     // its material's kMat*
     int pattern;  // brightfunc/colorfunc of its material (the sky's skyfunc), or -1
+    // An image of source `next` in mirror `relay` (RADIANCE's virtual sources, -dr), else -1.
+    // The mirror's plane and outline are in the relays buffer: relay r's vec4s at 3r are
+    // (normal, offset), (centre, radius squared), (first vertex, vertices, inner radius squared
+    // of a ring, 0); its vertices (recentred xyz) follow all relays' headers.
+    int relay;
+    int next;
+    int pad0, pad1;
 };
 
 // One dispatch: tasks [task_offset, task_offset + count) of rays x slices; a slice traces a
@@ -122,23 +134,23 @@ struct GpuSource {
 // it). Results: count x columns x 3 doubles. The run's options are here too, not compiled in,
 // so one compiled shader serves every run with the same bins (compiling is slow on lavapipe).
 struct GpuTasks {
-    int rays;         // input rays in the batch (the rays buffer)
-    int slices;       // tasks per ray
-    int first_ray;    // index of the batch's first ray in the whole input (random numbers)
-    int replica;      // -se replica (random numbers)
-    int task_offset;  // first task of this dispatch
-    int count;        // tasks in this dispatch
-    int ab, ad;       // -ab, -ad
-    int lr;           // -lr
-    int irradiance;   // -I
-    int first_hit;    // -i
+    int rays;           // input rays in the batch (the rays buffer)
+    int slices;         // tasks per ray
+    int first_ray;      // index of the batch's first ray in the whole input (random numbers)
+    int replica;        // -se replica (random numbers)
+    int task_offset;    // first task of this dispatch
+    int count;          // tasks in this dispatch
+    int ab, ad;         // -ab, -ad
+    int lr;             // -lr
+    int irradiance;     // -I
+    int first_hit;      // -i
     int contributions;  // -V
     int nsources;
     uint seed;
     int ndirect;  // sources sampled with shadow rays (not glow)
     int pad1;
-    float lw, dj, tmin, st;  // -lw, -dj, the ray start offset, -st
-    float ss, ds, pad3, pad4;  // -ss, -ds
+    float lw, dj, tmin, st;                     // -lw, -dj, the ray start offset, -st
+    float ss, ds, pad3, pad4;                   // -ss, -ds
     double centre_x, centre_y, centre_z, pad5;  // added back to positions for the bins
 };
 

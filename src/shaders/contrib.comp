@@ -1,7 +1,8 @@
 // rcontrib's estimator on the GPU: the same ray tree as src/raytrace/contrib.cpp (rayorigin's
 // weights and Russian roulette, n x n stratified cosine hemispheres with RADIANCE's collision
 // rule, Fresnel-estimated plastic and metal, trans, glass, mirror, glow, distant light sources
-// with shadow rays), walked with an explicit stack since GLSL has no recursion.
+// with shadow rays, their images in mirrors), walked with an explicit stack since GLSL has no
+// recursion.
 //
 // The host prepends: #version and extensions, the constants below as #defines, common.h, the
 // generated calcomp functions and EvalBin(k), kFirstColumn[] and kBins[]:
@@ -25,6 +26,7 @@ layout(std430, set = 0, binding = kBindingAccum) buffer Accum { ACCUM_T accum[];
 layout(std430, set = 0, binding = kBindingTasks) readonly buffer Tasks { GpuTasks tasks; };
 layout(std430, set = 0, binding = kBindingStats) buffer Stats { uint stats_dropped; };
 layout(std430, set = 0, binding = kBindingShapes) readonly buffer Shapes { GpuShape shapes[]; };
+layout(std430, set = 0, binding = kBindingRelays) readonly buffer Relays { vec4 relays[]; };
 
 const float kTiny = 1e-6;  // RADIANCE's FTINY
 const float kPi = 3.14159265358979;
@@ -94,6 +96,7 @@ struct Ray {
     int rlvl, crtype, adepth, aimed;
     int depth;    // rays above it in the tree (the CPU integrator's guard against loops)
     int from;     // the object it leaves (-1: none), which it does not meet again where it starts
+    uint clip;    // antimatter bits of the modifiers it passes unseen (RADIANCE's clipset)
 #ifdef DAYFLUX_DIELECTRIC
     vec3 cext;    // extinction of the medium it travels in (rayorigin() weighs children by it)
     float t;      // its length, where a dielectric set it
@@ -439,6 +442,12 @@ void Shade(Ray r, int object, int k, GpuSurface m, vec3 point, vec3 geo_normal, 
     } else if (k >= 0) {
         Contribute(k, r, point, normal, t,
                    CONTRIBUTIONS != 0 ? Colour(m, r, point, normal, t) : vec3(1));
+    }
+    if (m.kind == kMatAntimatter) {  // m_clip(): entering adds its modifiers, leaving removes them
+        uint bits = uint(m.fore);
+        r.clip = hit_front ? r.clip | bits : r.clip & ~bits;
+        PushChild(r, kTrans, vec3(1), point, r.dir);
+        return;
     }
     if (FIRST_HIT != 0 && (r.crtype & ~(kPrimary | kTrans)) == 0 && !light && m.kind != kMatGlow) {
         if ((int(m.params.w) & kSurfaceTransparent) != 0) {
@@ -907,7 +916,8 @@ void ShadeDielectric(Ray r, GpuSurface m, vec3 point, vec3 normal, float cos1, f
 #endif
 
 void ShadeBasic(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t) {
-    if (m.kind == kMatBlack || m.kind == kMatGlow || m.kind == kMatLight || m.kind == kMatIllum)
+    if (m.kind == kMatBlack || m.kind == kMatGlow || m.kind == kMatLight || m.kind == kMatIllum ||
+        m.kind == kMatAntimatter)  // (a mixfunc's side)
         return;
 #ifdef DAYFLUX_BSDF
     if (m.kind == kMatBsdf) {
@@ -923,8 +933,31 @@ void ShadeBasic(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t
 #endif
     vec3 c = Colour(m, r, point, normal, t);
     if (m.kind == kMatMirror) {  // its back is black
-        if ((r.crtype & kShadow) != 0 || !hit_front) return;
-        PushChild(r, kReflected, c, point, normalize(r.dir + 2 * rod * normal));
+        if (!hit_front) return;
+        vec3 reflected = normalize(r.dir + 2 * rod * normal);
+#ifdef DAYFLUX_MIRROR_IMAGES
+        // A shadow ray through the mirror toward the source it images: on to the next source,
+        // whatever the limits (rayorigin()'s verdict is ignored there). Shade() set r.from.
+        if (r.aimed >= 0 && sources[r.aimed].relay >= 0 && sources[r.aimed].object == r.from) {
+            Item it;
+            it.kind = kItemTrace;
+            it.r = r;
+            it.r.depth = r.depth + 1;
+            it.r.rlvl = r.rlvl + 1;
+            it.r.crtype = r.crtype | kReflected;
+            it.r.aimed = sources[r.aimed].next;
+            it.r.coef = r.coef * c;
+            it.r.org = point;
+            it.r.dir = reflected;
+#ifdef DAYFLUX_DIELECTRIC
+            it.r.t = 0;
+#endif
+            Push(it);
+            return;
+        }
+#endif
+        if ((r.crtype & kShadow) != 0) return;
+        PushChild(r, kReflected, c, point, reflected);
         return;
     }
     if (m.kind == kMatGlass) {
@@ -997,7 +1030,7 @@ bool Escape(Ray r, out Hit h) {
     int glow = -1, chosen = -1;
     int first = r.aimed >= 0 ? r.aimed : 0, last = r.aimed >= 0 ? r.aimed + 1 : NSOURCES;
     for (int i = first; i < last; ++i) {
-        if (int(sources[i].u.w) != kSourceDistant) continue;
+        if (int(sources[i].u.w) != kSourceDistant || sources[i].relay >= 0) continue;
         float c = dot(sources[i].dir.xyz, r.dir);
         if (2. * kPi * (1. - c) > sources[i].dir.w) continue;
         if (sources[i].colour.w > 0.5 && r.aimed < 0) {
@@ -1020,6 +1053,7 @@ bool Escape(Ray r, out Hit h) {
     h.m.tracked = s.tracked;
     h.m.fore = -1;
     h.m.back = -1;
+    h.m.clip = 0u;
     h.point = r.dir * 1e30;
     h.normal = -r.dir;
     h.t = 1e30;
@@ -1240,19 +1274,60 @@ int LocalSample(GpuSource s, int i, vec3 origin, float weight, uint turn, int wa
 
 #endif
 
-// A sample of source i for a direct item: its direction and solid angle (0: none).
+#ifdef DAYFLUX_MIRROR_IMAGES
+// Whether the ray from org along dir meets mirror `relay` (MirrorRelay::Meets): RADIANCE's
+// srcvalue() asks the relay alone before a shadow ray is traced toward an image.
+bool RelayMeets(int relay, vec3 org, vec3 dir) {
+    vec4 plane = relays[3 * relay], disc = relays[3 * relay + 1], outline = relays[3 * relay + 2];
+    float dn = dot(dir, plane.xyz);
+    if (dn == 0) return false;
+    float t = (plane.w - dot(org, plane.xyz)) / dn;
+    if (t <= 0) return false;
+    vec3 p = org + t * dir;
+    int first = int(outline.x), n = int(outline.y);
+    if (n == 0) {  // a ring
+        vec3 e = p - disc.xyz;
+        float d2 = dot(e, e);
+        return d2 >= outline.z && d2 <= disc.w;
+    }
+    // Crossings of a ray in the plane, projected along the normal's largest axis.
+    vec3 an = abs(plane.xyz);
+    int ax = an.x >= an.y && an.x >= an.z ? 0 : an.y >= an.z ? 1 : 2;
+    int a = (ax + 1) % 3, b = (ax + 2) % 3;
+    bool inside = false;
+    [[dont_unroll]] for (int i = 0, j = n - 1; i < n; j = i++) {
+        vec3 vi = relays[first + i].xyz, vj = relays[first + j].xyz;
+        if ((vi[b] > p[b]) != (vj[b] > p[b]) &&
+            p[a] < (vj[a] - vi[a]) * (p[b] - vi[b]) / (vj[b] - vi[b]) + vi[a])
+            inside = !inside;
+    }
+    return inside;
+}
+#endif
+
+// A sample of source i for a direct item: its direction and solid angle (0: none). An image is
+// sampled only from in front of its mirror, and only through it.
 bool SourceSample(Item it, int i, GpuSource s, out vec3 dir, out float omega) {
+#ifdef DAYFLUX_MIRROR_IMAGES
+    if (s.relay >= 0 && dot(relays[3 * s.relay].xyz, it.point) <= relays[3 * s.relay].w)
+        return false;
+#endif
+    bool found = false;
     if (int(s.u.w) == kSourceDistant) {
         dir = SourceDirection(s);
         omega = s.dir.w;
-        return true;
+        found = true;
     }
 #ifdef DAYFLUX_LOCAL_SOURCES
-    LocalSample(s, i, it.point, it.r.weight, it.turn, it.part, dir, omega);
-    return omega > 0;
-#else
-    return false;
+    else {
+        LocalSample(s, i, it.point, it.r.weight, it.turn, it.part, dir, omega);
+        found = omega > 0;
+    }
 #endif
+#ifdef DAYFLUX_MIRROR_IMAGES
+    if (found && s.relay >= 0) found = RelayMeets(s.relay, it.point, dir);
+#endif
+    return found;
 }
 
 void DirectStep(Item it, int i) {
@@ -1400,7 +1475,19 @@ void RunStack() {
         if (it.kind == kItemTrace) {
             if (it.r.depth > kMaxDepth) continue;  // pathological specular loops (-lr 0)
             Hit h;
-            if (FindHit(it.r, h)) Shade(it.r, h.object, h.tracked, h.m, h.point, h.normal, h.t);
+            if (!FindHit(it.r, h)) continue;
+            if ((it.r.clip & h.m.clip) != 0u) {
+                // raycont(): antimatter hides the surface; rcontrib still sees the hit, so a
+                // tracked modifier counts its coefficient (no value for -V).
+                Ray r = it.r;
+                if (h.tracked >= 0 && CONTRIBUTIONS == 0 &&
+                    (r.aimed < 0 || h.object == sources[r.aimed].object))
+                    Contribute(h.tracked, r, h.point, h.normal, h.t, vec3(1));
+                r.from = h.object;
+                PushChild(r, kTrans, vec3(1), h.point, r.dir);
+                continue;
+            }
+            Shade(it.r, h.object, h.tracked, h.m, h.point, h.normal, h.t);
         } else if (it.kind == kItemAmbient) {
             if (it.next < it.end) {
                 Item rest = it;
@@ -1469,6 +1556,7 @@ void Task() {
     r.aimed = -1;
     r.depth = 0;
     r.from = -1;
+    r.clip = 0u;
 #ifdef DAYFLUX_DIELECTRIC
     r.cext = vec3(0);
     r.t = 0;

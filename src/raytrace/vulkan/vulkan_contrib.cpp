@@ -34,7 +34,7 @@ namespace {
 
 // The std430 layouts the shader sees (common.h): vec4s and 4-byte scalars, doubles 8-aligned.
 static_assert(sizeof(gpu::GpuTriangle) == 32 && sizeof(gpu::GpuSurface) == 64);
-static_assert(sizeof(gpu::GpuSource) == 128 && sizeof(gpu::GpuTasks) == 128);
+static_assert(sizeof(gpu::GpuSource) == 144 && sizeof(gpu::GpuTasks) == 128);
 static_assert(offsetof(gpu::GpuTasks, lw) == 64 && offsetof(gpu::GpuTasks, centre_x) == 96);
 
 constexpr int kLocalSize = 64;
@@ -99,7 +99,7 @@ struct DeviceState {
     std::unique_ptr<vk::GpuDevice> device;
     std::vector<uint32_t> spirv;
     int positions = -1, indices = -1, triangles = -1, surfaces = -1, sources = -1, shapes = -1;
-    int bvh_nodes = -1, bvh_prims = -1, klems = -1;
+    int bvh_nodes = -1, bvh_prims = -1, klems = -1, relays = -1;
     uint64_t dropped = 0;  // stack items lost in its last Trace
 };
 
@@ -150,6 +150,8 @@ int GpuKind(Material::Kind kind) {
             return gpu::kMatDielectric;
         case Material::kIllum:
             return gpu::kMatIllum;
+        case Material::kAntimatter:
+            return gpu::kMatAntimatter;
         default:
             CHECK(false);  // refused by Create's unsupported()
             return gpu::kMatBlack;
@@ -251,7 +253,6 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             double thick, up[3];
             if (!ConstantBsdfFrame(*m.bsdf, &thick, up)) return "BSDF with a ray-dependent frame";
         }
-        if (m.kind == Material::kAntimatter) return "antimatter";
         if (m.kind == Material::kIllum && m.alternate &&
             (m.alternate->kind == Material::kMix || m.alternate->kind == Material::kBsdf ||
              m.alternate->kind == Material::kIllum))
@@ -297,12 +298,20 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         }
         return it->second;
     };
-    // Surfaces: one entry per (material, tracked modifier) the triangles use.
+    // Surfaces: one entry per (material, tracked modifier, antimatter bit of the modifier) the
+    // triangles use. The shader's clip sets are 32 bits where the CPU's are 64.
     bool dielectric = false, warned_media = false;
     std::vector<gpu::GpuSurface> surfaces;
-    std::map<std::pair<const Material *, int>, int> surface_of;
-    const auto surface = [&](auto &&self, const Material &m, int k) -> int {
-        auto [it, added] = surface_of.emplace(std::make_pair(&m, k), int(surfaces.size()));
+    std::map<std::tuple<const Material *, int, uint64_t>, int> surface_of;
+    const auto clip_bits = [&](uint64_t mask) {
+        if (mask >> 32) {
+            *why = "antimatter clipping more than 32 modifiers";
+            return false;
+        }
+        return true;
+    };
+    const auto surface = [&](auto &&self, const Material &m, int k, uint64_t clip) -> int {
+        auto [it, added] = surface_of.emplace(std::make_tuple(&m, k, clip), int(surfaces.size()));
         if (added) {
             const int at = it->second;
             surfaces.emplace_back();  // its place, before a mixfunc's sides take theirs
@@ -316,6 +325,8 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             s.tracked = k;
             s.alpha2 = static_cast<float>(m.alpha2);
             s.pattern = pattern_index(m);
+            s.clip = static_cast<uint32_t>(clip);
+            if (m.kind == Material::kAntimatter) s.fore = static_cast<int>(m.clip_mask);
             if (m.kind == Material::kDielectric) {
                 dielectric = true;
                 // As the CPU integrator's: an absorbing medium's extinction is left out of
@@ -334,11 +345,11 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
                 s.params = Vec4(m.spot_aim[0], m.spot_aim[1], m.spot_aim[2], m.spot_flen);
                 s.alpha2 = static_cast<float>(m.spot_size);
             }
-            if (m.kind == Material::kIllum && m.alternate) s.fore = self(self, *m.alternate, -1);
+            if (m.kind == Material::kIllum && m.alternate) s.fore = self(self, *m.alternate, -1, 0);
             if (m.kind == Material::kMix) {
                 s.pattern = pattern_of(m.mix->coef.get());
-                if (!m.mix->is_void[0]) s.fore = self(self, m.mix->fore, -1);
-                if (!m.mix->is_void[1]) s.back = self(self, m.mix->back, -1);
+                if (!m.mix->is_void[0]) s.fore = self(self, m.mix->fore, -1, 0);
+                if (!m.mix->is_void[1]) s.back = self(self, m.mix->back, -1, 0);
             }
             surfaces[at] = s;
         }
@@ -387,7 +398,10 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         gpu::GpuTriangle gt{};
         gt.normal = len > 0 ? Vec4(n[0] / len, n[1] / len, n[2] / len) : Vec4(0, 0, 1);
-        gt.surface = surface(surface, m, k);
+        const uint64_t clip =
+            mat >= 0 ? table.ClipMaskOfMeshMaterial(mat) : table.ClipMaskOfObject(object);
+        if (!clip_bits(clip | m.clip_mask)) return nullptr;
+        gt.surface = surface(surface, m, k, clip);
         gt.object = object;
         gt.mesh = scene.triangle_material[i] >= 0 ? 1 : 0;
         tris.push_back(gt);
@@ -413,7 +427,9 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
                  : sh.kind == AnalyticShape::kCylinder ? gpu::kShapeCylinder
                                                        : gpu::kShapeRing;
         g.inward = sh.inward ? 1 : 0;
-        g.surface = surface(surface, m, table.TrackedOfObject(sh.object));
+        const uint64_t clip = table.ClipMaskOfObject(sh.object);
+        if (!clip_bits(clip | m.clip_mask)) return nullptr;
+        g.surface = surface(surface, m, table.TrackedOfObject(sh.object), clip);
         g.object = sh.object;
         shapes.push_back(g);
         double a[3], b[3];
@@ -421,17 +437,32 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         for (int k = 0; k < 3; ++k) boxes.push_back(static_cast<float>(a[k]));
         for (int k = 0; k < 3; ++k) boxes.push_back(static_cast<float>(b[k]));
     }
-    std::vector<Source> images = table.Sources();
-    AddMirrorImages(scene, table, options.direct_relays, false, &images);
-    if (images.size() > table.Sources().size()) {
-        *why = "sources seen in mirrors (-dr) are sampled on the CPU only";
-        return nullptr;
+    // Sources, then their images in mirrors (as the CPU integrator has them), and the mirrors.
+    std::vector<Source> sources = table.Sources();
+    const std::vector<MirrorRelay> relays =
+        AddMirrorImages(scene, table, options.direct_relays, false, &sources);
+    std::vector<gpu::vec4> relay_data;
+    for (const MirrorRelay &r : relays) {
+        const double *c = impl->centre;
+        relay_data.push_back(
+            Vec4(r.normal[0], r.normal[1], r.normal[2],
+                 r.offset - (r.normal[0] * c[0] + r.normal[1] * c[1] + r.normal[2] * c[2])));
+        relay_data.push_back(
+            Vec4(r.centre[0] - c[0], r.centre[1] - c[1], r.centre[2] - c[2], r.radius2));
+        relay_data.push_back(Vec4(0, static_cast<double>(r.polygon.size() / 3), r.inner2));
+    }
+    for (size_t k = 0; k < relays.size(); ++k) {
+        relay_data[3 * k + 2].x = static_cast<float>(relay_data.size());
+        const std::vector<double> &p = relays[k].polygon;
+        for (size_t v = 0; v + 2 < p.size(); v += 3)
+            relay_data.push_back(Vec4(p[v] - impl->centre[0], p[v + 1] - impl->centre[1],
+                                      p[v + 2] - impl->centre[2]));
     }
     std::vector<gpu::GpuSource> srcs;
-    for (const Source &s : table.Sources()) {
-        const Material &m = table.OfObject(s.object);
+    for (const Source &s : sources) {
+        const Material &m = table.OfObject(s.emitter);
         if (std::string u = unsupported(m); !u.empty()) {
-            *why = u + " (" + scene.scene.objects[s.object].name + ") is traced on the CPU only";
+            *why = u + " (" + scene.scene.objects[s.emitter].name + ") is traced on the CPU only";
             return nullptr;
         }
         gpu::GpuSource g{};
@@ -444,23 +475,26 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
                          s.loc[2] - impl->centre[2], s.area);
             const bool cyl = s.shape == Source::kCylinder;
             g.u = Vec4(s.ss[0][0], s.ss[0][1], s.ss[0][2],
-                       cyl                             ? gpu::kSourceCylinder
+                       cyl                          ? gpu::kSourceCylinder
                        : s.shape == Source::kSphere ? gpu::kSourceSphere
-                                                      : gpu::kSourceFlat);
+                                                    : gpu::kSourceFlat);
             g.v = Vec4(s.ss[1][0], s.ss[1][1], s.ss[1][2],
                        (s.circular ? gpu::kSourceCircular : 0) |
                            (s.turned ? gpu::kSourceTurned : 0) | (s.weak ? gpu::kSourceWeak : 0));
             g.w = Vec4(s.ss[2][0], s.ss[2][1], s.ss[2][2], s.radius);
             const double *n = cyl ? s.axis : s.norm;
             g.norm = Vec4(n[0], n[1], n[2], m.spot_size);
-            g.spot = Vec4(m.spot_aim[0], m.spot_aim[1], m.spot_aim[2], m.spot_flen);
+            const double *aim = s.relay >= 0 ? s.spot_aim : m.spot_aim.data();
+            g.spot = Vec4(aim[0], aim[1], aim[2], m.spot_flen);
         } else if (s.weak) {
             g.v.w = gpu::kSourceWeak;
         }
         g.object = s.object;
-        g.tracked = table.TrackedOfObject(s.object);
+        g.tracked = table.TrackedOfObject(s.emitter);
         g.kind = GpuKind(m.kind);
         g.pattern = pattern_index(m);
+        g.relay = s.relay;
+        g.next = s.next;
         srcs.push_back(g);
     }
 
@@ -546,6 +580,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     define("ACCUM_T", float_accumulators ? "float" : "double");
     if (!klems.empty()) define("DAYFLUX_BSDF", "1");
     if (dielectric) define("DAYFLUX_DIELECTRIC", "1");
+    if (srcs.size() > table.Sources().size()) define("DAYFLUX_MIRROR_IMAGES", "1");
     for (const gpu::GpuSource &g : srcs)
         if (static_cast<int>(g.u.w) != gpu::kSourceDistant) {
             define("DAYFLUX_LOCAL_SOURCES", "1");
@@ -632,6 +667,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         dev.sources = device->Resident(Bytes(srcs));
         dev.shapes = device->Resident(Bytes(shapes));
         dev.klems = device->Resident(Bytes(klems));
+        dev.relays = device->Resident(Bytes(relay_data));
         impl->names += (impl->names.empty() ? "" : " + ") + device->Name();
         dev.device = std::move(device);
         impl->devices.push_back(std::move(dev));
@@ -736,7 +772,8 @@ void VulkanContribIntegrator::Impl::TraceOn(DeviceState &dev, const double *rays
         } else {
             buffers.push_back(G::In(&none));  // binding 11 unused
         }
-        buffers.push_back(G::OnDevice(dev.klems));  // kBindingKlems
+        buffers.push_back(G::OnDevice(dev.klems));   // kBindingKlems
+        buffers.push_back(G::OnDevice(dev.relays));  // kBindingRelays
         dev.device->Run(dev.spirv, static_cast<uint32_t>(count), kLocalSize, buffers);
         uint32_t lost;
         std::memcpy(&lost, stats.data(), sizeof lost);
