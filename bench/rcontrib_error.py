@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""Relative RMS difference of two RADIANCE float matrices (rcontrib -faf output), or, with
+"""Relative RMS difference of two RADIANCE float matrices (rcontrib -faf output); with
 --plot CSV SVG, a log-log plot of wall time against error per case and program (plain SVG, so
-the benchmark needs nothing beyond Python)."""
+the benchmark needs nothing beyond Python); with --mean OUT IN..., the mean of matrices (a
+reference from several runs), written with the first one's header."""
 import csv
 import math
 import struct
@@ -13,6 +14,17 @@ def load(path):
     body = data.index(b'\n\n') + 2
     n = (len(data) - body) // 4
     return struct.unpack('<%df' % n, data[body:body + 4 * n])
+
+
+def mean(out_path, paths):
+    data = open(paths[0], 'rb').read()
+    header = data[:data.index(b'\n\n') + 2]
+    runs = [load(p) for p in paths]
+    if len(set(len(r) for r in runs)) != 1:
+        sys.exit('sizes differ')
+    avg = [sum(v) / len(runs) for v in zip(*runs)]
+    with open(out_path, 'wb') as f:
+        f.write(header + struct.pack('<%df' % len(avg), *avg))
 
 
 def rel_rms(a, b):
@@ -66,5 +78,7 @@ def plot(csv_path, svg_path):
 if __name__ == '__main__':
     if sys.argv[1] == '--plot':
         plot(sys.argv[2], sys.argv[3])
+    elif sys.argv[1] == '--mean':
+        mean(sys.argv[2], sys.argv[3:])
     else:
         print('%.4g' % rel_rms(load(sys.argv[1]), load(sys.argv[2])))
