@@ -74,6 +74,8 @@ struct GpuTriangle {
 // GpuSurface.params.w: a metal; trans or glass (-i passes through it).
 DAYFLUX_GPU_CONST kSurfaceMetal = 1;
 DAYFLUX_GPU_CONST kSurfaceTransparent = 2;
+// A mirror naming a substitute material (m_mirror()'s string argument): fore is it (-1: void).
+DAYFLUX_GPU_CONST kSurfaceMirrorAlternate = 4;
 
 struct GpuSurface {
     vec4 color;    // rgb; w: glass refractive index

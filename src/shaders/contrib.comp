@@ -402,6 +402,13 @@ void PushChild(Ray r, int type, vec3 coef, vec3 org, vec3 dir);
 // A ray reaches something (tracked modifier k, material m); normal faces the ray afterwards.
 bool hit_front;  // whether the ray being shaded met its surface's front (BSDF frames need it)
 
+// m_clip(): entering antimatter adds its modifiers to the ray's clip set, leaving removes them.
+void PassAntimatter(Ray r, GpuSurface m, vec3 point) {
+    uint bits = uint(m.fore);
+    r.clip = hit_front ? r.clip | bits : r.clip & ~bits;
+    PushChild(r, kTrans, vec3(1), point, r.dir);
+}
+
 void Shade(Ray r, int object, int k, GpuSurface m, vec3 point, vec3 geo_normal, float t) {
     r.from = object;  // the rays it spawns leave this object
     float rod = -dot(r.dir, geo_normal);
@@ -443,10 +450,8 @@ void Shade(Ray r, int object, int k, GpuSurface m, vec3 point, vec3 geo_normal, 
         Contribute(k, r, point, normal, t,
                    CONTRIBUTIONS != 0 ? Colour(m, r, point, normal, t) : vec3(1));
     }
-    if (m.kind == kMatAntimatter) {  // m_clip(): entering adds its modifiers, leaving removes them
-        uint bits = uint(m.fore);
-        r.clip = hit_front ? r.clip | bits : r.clip & ~bits;
-        PushChild(r, kTrans, vec3(1), point, r.dir);
+    if (m.kind == kMatAntimatter) {
+        PassAntimatter(r, m, point);
         return;
     }
     if (FIRST_HIT != 0 && (r.crtype & ~(kPrimary | kTrans)) == 0 && !light && m.kind != kMatGlow) {
@@ -464,6 +469,24 @@ void Shade(Ray r, int object, int k, GpuSurface m, vec3 point, vec3 geo_normal, 
         m.params = vec4(0);
         m.alpha2 = 0;
         m.pattern = -1;
+    }
+    if (m.kind == kMatMirror && (int(m.params.w) & kSurfaceMirrorAlternate) != 0) {
+        // m_mirror(): its substitute material sees the rays other than those the direct
+        // calculation sends through it toward an image, and ambient and specular rays meeting
+        // its front (the light those would find comes through the images).
+        bool relayed = r.aimed >= 0 && sources[r.aimed].relay >= 0 &&
+                       sources[r.aimed].object == object;
+        if (!relayed && !((r.crtype & (kAmbient | kSpecular)) != 0 && hit_front)) {
+            if (m.fore < 0) {
+                PushChild(r, kTrans, vec3(1), point, r.dir);
+                return;
+            }
+            m = surfaces[m.fore];
+            if (m.kind == kMatAntimatter) {
+                PassAntimatter(r, m, point);
+                return;
+            }
+        }
     }
     ShadeMaterial(r, m, point, normal, rod, t);
 }

@@ -545,9 +545,12 @@ TEST_F(VulkanContrib, LocalSourcesAsEmbree) {
 
 // Sources seen in mirrors (RADIANCE's virtual sources, -dr): a sun, a lamp and a spotlight
 // between two facing mirror walls and a mirror disc, over a grey floor, so that there are images
-// of images, a ring's images and a mirrored spot cone. Without jitter or ambient rays (-ab 0
-// -dj 0) both backends trace the same rays, and agree to float rounding; with both, within
-// their standard errors. The images matter: -dr 0 loses much of the light.
+// of images, a ring's images and a mirrored spot cone. The disc names a substitute material
+// (plastic), which the rays not sent toward its images see, but for ambient rays meeting its
+// front: an eleventh sensor faces it, and is run again alone with many samples (the substitute
+// instead of the mirror for those rays moves its lamp entry by 20 %). Without jitter or ambient
+// rays (-ab 0 -dj 0) both backends trace the same rays, and agree to float rounding; with both,
+// within their standard errors. The images matter: -dr 0 loses much of the light.
 TEST_F(VulkanContrib, MirrorImagesAsEmbree) {
     WriteFile(tmp_.path() / "mirrors.rad",
               "void light solar 0 0 3 1e4 1e4 1e4\nsolar source sun 0 0 4 -.5 -.4 .8 0.533\n"
@@ -557,20 +560,23 @@ TEST_F(VulkanContrib, MirrorImagesAsEmbree) {
               "void mirror silver 0 0 3 .9 .9 .9\n"
               "silver polygon east 0 0 12 2 -3 0  2 -3 3  2 3 3  2 3 0\n"
               "silver polygon west 0 0 12 -2 -3 0  -2 3 0  -2 3 3  -2 -3 3\n"
-              "silver ring disc 0 0 8 0 2.5 1.5 0 -1 0 0 .8\n"
+              "void plastic shelfgrey 0 0 5 .6 .6 .6 0 0\n"
+              "void mirror silveralt 1 shelfgrey 0 3 .9 .9 .9\n"
+              "silveralt ring disc 0 0 8 0 2.5 1.5 0 -1 0 0 .8\n"
               "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
               "grey polygon floor 0 0 12 -6 -6 0 6 -6 0 6 6 0 -6 6 0\n");
     std::string rays;
     for (int i = 0; i < 10; ++i)
         rays += std::to_string(-1.8 + .4 * i) + " " + std::to_string(.4 * i - 1.5) + " .01 0 0 1\n";
-    WriteFile(tmp_.path() / "rays", rays);
+    WriteFile(tmp_.path() / "rays", rays + "0 1.5 1.5 0 1 0\n");
+    WriteFile(tmp_.path() / "facing", "0 1.5 1.5 0 1 0\n");
     const std::string scene = " -m solar -m lamp -m spot mirrors.rad < rays";
     // Exact: the same rays on both.
     const std::vector<double> gpu0 = Run("vulkan", "-I+ -ab 0 -dj 0" + scene, tmp_.path());
     const std::vector<double> cpu0 = Run("embree", "-I+ -ab 0 -dj 0" + scene, tmp_.path());
     const std::vector<double> cpu_no_images =
         Run("embree", "-I+ -ab 0 -dj 0 -dr 0" + scene, tmp_.path());
-    ASSERT_EQ(gpu0.size(), 10u * 3 * 3);
+    ASSERT_EQ(gpu0.size(), 11u * 3 * 3);
     ASSERT_EQ(cpu0.size(), gpu0.size());
     ASSERT_EQ(cpu_no_images.size(), gpu0.size());
     double totals[3] = {0, 0, 0}, totals_no_images[3] = {0, 0, 0};
@@ -589,6 +595,17 @@ TEST_F(VulkanContrib, MirrorImagesAsEmbree) {
     for (size_t i = 0; i < gpu.size(); i += 3) {
         const double s2 = se_gpu[i] * se_gpu[i] + se_cpu[i] * se_cpu[i];
         EXPECT_NEAR(gpu[i], cpu[i], kZ * std::sqrt(s2) + 1e-9) << "entry " << i / 3;
+    }
+    const std::string facing =
+        "-I+ -ab 1 -ad 4096 -lw 1e-5 -dj .7 -m solar -m lamp -m spot mirrors.rad < facing";
+    const std::vector<double> gpu1 = Run("vulkan", facing, tmp_.path(), &se_gpu);
+    const std::vector<double> cpu1 = Run("embree", facing, tmp_.path(), &se_cpu);
+    ASSERT_EQ(gpu1.size(), 9u);
+    ASSERT_EQ(cpu1.size(), gpu1.size());
+    for (size_t i = 0; i < gpu1.size(); i += 3) {
+        const double s2 = se_gpu[i] * se_gpu[i] + se_cpu[i] * se_cpu[i];
+        EXPECT_LT(std::sqrt(s2), .05 * cpu1[i]) << "too few samples to tell, source " << i / 3;
+        EXPECT_NEAR(gpu1[i], cpu1[i], kZ * std::sqrt(s2)) << "facing the disc, source " << i / 3;
     }
 }
 

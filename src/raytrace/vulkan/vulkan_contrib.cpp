@@ -257,15 +257,20 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             (m.alternate->kind == Material::kMix || m.alternate->kind == Material::kBsdf ||
              m.alternate->kind == Material::kIllum))
             return "illum with a mixfunc, BSDF or illum behind it";
-        if (m.kind == Material::kMirror && m.mirror_alternate)
-            return "a mirror with a substitute material";
+        if (m.kind == Material::kMirror && m.mirror_alternate && m.alternate &&
+            m.alternate->kind == Material::kMirror && m.alternate->mirror_alternate)
+            return "a mirror whose substitute is a mirror with a substitute";
         return "";
     };
     const auto unsupported = [&](const Material &m) -> std::string {
         if (m.kind != Material::kMix) return basic(m);
-        for (int side = 0; side < 2; ++side)
-            if (!m.mix->is_void[side])
-                if (std::string u = basic(side ? m.mix->back : m.mix->fore); !u.empty()) return u;
+        for (int side = 0; side < 2; ++side) {
+            if (m.mix->is_void[side]) continue;
+            const Material &s = side ? m.mix->back : m.mix->fore;
+            if (s.kind == Material::kMirror && s.mirror_alternate)
+                return "a mixfunc of a mirror with a substitute material";
+            if (std::string u = basic(s); !u.empty()) return u;
+        }
         return "";
     };
 
@@ -346,6 +351,10 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
                 s.alpha2 = static_cast<float>(m.spot_size);
             }
             if (m.kind == Material::kIllum && m.alternate) s.fore = self(self, *m.alternate, -1, 0);
+            if (m.kind == Material::kMirror && m.mirror_alternate) {
+                s.params.w = gpu::kSurfaceMirrorAlternate;
+                if (m.alternate) s.fore = self(self, *m.alternate, -1, 0);
+            }
             if (m.kind == Material::kMix) {
                 s.pattern = pattern_of(m.mix->coef.get());
                 if (!m.mix->is_void[0]) s.fore = self(self, m.mix->fore, -1, 0);
