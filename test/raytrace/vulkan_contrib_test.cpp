@@ -633,8 +633,9 @@ TEST_F(VulkanContrib, AntimatterAsEmbree) {
 }
 
 // What the GPU integrator does not trace yet goes to Embree, with one line saying why, and the
-// results are Embree's: several specular samples (-ss above 1.5). So does a machine whose only
-// device is a CPU one, unless it is named.
+// results are Embree's: several specular samples (-ss above 1.5), and a mirror whose substitute
+// is a mixfunc of mixfuncs. So does a machine whose only device is a CPU one, unless it is
+// named.
 TEST_F(VulkanContrib, WhatItCannotTraceFallsBackToEmbree) {
     WriteFile(tmp_.path() / "rays", "0 0 0 0 0 1\n");
     const std::string sky = "-h -faa -I+ -ab 1 -ad 64 -ss 2" + kBins + "-m skyglow sky.rad";
@@ -644,6 +645,21 @@ TEST_F(VulkanContrib, WhatItCannotTraceFallsBackToEmbree) {
     ASSERT_EQ(gpu.status, 0) << gpu.err;
     EXPECT_NE(gpu.err.find("the Vulkan backend cannot take this run (-ss above 1.5 (several "
                            "specular samples))"),
+              std::string::npos)
+        << gpu.err;
+    EXPECT_EQ(gpu.out, cpu.out);
+    WriteFile(tmp_.path() / "half.cal", "half = .5;\n");
+    WriteFile(tmp_.path() / "shiny.rad",
+              "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
+              "void mixfunc inner 4 grey void half half.cal 0 0\n"
+              "void mixfunc outer 4 inner grey half half.cal 0 0\n"
+              "void mirror shiny 1 outer 0 3 .9 .9 .9\n"
+              "shiny polygon roof 0 0 12 -2 -2 1  2 -2 1  2 2 1  -2 2 1\n");
+    const std::string shiny = "-h -faa -I+ -ab 1 -ad 64" + kBins + "-m skyglow shiny.rad sky.rad";
+    gpu = RunCommand(kDevice + "rcontrib-gpu -backend vulkan " + shiny + " < rays", tmp_.path());
+    cpu = RunCommand("rcontrib-gpu " + shiny + " < rays", tmp_.path());
+    ASSERT_EQ(gpu.status, 0) << gpu.err;
+    EXPECT_NE(gpu.err.find("(mixfunc of mixfuncs (roof) is traced on the CPU only)"),
               std::string::npos)
         << gpu.err;
     EXPECT_EQ(gpu.out, cpu.out);

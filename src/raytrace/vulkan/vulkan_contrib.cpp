@@ -247,7 +247,10 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         return nullptr;
     }
     SceneMaterials table(scene, tracked);
-    const auto basic = [](const Material &m) -> std::string {
+    // What a material needs that the shader lacks ("" if nothing); a mirror's substitute is
+    // judged as a surface's material of its own.
+    std::function<std::string(const Material &)> unsupported;
+    const auto basic = [&](const Material &m) -> std::string {
         if (m.kind == Material::kMix) return "mixfunc of mixfuncs";
         if (m.kind == Material::kBsdf) {
             double thick, up[3];
@@ -257,12 +260,14 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             (m.alternate->kind == Material::kMix || m.alternate->kind == Material::kBsdf ||
              m.alternate->kind == Material::kIllum))
             return "illum with a mixfunc, BSDF or illum behind it";
-        if (m.kind == Material::kMirror && m.mirror_alternate && m.alternate &&
-            m.alternate->kind == Material::kMirror && m.alternate->mirror_alternate)
-            return "a mirror whose substitute is a mirror with a substitute";
+        if (m.kind == Material::kMirror && m.mirror_alternate && m.alternate) {
+            if (m.alternate->kind == Material::kMirror && m.alternate->mirror_alternate)
+                return "a mirror whose substitute is a mirror with a substitute";
+            return unsupported(*m.alternate);
+        }
         return "";
     };
-    const auto unsupported = [&](const Material &m) -> std::string {
+    unsupported = [&](const Material &m) -> std::string {
         if (m.kind != Material::kMix) return basic(m);
         for (int side = 0; side < 2; ++side) {
             if (m.mix->is_void[side]) continue;
