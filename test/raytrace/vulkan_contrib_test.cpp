@@ -106,13 +106,27 @@ class VulkanContrib : public ::testing::Test {
         if (se) *se = Floats(ReadFile(se_file));
         return Floats(r.out);
     }
+    // Both backends on args (run in dir), with -se's standard errors.
+    struct BothBackends {
+        std::vector<double> gpu, se_gpu, cpu, se_cpu;
+    };
+    BothBackends RunBoth(const std::string &args, const fs::path &dir) {
+        BothBackends b;
+        b.gpu = Run("vulkan", args, dir, &b.se_gpu);
+        b.cpu = Run("embree", args, dir, &b.se_cpu);
+        return b;
+    }
+    // Twenty sensors facing up along the x axis from -1.9 to 1.9, in the file `rays`.
+    void WriteSensorLine() {
+        std::string rays;
+        for (int i = 0; i < 20; ++i) rays += std::to_string(-1.9 + 0.2 * i) + " 0 0 0 0 1\n";
+        WriteFile(tmp_.path() / "rays", rays);
+    }
     // Both backends on args (run in the test's folder), `entries` entries compared one by one
     // (their first channel) within kZ combined standard errors, each of those at most max_se of
     // the value where max_se > 0 (enough samples to tell). Returns the CPU's total.
     double ExpectSameEntries(const std::string &args, size_t entries, double max_se = 0) {
-        std::vector<double> se_gpu, se_cpu;
-        const std::vector<double> gpu = Run("vulkan", args, tmp_.path(), &se_gpu);
-        const std::vector<double> cpu = Run("embree", args, tmp_.path(), &se_cpu);
+        const auto [gpu, se_gpu, cpu, se_cpu] = RunBoth(args, tmp_.path());
         EXPECT_EQ(gpu.size(), entries * 3);
         if (cpu.size() != gpu.size() || gpu.size() != entries * 3) return 0;
         double total = 0;
@@ -130,9 +144,7 @@ class VulkanContrib : public ::testing::Test {
         const fs::path room = DataDir() / "scene" / "models" / "room";
         const std::string all =
             args + " < '" + (DataDir() / "rcontrib" / "points.txt").string() + "'";
-        std::vector<double> se_gpu, se_cpu;
-        const std::vector<double> gpu = Run("vulkan", all, room, &se_gpu);
-        const std::vector<double> cpu = Run("embree", all, room, &se_cpu);
+        const auto [gpu, se_gpu, cpu, se_cpu] = RunBoth(all, room);
         ASSERT_EQ(gpu.size(), 100u * ncols * 3);
         ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 5000);
     }
@@ -244,9 +256,7 @@ TEST_F(VulkanContrib, RoughSpecularAsEmbree) {
     for (const char *mod : {"skyglow", "solar"}) {
         const std::string args = std::string("-I+ -ab 2 -ad 1024 -lw 1e-4 -dj .5") + kBins + "-m " +
                                  mod + " scene.rad sky.rad < rays";
-        std::vector<double> se_gpu, se_cpu;
-        const std::vector<double> gpu = Run("vulkan", args, tmp_.path(), &se_gpu);
-        const std::vector<double> cpu = Run("embree", args, tmp_.path(), &se_cpu);
+        const auto [gpu, se_gpu, cpu, se_cpu] = RunBoth(args, tmp_.path());
         ASSERT_EQ(gpu.size(), 3u * 146 * 3);
         ASSERT_EQ(cpu.size(), gpu.size());
         double sum_gpu = 0, sum_cpu = 0, var = 0;
@@ -431,9 +441,7 @@ TEST_F(VulkanContrib, PatternsAsEmbree) {
     WriteFile(tmp_.path() / "rays", "-1 0 1 .3 0 -1\n1 0 1 -.3 .2 -1\n0 1 .5 0 0 -1\n");
     const std::string args =
         "-V+ -I+ -ab 2 -ad 1024 -lw 1e-4" + kBins + "-m skyglow scene.rad < rays";
-    std::vector<double> se_gpu, se_cpu;
-    const std::vector<double> gpu = Run("vulkan", args, tmp_.path(), &se_gpu);
-    const std::vector<double> cpu = Run("embree", args, tmp_.path(), &se_cpu);
+    const auto [gpu, se_gpu, cpu, se_cpu] = RunBoth(args, tmp_.path());
     ASSERT_EQ(gpu.size(), 3u * 438);
     ASSERT_EQ(cpu.size(), gpu.size());
     for (int r = 0; r < 3; ++r)
@@ -457,14 +465,10 @@ TEST_F(VulkanContrib, MixfuncAsEmbree) {
               "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
               "void mixfunc half 4 grey void side mix.cal 0 0\n"
               "half polygon p 0 0 12 -2 -2 1  2 -2 1  2 2 1  -2 2 1\n");
-    std::string rays;
-    for (int i = 0; i < 20; ++i) rays += std::to_string(-1.9 + 0.2 * i) + " 0 0 0 0 1\n";
-    WriteFile(tmp_.path() / "rays", rays);
+    WriteSensorLine();
     const std::string args =
         "-I+ -ab 2 -ad 256 -lw 1e-5" + kBins + "-m skyglow mix.rad sky.rad < rays";
-    std::vector<double> se_gpu, se_cpu;
-    const std::vector<double> gpu = Run("vulkan", args, tmp_.path(), &se_gpu);
-    const std::vector<double> cpu = Run("embree", args, tmp_.path(), &se_cpu);
+    const auto [gpu, se_gpu, cpu, se_cpu] = RunBoth(args, tmp_.path());
     ASSERT_EQ(gpu.size(), 20u * 146 * 3);
     ASSERT_EQ(cpu.size(), gpu.size());
     ExpectSameSensorTotals(gpu, se_gpu, cpu, se_cpu, 20, 146);
@@ -480,14 +484,10 @@ TEST_F(VulkanContrib, DielectricAsEmbree) {
                   test::BoxOfPolygons("water", "block", {-1, -1, 1}, {1, 1, 2}) +
                   "void dielectric clear 0 0 5 1 1 1 1.5 0\n"
                   "clear sphere ball 0 0 4 0 0 3.5 1\n");
-    std::string rays;
-    for (int i = 0; i < 20; ++i) rays += std::to_string(-1.9 + 0.2 * i) + " 0 0 0 0 1\n";
-    WriteFile(tmp_.path() / "rays", rays);
+    WriteSensorLine();
     const std::string args =
         "-I+ -ab 3 -ad 512 -lw 0.02" + kBins + "-m skyglow block.rad sky.rad < rays";
-    std::vector<double> se_gpu, se_cpu;
-    const std::vector<double> gpu = Run("vulkan", args, tmp_.path(), &se_gpu);
-    const std::vector<double> cpu = Run("embree", args, tmp_.path(), &se_cpu);
+    const auto [gpu, se_gpu, cpu, se_cpu] = RunBoth(args, tmp_.path());
     ASSERT_EQ(gpu.size(), 20u * 146 * 3);
     ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 2000);
     ExpectSameSensorTotals(gpu, se_gpu, cpu, se_cpu, 20, 146);
@@ -613,9 +613,7 @@ TEST_F(VulkanContrib, AntimatterAsEmbree) {
     WriteFile(tmp_.path() / "rays", rays);
     const std::string args =
         "-I+ -ab 1 -ad 2048 -lw 1e-5" + kBins + "-m skyglow cut.rad sky.rad < rays";
-    std::vector<double> se_gpu, se_cpu;
-    const std::vector<double> gpu = Run("vulkan", args, tmp_.path(), &se_gpu);
-    const std::vector<double> cpu = Run("embree", args, tmp_.path(), &se_cpu);
+    const auto [gpu, se_gpu, cpu, se_cpu] = RunBoth(args, tmp_.path());
     ASSERT_EQ(gpu.size(), 10u * 146 * 3);
     ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 100);
     const double expected = M_PI * (.2 + 1. / 10001.);
@@ -762,9 +760,7 @@ TEST_F(VulkanContrib, DaylightMatrixAsEmbree) {
                              "-m skyglow materials.rad room.rad objects/Glazing.rad "
                              "skyDomes/skyglow.rad < '" +
                              (tmp_.path() / "window_rays").string() + "'";
-    std::vector<double> se_gpu, se_cpu;
-    const std::vector<double> gpu = Run("vulkan", args, room, &se_gpu);
-    const std::vector<double> cpu = Run("embree", args, room, &se_cpu);
+    const auto [gpu, se_gpu, cpu, se_cpu] = RunBoth(args, room);
     ASSERT_EQ(gpu.size(), 20u * 146 * 3);
     ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 1000);
 }
