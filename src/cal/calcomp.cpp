@@ -2,41 +2,19 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <unordered_map>
 
+#include "cal/calcomp_impl.h"
+#include "cal/specialise.h"
 #include "util/raypath.h"
 
 namespace dayflux::cal {
 
 namespace {
-
-enum class Library {
-    kNone,
-    kAcos,
-    kAsin,
-    kAtan,
-    kAtan2,
-    kCeil,
-    kCos,
-    kExp,
-    kFloor,
-    kIf,
-    kLog,
-    kLog10,
-    kMax,
-    kMin,
-    kRand,
-    kSelect,
-    kSin,
-    kSqrt,
-    kTan,
-    kErf,
-    kErfc,
-    kArg
-};
 
 struct LibraryEntry {
     const char *name;
@@ -59,39 +37,6 @@ constexpr int kMaxDepth = 2000;  // calls deeper than this are taken as recursio
 bool IsIdChar(int c) { return std::isalnum(c) || c == '_' || c == '.' || c == '`'; }
 
 }  // namespace
-
-struct Context::Impl {
-    std::vector<std::string> names;
-    std::unordered_map<std::string, int> ids;
-    std::vector<std::unique_ptr<Definition>> defs;
-    std::vector<Library> library;
-    // Cached values of constant (':') variables, filled on first use.
-    mutable std::vector<char> have_constant;
-    mutable std::vector<double> constant_value;
-    // Values of the other variables within one evaluation (one ray): a variable depends only on
-    // channels and other variables, so it is computed once per top-level Evaluate.
-    mutable std::vector<uint64_t> variable_epoch;
-    mutable std::vector<double> variable_value;
-    mutable uint64_t epoch = 1;
-
-    int Intern(const std::string &raw) {
-        std::string name = raw;
-        while (name.size() > 1 && name.back() == '`') name.pop_back();  // "x`" is the global x
-        auto it = ids.find(name);
-        if (it != ids.end()) return it->second;
-        const int id = static_cast<int>(names.size());
-        names.push_back(name);
-        ids.emplace(name, id);
-        defs.emplace_back();
-        library.push_back(Library::kNone);
-        have_constant.push_back(0);
-        constant_value.push_back(0);
-        variable_epoch.push_back(0);
-        variable_value.push_back(0);
-        return id;
-    }
-    void Invalidate() { std::fill(have_constant.begin(), have_constant.end(), 0); }
-};
 
 // Evaluation with activation frames: arguments are expressions of the caller, evaluated on first
 // use and remembered, as RADIANCE does (so if() evaluates only the branch it takes).
@@ -174,43 +119,24 @@ struct Evaluator {
                 }
                 return v;
             }
-            case Library::kRand: {
-                double x = a(1);
-                x *= 1.0 / (1.0 + x * x) + 2.71828182845904;
-                x += .785398163397447 - std::floor(x);
-                x = 1e5 / x;
-                return x - std::floor(x);
-            }
-            case Library::kAcos:
-                return std::acos(a(1));
-            case Library::kAsin:
-                return std::asin(a(1));
-            case Library::kAtan:
-                return std::atan(a(1));
             case Library::kAtan2:
-                return std::atan2(a(1), a(2));
+                return LibraryMath(fn, a(1), a(2));
+            case Library::kRand:
+            case Library::kAcos:
+            case Library::kAsin:
+            case Library::kAtan:
             case Library::kCeil:
-                return std::ceil(a(1));
             case Library::kCos:
-                return std::cos(a(1));
             case Library::kExp:
-                return std::exp(a(1));
             case Library::kFloor:
-                return std::floor(a(1));
             case Library::kLog:
-                return std::log(a(1));
             case Library::kLog10:
-                return std::log10(a(1));
             case Library::kSin:
-                return std::sin(a(1));
             case Library::kSqrt:
-                return std::sqrt(a(1));
             case Library::kTan:
-                return std::tan(a(1));
             case Library::kErf:
-                return std::erf(a(1));
             case Library::kErfc:
-                return std::erfc(a(1));
+                return LibraryMath(fn, a(1));
             case Library::kArg: {
                 const std::vector<double> *args = channels ? channels->ObjectArguments() : nullptr;
                 if (!args) Fail("arg() used where there is no object");
@@ -629,10 +555,17 @@ Expression Context::Compile(std::string_view text, const FileLoc &loc) const {
     e.root_ = p.Expression();
     e.text_ = std::string(text);
     e.loc_ = loc;
+    if (!std::getenv("DAYFLUX_CAL_INTERPRET")) {
+        e.fast_ = SpecialisedExpression::Make(*impl_, e.root_.get(), loc);
+        e.fast_context_ = impl_.get();
+        e.fast_generation_ = impl_->generation;
+    }
     return e;
 }
 
 double Expression::Evaluate(const Context &cx, const Channels *channels) const {
+    if (fast_ && fast_context_ == cx.impl_.get() && fast_generation_ == cx.impl_->generation)
+        return fast_->Evaluate(channels);
     Evaluator ev(*cx.impl_, channels, &loc_);
     return ev.Eval(root_.get(), nullptr);
 }

@@ -5,6 +5,7 @@
 // does no string lookups.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <span>
@@ -73,6 +74,7 @@ class ChannelView : public Channels {
 };
 
 class Context;
+class SpecialisedExpression;
 
 // A compiled expression, evaluated against a context (which holds the definitions it uses).
 class Expression {
@@ -80,6 +82,10 @@ class Expression {
     Expression() = default;
     double Evaluate(const Context &cx, const Channels *channels = nullptr) const;
     const Node *Root() const { return root_.get(); }
+    // Whether it runs specialised (specialise.h) rather than interpreted, while its context
+    // keeps the definitions it was compiled with. DAYFLUX_CAL_INTERPRET in the environment at
+    // compile time keeps the interpreter (for comparisons).
+    bool Specialised() const { return fast_ != nullptr; }
     const std::string &Text() const { return text_; }
 
   private:
@@ -87,6 +93,11 @@ class Expression {
     NodePtr root_;
     std::string text_;
     FileLoc loc_;
+    // The same, specialised to the context as it was when compiled (specialise.h); used while
+    // the context's definitions stay as they were.
+    std::shared_ptr<const SpecialisedExpression> fast_;
+    const void *fast_context_ = nullptr;
+    uint64_t fast_generation_ = 0;
 };
 
 class Context {

@@ -1,0 +1,127 @@
+// Specialised expressions (src/cal/specialise.h) against the interpreter: the same numbers, bit
+// for bit, for the bin functions of lib/; the interpreter for what is not specialised, and once
+// the context changes.
+#include "cal/specialise.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <random>
+
+#include "cal/calcomp.h"
+
+namespace dayflux::cal {
+namespace {
+
+std::string Lib(const char *f) { return std::string(DAYFLUX_LIB_DIR) + "/" + f; }
+
+Expression Interpreted(const Context &cx, const std::string &text) {
+    setenv("DAYFLUX_CAL_INTERPRET", "1", 1);
+    Expression e = cx.Compile(text, FileLoc{"-b", 0});
+    unsetenv("DAYFLUX_CAL_INTERPRET");
+    return e;
+}
+
+// Random directions, then the axes and the diagonals of the axis planes, where zeros of either
+// sign meet atan2 and the bins' boundaries.
+std::vector<std::array<double, 3>> Directions() {
+    std::mt19937_64 rng(7);
+    std::normal_distribution<double> g;
+    std::vector<std::array<double, 3>> d;
+    for (int i = 0; i < 100000; ++i) {
+        const double x = g(rng), y = g(rng), z = g(rng), r = std::sqrt(x * x + y * y + z * z);
+        d.push_back({x / r, y / r, z / r});
+    }
+    const double s = std::sqrt(.5);
+    for (double a : {-1., -0., 0., 1.})
+        d.push_back({a, 0, 0}), d.push_back({0, a, 0}), d.push_back({0, 0, a});
+    for (double a : {-s, s})
+        for (double b : {-s, s}) d.push_back({a, b, 0}), d.push_back({a, 0, b});
+    return d;
+}
+
+void ExpectSameAsInterpreter(Context &cx, const std::string &text) {
+    const Expression fast = cx.Compile(text, FileLoc{"-b", 0});
+    const Expression slow = Interpreted(cx, text);
+    ASSERT_TRUE(fast.Specialised()) << text;
+    ASSERT_FALSE(slow.Specialised());
+    ChannelArray ray(std::vector<double>(27, 0.0));
+    int differ = 0;
+    for (const auto &d : Directions()) {
+        std::copy(d.begin(), d.end(), ray.values().begin());
+        const double a = fast.Evaluate(cx, &ray), b = slow.Evaluate(cx, &ray);
+        if (std::memcmp(&a, &b, sizeof a) != 0 && ++differ < 5)
+            ADD_FAILURE() << text << " at " << d[0] << " " << d[1] << " " << d[2] << ": " << a
+                          << " against " << b;
+    }
+    EXPECT_EQ(differ, 0) << text;
+}
+
+TEST(Specialise, BinFunctionsGiveTheInterpretersNumbers) {
+    Context klems;
+    klems.LoadRayInit();
+    klems.LoadFile(Lib("klems_full.cal"));
+    for (const char *b : {"kbin(0,1,0,0,0,1)", "kbinN", "kbinE", "kbinW", "kbinD"})
+        ExpectSameAsInterpreter(klems, b);
+    klems.Set("RHS", -1);
+    ExpectSameAsInterpreter(klems, "kbin(0,-1,0,0,0,1)");
+    for (int mf : {1, 2, 6}) {
+        Context reinhart;
+        reinhart.LoadRayInit();
+        reinhart.Set("MF", mf, true);
+        reinhart.LoadFile(Lib("reinhart.cal"));
+        ExpectSameAsInterpreter(reinhart, "rbin");
+    }
+    Context tregenza;
+    tregenza.LoadRayInit();
+    tregenza.LoadFile(Lib("tregenza.cal"));
+    ExpectSameAsInterpreter(tregenza, "tbin");
+}
+
+TEST(Specialise, InlinesCallsAndFoldsWhatDoesNotDependOnTheRay) {
+    Context cx;
+    cx.Load("x = $1; k = 3; sq(a) = a*a; f(a, b) = if(b, sq(a) + k, select(2, 0, a));",
+            FileLoc{"t.cal", 1});
+    const Expression e = cx.Compile("f(x + 1, k - 1)", FileLoc{"-b", 0});
+    ASSERT_TRUE(e.Specialised());
+    ChannelArray ray({2.0});
+    EXPECT_EQ(e.Evaluate(cx, &ray), 12);
+    EXPECT_EQ(cx.Compile("f(x, 0)", FileLoc{"-b", 0}).Evaluate(cx, &ray), 2);
+    // A definition changed after compiling: the interpreter answers with the new one.
+    cx.Set("k", 5);
+    EXPECT_EQ(e.Evaluate(cx, &ray), 14);
+}
+
+TEST(Specialise, LeavesToTheInterpreterWhatItDoesNotHandle) {
+    Context cx;
+    cx.Load("fact(n) = if(n - .5, n*fact(n-1), 1); g(h, x) = h(x) + 1; sq(x) = x*x;",
+            FileLoc{"t.cal", 1});
+    for (const char *text : {"fact(5)", "g(sq, 3)", "arg(1)", "undefined + 1", "select(4, 1, 2)"})
+        EXPECT_FALSE(cx.Compile(text, FileLoc{"-b", 0}).Specialised()) << text;
+    EXPECT_EQ(cx.Compile("fact(5)", FileLoc{"-b", 0}).Evaluate(cx), 120);
+    EXPECT_EQ(cx.Compile("g(sq, 3)", FileLoc{"-b", 0}).Evaluate(cx), 10);
+}
+
+TEST(Specialise, ReportsTheInterpretersErrors) {
+    Context cx;
+    cx.Load("x = $1;", FileLoc{"t.cal", 1});
+    const Expression e = cx.Compile("select(x, 1, 2)", FileLoc{"-b", 0});
+    ASSERT_TRUE(e.Specialised());
+    ChannelArray ray({4.0});
+    try {
+        e.Evaluate(cx, &ray);
+        ADD_FAILURE() << "no error";
+    } catch (const UserError &err) {
+        EXPECT_STREQ(err.what(), "-b: select: index 4 out of range");
+    }
+    try {
+        e.Evaluate(cx);
+        ADD_FAILURE() << "no error";
+    } catch (const UserError &err) {
+        EXPECT_STREQ(err.what(), "-b: ray variable $1 used where there is no ray");
+    }
+}
+
+}  // namespace
+}  // namespace dayflux::cal
