@@ -12,6 +12,9 @@ namespace {
 struct NotHandled {};  // the interpreter keeps the expression
 
 constexpr int kMaxInlineDepth = 64;
+constexpr size_t kMaxOps = 1 << 16;  // inlining copies bodies per call: bound what it may grow to
+static_assert(Node::kSub == Node::kAdd + 1 && Node::kMul == Node::kAdd + 2 &&
+              Node::kDiv == Node::kAdd + 3 && Node::kPow == Node::kAdd + 4);
 
 // Folds an operation of numbers as the interpreter computes it.
 double Arithmetic(SpecialisedExpression::Kind k, double a, double b) {
@@ -78,6 +81,7 @@ class SpecialisationBuilder {
 
   private:
     int Add(const Op &op, const std::vector<int> &kids) {
+        if (out_.ops_.size() >= kMaxOps) throw NotHandled{};
         Op o = op;
         o.first = static_cast<int32_t>(out_.kids_.size());
         o.nkids = static_cast<int32_t>(kids.size());

@@ -99,6 +99,16 @@ TEST(Specialise, LeavesToTheInterpreterWhatItDoesNotHandle) {
             FileLoc{"t.cal", 1});
     for (const char *text : {"fact(5)", "g(sq, 3)", "arg(1)", "undefined + 1", "select(4, 1, 2)"})
         EXPECT_FALSE(cx.Compile(text, FileLoc{"-b", 0}).Specialised()) << text;
+    // Inlining would copy f0's body 2^20 times here.
+    std::string doubling = "f0(x) = x + x;";
+    for (int k = 1; k <= 20; ++k)
+        doubling += " f" + std::to_string(k) + "(x) = f" + std::to_string(k - 1) + "(x) + f" +
+                    std::to_string(k - 1) + "(x);";
+    cx.Load(doubling, FileLoc{"d.cal", 1});
+    const Expression deep = cx.Compile("f20(1)", FileLoc{"-b", 0});
+    EXPECT_FALSE(deep.Specialised());
+    EXPECT_EQ(deep.Evaluate(cx), 1 << 21);
+    EXPECT_TRUE(cx.Compile("f10(1)", FileLoc{"-b", 0}).Specialised());
     EXPECT_EQ(cx.Compile("fact(5)", FileLoc{"-b", 0}).Evaluate(cx), 120);
     EXPECT_EQ(cx.Compile("g(sq, 3)", FileLoc{"-b", 0}).Evaluate(cx), 10);
 }
