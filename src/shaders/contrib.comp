@@ -556,14 +556,27 @@ void PushChild(Ray r, int type, vec3 coef, vec3 org, vec3 dir) {
     Push(it);
 }
 
-// gaussamp() for reflection with -ss 1 or less: one SPECULAR ray about the mirror direction, its
-// half vector drawn from the Gaussian of roughness^2 alpha2; up to 10 tries to leave above.
+// gaussamp() for reflection: SPECULAR rays about the mirror direction, their half vectors drawn
+// from the Gaussian of roughness^2 alpha2; one ray (up to 10 tries to leave above) or, with -ss
+// above 1.5, -ss x weight rays sharing the coefficient (the CPU's GaussianReflection()).
 void PushGaussianReflection(Ray r, vec3 scolor, float alpha2, vec3 point, vec3 normal) {
     Ray c;
     if (!Spawn(r, kSpecular, scolor, c)) return;
+    int target = 1;
+    if (SS > 1.5) {
+        target = int(SS * r.weight + .5);
+        if (c.weight <= LW * float(target)) target = int(c.weight / LW);
+        if (target > 1) {
+            c.coef /= float(target);
+            c.weight /= float(target);
+        } else {
+            target = 1;
+        }
+    }
     vec3 u, v;
     Tangents(normal, u, v);
-    for (int trial = 0; trial < 10; ++trial) {
+    int taken = 0;
+    [[dont_unroll]] for (int trial = 0; taken < target && trial < 10 * target; ++trial) {
         float phi = 2. * kPi * Rand();
         float rv1 = Rand();
         if (SS >= 0 && SS < 1) rv1 = 1. - SS * rv1;
@@ -577,7 +590,7 @@ void PushGaussianReflection(Ray r, vec3 scolor, float alpha2, vec3 point, vec3 n
         it.r = c;
         it.kind = kItemTrace;
         Push(it);
-        return;
+        ++taken;
     }
 }
 
@@ -821,14 +834,37 @@ void ShadeBsdf(Ray r, GpuSurface m, vec3 point, vec3 normal, float t) {
             if (hemi <= ST + kTiny) {
                 if (hemi > kTiny) unsampled = hemi * (xmit == 1 ? pcol : vec3(1));
             } else {
-                float xrand = Rand();
-                if (SS < 1.) xrand = .5 + SS * (xrand - .5);
-                float u = Rand(), v = Rand();
-                vec3 vsmp = KJitter(ksr.x, u, v), outv;
-                float value = KlemsSample(q, vsmp, xrand, Rand(), Rand(), outv);
-                if (value > kTiny)
-                    PushChild(r, kSpecular, value * (xmit == 1 ? pcol : vec3(1)),
-                              xmit == 1 ? behind : point, ToWorld(outv));
+                // -ss above 1.5: -ss x weight samples, stratified in xrand, sharing the value
+                int target = SS > 1.5 ? max(1, int(SS * r.weight + .5)) : 1;
+                [[dont_unroll]] for (int n = 0; n < target; ++n) {
+                    float xrand = Rand();
+                    if (target == 1) {
+                        if (SS < 1.) xrand = .5 + SS * (xrand - .5);
+                    } else {
+                        xrand = (float(n) + xrand) / float(target);
+                    }
+                    float u = Rand(), v = Rand();
+                    vec3 vsmp = KJitter(ksr.x, u, v), outv;
+                    float value = KlemsSample(q, vsmp, xrand, Rand(), Rand(), outv);
+                    if (value <= kTiny) break;
+                    if (target > 1) value /= float(target);
+                    Ray c;
+                    if (!Spawn(r, kSpecular, value * (xmit == 1 ? pcol : vec3(1)), c)) {
+                        if (n == 0 && target > 1) {  // RADIANCE lowers its target, starts again
+                            int before = target;
+                            target = int(float(target) * c.weight / LW);
+                            if (target == before) break;
+                            n = -1;
+                        }
+                        continue;
+                    }
+                    c.org = xmit == 1 ? behind : point;
+                    c.dir = ToWorld(outv);
+                    Item it;
+                    it.r = c;
+                    it.kind = kItemTrace;
+                    Push(it);
+                }
             }
         }
         // The diffuse part and what was not sampled, as an ambient hemisphere on that side

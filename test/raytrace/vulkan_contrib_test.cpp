@@ -253,9 +253,12 @@ TEST_F(VulkanContrib, RoughSpecularAsEmbree) {
               "satin polygon wall 0 0 12 -5 5 0  5 5 0  5 5 4  -5 5 4\n"
               "void light solar 0 0 3 1e4 1e4 1e4\nsolar source sun 0 0 4 0 -.6 .8 .533\n");
     WriteFile(tmp_.path() / "rays", "0 -1 1 0 .4 -1\n1 0 1 0 .2 -1\n-1 2 1 .1 .3 -1\n");
-    for (const char *mod : {"skyglow", "solar"}) {
-        const std::string args = std::string("-I+ -ab 2 -ad 1024 -lw 1e-4 -dj .5") + kBins + "-m " +
-                                 mod + " scene.rad sky.rad < rays";
+    // -ss 4 takes several specular samples where a ray's weight is high: the input rays, here
+    // sent as they are (-I-) to the floor and wall.
+    for (const char *run : {"-I+ -m skyglow", "-I+ -m solar", "-I- -ss 4 -m skyglow"}) {
+        const std::string mod = run;
+        const std::string args = std::string("-ab 2 -ad 1024 -lw 1e-4 -dj .5") + kBins + run +
+                                 " scene.rad sky.rad < rays";
         const auto [gpu, se_gpu, cpu, se_cpu] = RunBoth(args, tmp_.path());
         ASSERT_EQ(gpu.size(), 3u * 146 * 3);
         ASSERT_EQ(cpu.size(), gpu.size());
@@ -636,13 +639,13 @@ TEST_F(VulkanContrib, AntimatterAsEmbree) {
 // named.
 TEST_F(VulkanContrib, WhatItCannotTraceFallsBackToEmbree) {
     WriteFile(tmp_.path() / "rays", "0 0 0 0 0 1\n");
-    const std::string sky = "-h -faa -I+ -ab 1 -ad 64 -ss 2" + kBins + "-m skyglow sky.rad";
+    const std::string sky = "-h -faa -I+ -ab 1 -ad 64 -ss 20" + kBins + "-m skyglow sky.rad";
     CommandResult gpu =
         RunCommand(kDevice + "rcontrib-gpu -backend vulkan " + sky + " < rays", tmp_.path());
     CommandResult cpu = RunCommand("rcontrib-gpu " + sky + " < rays", tmp_.path());
     ASSERT_EQ(gpu.status, 0) << gpu.err;
-    EXPECT_NE(gpu.err.find("the Vulkan backend cannot take this run (-ss above 1.5 (several "
-                           "specular samples))"),
+    EXPECT_NE(gpu.err.find("the Vulkan backend cannot take this run (-ss above 16 (more "
+                           "specular samples than the GPU's ray stack holds))"),
               std::string::npos)
         << gpu.err;
     EXPECT_EQ(gpu.out, cpu.out);
@@ -800,31 +803,43 @@ TEST_F(VulkanContrib, KlemsBsdfAsEmbree) {
         "-I+ -ab 2 -ad 256 -lw 1e-4" + kBins + "-m skyglow -m solar materials.rad room.rad '" +
         (tmp_.path() / "blinds.rad").string() + "' skyDomes/skyglow.rad '" +
         (tmp_.path() / "sun.rad").string() + "' < '" + (tmp_.path() / "rays").string() + "'";
-    std::vector<double> total[2], var[2];
-    int b = 0;
-    for (const char *backend : {"vulkan", "embree"}) {
-        const std::vector<double> v = Run(backend, args, room);
-        ASSERT_EQ(v.size(), 80u * 292 * 3) << backend;
-        total[b].assign(2, 0.), var[b].assign(2, 0.);
-        for (int s = 0; s < 10; ++s)
-            for (int m = 0; m < 2; ++m) {
-                double sum = 0, sq = 0;
-                for (int k = 0; k < 8; ++k) {
-                    double x = 0;
-                    for (int bin = 0; bin < 146; ++bin)
-                        x += v[((s * 8 + k) * 292 + m * 146 + bin) * 3];
-                    sum += x, sq += x * x;
+    // Then with -ss 4: several samples of the BSDF's specular part, stratified, per hit where a
+    // ray's weight is high, so the sensors' rays go as they are (-I-) toward the window.
+    std::string toward_window = rays.str();
+    for (size_t at = 0; (at = toward_window.find(" 0 0 1", at)) != std::string::npos;)
+        toward_window.replace(at, 6, " 0 -1 .35");
+    WriteFile(tmp_.path() / "rays_to_window", toward_window);
+    for (const std::string ss : {"", "-I- -ss 4 "}) {
+        std::vector<double> total[2], var[2];
+        int b = 0;
+        for (const char *backend : {"vulkan", "embree"}) {
+            std::string a = args;
+            if (!ss.empty())
+                a.replace(a.find("-I+ "), 4, ss).replace(a.find("rays'"), 4, "rays_to_window");
+            const std::vector<double> v = Run(backend, a, room);
+            ASSERT_EQ(v.size(), 80u * 292 * 3) << backend << ss;
+            total[b].assign(2, 0.), var[b].assign(2, 0.);
+            for (int s = 0; s < 10; ++s)
+                for (int m = 0; m < 2; ++m) {
+                    double sum = 0, sq = 0;
+                    for (int k = 0; k < 8; ++k) {
+                        double x = 0;
+                        for (int bin = 0; bin < 146; ++bin)
+                            x += v[((s * 8 + k) * 292 + m * 146 + bin) * 3];
+                        sum += x, sq += x * x;
+                    }
+                    total[b][m] += sum / 8;
+                    var[b][m] += (sq - sum * sum / 8) / 7 / 8;
                 }
-                total[b][m] += sum / 8;
-                var[b][m] += (sq - sum * sum / 8) / 7 / 8;
-            }
-        ++b;
-    }
-    const char *names[2] = {"sky", "sun"};
-    for (int m = 0; m < 2; ++m) {
-        EXPECT_GT(total[1][m], 0) << names[m];
-        EXPECT_NEAR(total[0][m], total[1][m], 4 * std::sqrt(var[0][m] + var[1][m])) << names[m];
-        EXPECT_LT(std::sqrt(var[0][m] + var[1][m]), 0.03 * total[1][m]) << names[m];
+            ++b;
+        }
+        const char *names[2] = {"sky", "sun"};
+        for (int m = 0; m < 2; ++m) {
+            EXPECT_GT(total[1][m], 0) << names[m] << ss;
+            EXPECT_NEAR(total[0][m], total[1][m], 4 * std::sqrt(var[0][m] + var[1][m]))
+                << names[m] << ss;
+            EXPECT_LT(std::sqrt(var[0][m] + var[1][m]), 0.03 * total[1][m]) << names[m] << ss;
+        }
     }
 }
 

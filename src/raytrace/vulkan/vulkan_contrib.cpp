@@ -242,8 +242,8 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         *why = "modifiers with different -p parameters";
         return nullptr;
     }
-    if (options.specular_jitter > 1.5) {
-        *why = "-ss above 1.5 (several specular samples)";
+    if (options.specular_jitter > 16) {  // each sample waits on the ray stack
+        *why = "-ss above 16 (more specular samples than the GPU's ray stack holds)";
         return nullptr;
     }
     SceneMaterials table(scene, tracked);
