@@ -1,5 +1,6 @@
 #include "cal/specialise.h"
 
+#include <algorithm>
 #include <cstring>
 #include <string>
 
@@ -16,25 +17,78 @@ constexpr size_t kMaxOps = 1 << 16;  // inlining copies bodies per call: bound w
 static_assert(Node::kSub == Node::kAdd + 1 && Node::kMul == Node::kAdd + 2 &&
               Node::kDiv == Node::kAdd + 3 && Node::kPow == Node::kAdd + 4);
 
-// Folds an operation of numbers as the interpreter computes it.
-double Arithmetic(SpecialisedExpression::Kind k, double a, double b) {
-    switch (k) {
-        case SpecialisedExpression::kAdd:
-            return a + b;
-        case SpecialisedExpression::kSub:
-            return a - b;
-        case SpecialisedExpression::kMul:
-            return a * b;
-        case SpecialisedExpression::kDiv:
-            return b == 0 ? 0 : a / b;  // RADIANCE warns and gives 0
-        case SpecialisedExpression::kPow:
-            return std::pow(a, b);
-        default:
-            return -a;  // kNeg
-    }
-}
-
 }  // namespace
+
+// One evaluation: the slots' values and which are set.
+struct SpecialisedRun {
+    SpecialisedRun(const SpecialisedExpression &ex, const Channels *ch) : e(ex), channels(ch) {
+        std::memset(have, 0, e.slot_roots_.size() * sizeof(bool));
+    }
+    const SpecialisedExpression &e;
+    const Channels *channels;
+    double value[SpecialisedExpression::kMaxSlots];  // read only where `have` says it was set
+    bool have[SpecialisedExpression::kMaxSlots];
+
+    double Kid(const SpecialisedExpression::Op &o, int i) { return Eval(e.kids_[o.first + i]); }
+
+    double Eval(int id) {
+        const SpecialisedExpression::Op &o = e.ops_[id];
+        switch (o.kind) {
+            case SpecialisedExpression::kNum:
+                return o.num;
+            case SpecialisedExpression::kChan:
+                if (!channels)
+                    ErrorExit(&e.loc_, "ray variable $" + std::to_string(o.index) +
+                                           " used where there is no ray");
+                return channels->Value(o.index);
+            case SpecialisedExpression::kSlot:
+                if (!have[o.index]) {
+                    value[o.index] = Eval(e.slot_roots_[o.index]);
+                    have[o.index] = true;
+                }
+                return value[o.index];
+            case SpecialisedExpression::kAdd:
+                return Kid(o, 0) + Kid(o, 1);
+            case SpecialisedExpression::kSub:
+                return Kid(o, 0) - Kid(o, 1);
+            case SpecialisedExpression::kMul:
+                return Kid(o, 0) * Kid(o, 1);
+            case SpecialisedExpression::kDiv: {
+                const double d = Kid(o, 1);
+                if (d == 0) return 0;
+                return Kid(o, 0) / d;
+            }
+            case SpecialisedExpression::kPow:
+                return std::pow(Kid(o, 0), Kid(o, 1));
+            case SpecialisedExpression::kNeg:
+                return -Kid(o, 0);
+            case SpecialisedExpression::kIf:
+                return Kid(o, 0) > 0.0 ? Kid(o, 1) : Kid(o, 2);
+            case SpecialisedExpression::kSelect: {
+                const double a1 = Kid(o, 0);
+                const int n = static_cast<int>(a1 + .5);
+                if (a1 < -.5 || n >= o.nkids)
+                    ErrorExit(&e.loc_, "select: index " + std::to_string(n) + " out of range");
+                if (n == 0) return o.nkids - 1;
+                return Kid(o, n);
+            }
+            case SpecialisedExpression::kMin:
+            case SpecialisedExpression::kMax: {
+                double v = Kid(o, 0);
+                for (int i = o.nkids - 1; i > 0; --i) {
+                    const double x = Kid(o, i);
+                    if (o.kind == SpecialisedExpression::kMax ? v < x : v > x) v = x;
+                }
+                return v;
+            }
+            case SpecialisedExpression::kMath: {
+                const double a = Kid(o, 0);
+                return LibraryMath(static_cast<Library>(o.fn), a, o.nkids > 1 ? Kid(o, 1) : 0);
+            }
+        }
+        return 0;
+    }
+};
 
 class SpecialisationBuilder {
   public:
@@ -61,25 +115,22 @@ class SpecialisationBuilder {
                 return Variable(n->index);
             case Node::kCall:
                 return Call(n, env);
-            case Node::kNeg: {
-                const int a = Spec(n->kids[0].get(), env);
-                if (IsNum(a)) return Num(-NumOf(a));
-                return Add(Op{SpecialisedExpression::kNeg}, {a});
-            }
+            case Node::kNeg:
+                return Add(Op{SpecialisedExpression::kNeg}, {Spec(n->kids[0].get(), env)});
             default: {
                 static constexpr Kind kinds[] = {
                     SpecialisedExpression::kAdd, SpecialisedExpression::kSub,
                     SpecialisedExpression::kMul, SpecialisedExpression::kDiv,
                     SpecialisedExpression::kPow};
-                const Kind k = kinds[n->kind - Node::kAdd];
                 const int a = Spec(n->kids[0].get(), env), b = Spec(n->kids[1].get(), env);
-                if (IsNum(a) && IsNum(b)) return Num(Arithmetic(k, NumOf(a), NumOf(b)));
-                return Add(Op{k}, {a, b});
+                return Add(Op{kinds[n->kind - Node::kAdd]}, {a, b});
             }
         }
     }
 
   private:
+    // Adds an operation; one of numbers only becomes its value, computed by the evaluator
+    // itself (so folding and evaluation share one set of rules).
     int Add(const Op &op, const std::vector<int> &kids) {
         if (out_.ops_.size() >= kMaxOps) throw NotHandled{};
         Op o = op;
@@ -87,7 +138,13 @@ class SpecialisationBuilder {
         o.nkids = static_cast<int32_t>(kids.size());
         out_.kids_.insert(out_.kids_.end(), kids.begin(), kids.end());
         out_.ops_.push_back(o);
-        return static_cast<int>(out_.ops_.size()) - 1;
+        const int id = static_cast<int>(out_.ops_.size()) - 1;
+        if (kids.empty() || !std::all_of(kids.begin(), kids.end(), [&](int k) { return IsNum(k); }))
+            return id;
+        const double v = SpecialisedRun(out_, nullptr).Eval(id);
+        out_.ops_.pop_back();
+        out_.kids_.resize(o.first);
+        return Num(v);
     }
     int Num(double v) {
         Op op;
@@ -169,19 +226,7 @@ class SpecialisationBuilder {
             case Library::kMax: {
                 if (nargs < 1) throw NotHandled{};
                 std::vector<int> kids;
-                bool numbers = true;
-                for (int i = 1; i <= nargs; ++i) {
-                    kids.push_back(arg(i));
-                    numbers = numbers && IsNum(kids.back());
-                }
-                if (numbers) {
-                    double v = NumOf(kids[0]);
-                    for (int i = nargs; i > 1; --i) {
-                        const double x = NumOf(kids[i - 1]);
-                        if (fn == Library::kMax ? v < x : v > x) v = x;
-                    }
-                    return Num(v);
-                }
+                for (int i = 1; i <= nargs; ++i) kids.push_back(arg(i));
                 return Add(Op{fn == Library::kMax ? SpecialisedExpression::kMax
                                                   : SpecialisedExpression::kMin},
                            kids);
@@ -192,12 +237,9 @@ class SpecialisationBuilder {
             default: {
                 const int arity = fn == Library::kAtan2 ? 2 : 1;
                 if (nargs < arity) throw NotHandled{};
-                const int a = arg(1), b = arity == 2 ? arg(2) : -1;
-                if (IsNum(a) && (b < 0 || IsNum(b)))
-                    return Num(LibraryMath(fn, NumOf(a), b < 0 ? 0 : NumOf(b)));
                 Op op{SpecialisedExpression::kMath};
                 op.fn = static_cast<uint8_t>(fn);
-                return b < 0 ? Add(op, {a}) : Add(op, {a, b});
+                return arity == 1 ? Add(op, {arg(1)}) : Add(op, {arg(1), arg(2)});
             }
         }
     }
@@ -224,77 +266,6 @@ std::unique_ptr<SpecialisedExpression> SpecialisedExpression::Make(const Context
     }
     return out;
 }
-
-// One evaluation: the slots' values and which are set.
-struct SpecialisedRun {
-    SpecialisedRun(const SpecialisedExpression &ex, const Channels *ch) : e(ex), channels(ch) {
-        std::memset(have, 0, e.slot_roots_.size() * sizeof(bool));
-    }
-    const SpecialisedExpression &e;
-    const Channels *channels;
-    double value[SpecialisedExpression::kMaxSlots];  // read only where `have` says it was set
-    bool have[SpecialisedExpression::kMaxSlots];
-
-    double Kid(const SpecialisedExpression::Op &o, int i) { return Eval(e.kids_[o.first + i]); }
-
-    double Eval(int id) {
-        const SpecialisedExpression::Op &o = e.ops_[id];
-        switch (o.kind) {
-            case SpecialisedExpression::kNum:
-                return o.num;
-            case SpecialisedExpression::kChan:
-                if (!channels)
-                    ErrorExit(&e.loc_, "ray variable $" + std::to_string(o.index) +
-                                           " used where there is no ray");
-                return channels->Value(o.index);
-            case SpecialisedExpression::kSlot:
-                if (!have[o.index]) {
-                    value[o.index] = Eval(e.slot_roots_[o.index]);
-                    have[o.index] = true;
-                }
-                return value[o.index];
-            case SpecialisedExpression::kAdd:
-                return Kid(o, 0) + Kid(o, 1);
-            case SpecialisedExpression::kSub:
-                return Kid(o, 0) - Kid(o, 1);
-            case SpecialisedExpression::kMul:
-                return Kid(o, 0) * Kid(o, 1);
-            case SpecialisedExpression::kDiv: {
-                const double d = Kid(o, 1);
-                if (d == 0) return 0;
-                return Kid(o, 0) / d;
-            }
-            case SpecialisedExpression::kPow:
-                return std::pow(Kid(o, 0), Kid(o, 1));
-            case SpecialisedExpression::kNeg:
-                return -Kid(o, 0);
-            case SpecialisedExpression::kIf:
-                return Kid(o, 0) > 0.0 ? Kid(o, 1) : Kid(o, 2);
-            case SpecialisedExpression::kSelect: {
-                const double a1 = Kid(o, 0);
-                const int n = static_cast<int>(a1 + .5);
-                if (a1 < -.5 || n >= o.nkids)
-                    ErrorExit(&e.loc_, "select: index " + std::to_string(n) + " out of range");
-                if (n == 0) return o.nkids - 1;
-                return Kid(o, n);
-            }
-            case SpecialisedExpression::kMin:
-            case SpecialisedExpression::kMax: {
-                double v = Kid(o, 0);
-                for (int i = o.nkids - 1; i > 0; --i) {
-                    const double x = Kid(o, i);
-                    if (o.kind == SpecialisedExpression::kMax ? v < x : v > x) v = x;
-                }
-                return v;
-            }
-            case SpecialisedExpression::kMath: {
-                const double a = Kid(o, 0);
-                return LibraryMath(static_cast<Library>(o.fn), a, o.nkids > 1 ? Kid(o, 1) : 0);
-            }
-        }
-        return 0;
-    }
-};
 
 double SpecialisedExpression::Evaluate(const Channels *channels) const {
     SpecialisedRun run(*this, channels);
