@@ -82,8 +82,15 @@ struct RayState {
     RGB cext{0, 0, 0};  // extinction of the medium it travels in (inside a dielectric), per unit
     double t = 0;       // its length, once it hit something (where cext matters)
     uint64_t clip = 0;  // modifiers antimatter made it pass unseen (RADIANCE's clipset)
-    int from_object = -1;  // the object it leaves (TraceRay::from_object), or -1
-    int at_object = -1;    // the object it met, which the rays it spawns leave
+    uint64_t new_clip = 0;  // the set the rays it passes on (not reflections) start with (newcset)
+    // For antimatter with a material for its inside (m_clip()'s walk up the ray tree): per
+    // counted modifier, the fronts minus the backs of its surfaces that this ray and its
+    // ancestors went through, leaving out the steps that were reflections.
+    std::array<int16_t, kInsideCounters> inside{};
+    int8_t hit_counter = -1;  // the counter of the surface it met, or -1
+    bool hit_front = false;   // and whether it met its front
+    int from_object = -1;     // the object it leaves (TraceRay::from_object), or -1
+    int at_object = -1;       // the object it met, which the rays it spawns leave
 };
 
 }  // namespace
@@ -162,7 +169,12 @@ struct ContribIntegrator::Impl {
         for (int k = 0; k < 3; ++k) child->coef[k] = parent.coef[k] * rc[k];
         child->aimed = (type & kReflectionTypes) ? -1 : parent.aimed;
         child->cext = parent.cext;
-        child->clip = parent.clip;
+        const bool reflected = type & kReflectionTypes;
+        child->clip = child->new_clip = reflected ? parent.clip : parent.new_clip;
+        child->inside = parent.inside;
+        if (!reflected && parent.hit_counter >= 0)
+            child->inside[parent.hit_counter] += parent.hit_front ? 1 : -1;
+        child->hit_counter = -1;
         child->from_object = parent.at_object;
         child->at_object = -1;
         child->t = 0;
@@ -336,8 +348,11 @@ struct ContribIntegrator::Impl {
         double point[3], normal[3];
         for (int k = 0; k < 3; ++k) point[k] = hit.point[k], normal[k] = hit.normal[k];
         const int mat = hit.shape >= 0 ? -1 : scene.triangle_material[hit.triangle];
-        if (r.clip &
-            (mat >= 0 ? table.ClipMaskOfMeshMaterial(mat) : table.ClipMaskOfObject(object))) {
+        const uint64_t clip_mask =
+            mat >= 0 ? table.ClipMaskOfMeshMaterial(mat) : table.ClipMaskOfObject(object);
+        r.hit_counter = static_cast<int8_t>(table.InsideCounterOfClipMask(clip_mask));
+        r.hit_front = r.dir[0] * normal[0] + r.dir[1] * normal[1] + r.dir[2] * normal[2] < 0;
+        if (r.clip & clip_mask) {
             // raycont(): antimatter hides the surface; rcontrib's trace_contrib() still sees the
             // hit, so a tracked modifier counts its coefficient (we have no value for -V).
             const int k =
@@ -445,7 +460,17 @@ struct ContribIntegrator::Impl {
                       ThreadState &ts, double *record, int depth) const {
         if (m.kind == Material::kAntimatter) {  // m_clip(), not a surface -i measures at
             RayState through = r;
-            through.clip = front ? r.clip | m.clip_mask : r.clip & ~m.clip_mask;
+            through.new_clip = front ? r.clip | m.clip_mask : r.clip & ~m.clip_mask;
+            int inside = 0;
+            for (uint32_t c = m.inside_counters; c; c &= c - 1)
+                inside += r.inside[__builtin_ctz(c)];
+            if (m.alternate && inside > 0) {
+                // The ray went into what is cut and meets the cut's side: its inside material,
+                // seen from the other side of this surface (flipsurface()).
+                ShadeSurface(through, object, *m.alternate, point, normal, !front, rod, t, rng, ts,
+                             record, depth);
+                return;
+            }
             Transmit(through, RGB{1, 1, 1}, point, rng, ts, record, depth);
             return;
         }
@@ -634,6 +659,8 @@ struct ContribIntegrator::Impl {
         child.rlvl = r.rlvl + 1;
         child.crtype = r.crtype | kReflected;
         child.aimed = sources[r.aimed].next;
+        child.new_clip = child.clip;
+        child.hit_counter = -1;
         child.t = 0;
         child.from_object = r.at_object;
         child.at_object = -1;
@@ -967,7 +994,8 @@ struct ContribIntegrator::Impl {
         child.ambient_depth = r.ambient_depth;
         child.aimed = source;
         child.cext = r.cext;
-        child.clip = r.clip;
+        child.clip = child.new_clip = r.clip;
+        child.inside = r.inside;
         child.from_object = r.at_object;
         for (int k = 0; k < 3; ++k) {
             child.coef[k] = r.coef[k] * coef[k];

@@ -11,6 +11,7 @@ SceneMaterials::SceneMaterials(const FlatScene &scene, const std::vector<Tracked
     materials_.resize(objs.size());
     tracked_of_object_.assign(objs.size(), -1);
     std::vector<int> pattern_of(objs.size(), -1);
+    inside_counter_of_bit_.fill(-1);
     for (size_t i = 0; i < objs.size(); ++i) {
         const Primitive &p = objs[i];
         if (p.info->kind == PrimitiveKind::kSurface || p.info->kind == PrimitiveKind::kVolume) {
@@ -334,24 +335,40 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
         m.spot_aim = {aim[0] / l, aim[1] / l, aim[2] / l};
         m.spot_flen = l;
     } else if (t == "antimatter") {
-        // m_clip() with void first: its front adds these modifiers to the set a ray passes
-        // through unseen, its back takes them away. (A material to shade with is refused.)
+        // m_clip(): its front adds the modifiers named (void aside) to the set a ray passes
+        // through unseen, its back takes them away. A first modifier other than void is also
+        // what a ray meets there when it went into one of them on its way (RADIANCE counts the
+        // fronts minus the backs of their surfaces that the ray and its unreflected ancestors
+        // passed): the inside of the cut.
         if (p.sargs.empty()) ErrorExit(&p.loc, "antimatter '" + p.name + "': bad # arguments");
-        if (p.sargs[0] != "void")
-            ErrorExit(&p.loc, "antimatter '" + p.name + "': a material for its inside ('" +
-                                  p.sargs[0] + "') is not supported yet (void is)");
         m.kind = Material::kAntimatter;
-        for (size_t s = 1; s < p.sargs.size(); ++s) {
-            const int j = LastModifier(mod, p.sargs[s]);  // RADIANCE warns, and goes on
+        for (const std::string &name : p.sargs) {
+            if (name == "void") continue;
+            const int j = LastModifier(mod, name);  // RADIANCE warns, and goes on
             if (j < 0) {
-                Warning(&p.loc,
-                        "antimatter '" + p.name + "': unknown modifier \"" + p.sargs[s] + "\"");
+                Warning(&p.loc, "antimatter '" + p.name + "': unknown modifier \"" + name + "\"");
                 continue;
             }
             const int bit =
                 clip_bits_.emplace(j, static_cast<int>(clip_bits_.size())).first->second;
             if (bit >= 64) ErrorExit(&p.loc, "antimatter: more than 64 modifiers clipped");
             m.clip_mask |= uint64_t{1} << bit;
+        }
+        if (const int inside = p.sargs[0] == "void" ? -1 : LastModifier(mod, p.sargs[0]);
+            inside >= 0) {
+            m.alternate = &Resolved(inside, pattern_of);
+            for (int bit = 0; bit < 64; ++bit) {
+                if (!(m.clip_mask >> bit & 1)) continue;
+                if (inside_counter_of_bit_[bit] < 0) {
+                    if (inside_counters_ == kInsideCounters)
+                        ErrorExit(&p.loc, "antimatter '" + p.name + "': more than " +
+                                              std::to_string(kInsideCounters) +
+                                              " modifiers clipped by antimatter with a material "
+                                              "for its inside");
+                    inside_counter_of_bit_[bit] = static_cast<int8_t>(inside_counters_++);
+                }
+                m.inside_counters |= 1u << inside_counter_of_bit_[bit];
+            }
         }
     } else if (t == "illum") {
         m.kind = Material::kIllum;

@@ -67,6 +67,10 @@ inline void RandomTangents(const double n[3], const double r[4], double u[3], do
 struct MixInfo;
 struct BsdfInfo;
 
+// How many modifiers antimatter with a material for its inside may clip in all: a ray carries
+// a count of penetrations for each.
+constexpr int kInsideCounters = 16;
+
 struct Material {
     enum Kind {
         kBlack,
@@ -91,9 +95,12 @@ struct Material {
     const PatternFunction *pattern = nullptr;  // brightfunc/colorfunc modifying the colour
     const MixInfo *mix = nullptr;              // mixfunc: the two materials and the coefficient
     const BsdfInfo *bsdf = nullptr;            // BSDF: its data and arguments
-    const Material *alternate = nullptr;       // illum: what rays not aimed at it see (null: void)
-    bool mirror_alternate = false;             // mirror: it names one (m_mirror()'s substitute)
+    // illum: what rays not aimed at it see (null: void); mirror: its substitute; antimatter: what
+    // the inside of the cut looks like (m_clip()'s first modifier; null: void)
+    const Material *alternate = nullptr;
+    bool mirror_alternate = false;  // mirror: it names one (m_mirror()'s substitute)
     uint64_t clip_mask = 0;  // antimatter: the modifiers it clips (SceneMaterials::ClipMaskOf*)
+    uint32_t inside_counters = 0;  // antimatter with an inside: the counters of those modifiers
     // spotlight (a light): the cone's solid angle (0: not a spot), its axis, the focus distance.
     double spot_size = 0;
     std::array<double, 3> spot_aim{0, 0, 0};
@@ -175,6 +182,12 @@ class SceneMaterials {
         return it == clip_bits_.end() ? 0 : uint64_t{1} << it->second;
     }
 
+    // The penetration counter (< kInsideCounters) of a clip bit that an antimatter with a
+    // material for its inside names, or -1.
+    int InsideCounterOfClipMask(uint64_t mask) const {
+        return mask ? inside_counter_of_bit_[__builtin_ctzll(mask)] : -1;
+    }
+
   private:
     int TrackedIndex(const std::string &modifier) const;
     const Material &Resolved(int mod, std::vector<int> &pattern_of);
@@ -198,6 +211,8 @@ class SceneMaterials {
     std::vector<Source> sources_;
     std::map<int, int> clip_bits_;          // modifier clipped by some antimatter -> its bit
     std::vector<uint64_t> clip_of_object_;  // per object: its modifier's bit (or 0)
+    std::array<int8_t, 64> inside_counter_of_bit_;  // filled with -1 first
+    int inside_counters_ = 0;
 };
 
 }  // namespace dayflux

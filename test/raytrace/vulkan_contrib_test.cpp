@@ -634,8 +634,8 @@ TEST_F(VulkanContrib, AntimatterAsEmbree) {
 }
 
 // What the GPU integrator does not trace yet goes to Embree, with one line saying why, and the
-// results are Embree's: several specular samples (-ss above 1.5), and a mirror whose substitute
-// is a mixfunc of mixfuncs. So does a machine whose only device is a CPU one, unless it is
+// results are Embree's: more specular samples than the ray stack holds (-ss above 16), a mirror
+// whose substitute is a mixfunc of mixfuncs, and antimatter with a material for its inside. So does a machine whose only device is a CPU one, unless it is
 // named.
 TEST_F(VulkanContrib, WhatItCannotTraceFallsBackToEmbree) {
     WriteFile(tmp_.path() / "rays", "0 0 0 0 0 1\n");
@@ -662,6 +662,17 @@ TEST_F(VulkanContrib, WhatItCannotTraceFallsBackToEmbree) {
     ASSERT_EQ(gpu.status, 0) << gpu.err;
     EXPECT_NE(gpu.err.find("(mixfunc of mixfuncs (roof) is traced on the CPU only)"),
               std::string::npos)
+        << gpu.err;
+    EXPECT_EQ(gpu.out, cpu.out);
+    WriteFile(tmp_.path() / "cut.rad",
+              "void plastic grey 0 0 5 .5 .5 .5 0 0\nvoid antimatter hole 1 grey 0 0\n"
+              "grey polygon roof 0 0 12 -2 -2 1  2 -2 1  2 2 1  -2 2 1\n"
+              "hole sphere ball 0 0 4 0 0 1 .5\n");
+    const std::string cut = "-h -faa -I+ -ab 1 -ad 64" + kBins + "-m skyglow cut.rad sky.rad";
+    gpu = RunCommand(kDevice + "rcontrib-gpu -backend vulkan " + cut + " < rays", tmp_.path());
+    cpu = RunCommand("rcontrib-gpu " + cut + " < rays", tmp_.path());
+    ASSERT_EQ(gpu.status, 0) << gpu.err;
+    EXPECT_NE(gpu.err.find("antimatter with a material for its inside"), std::string::npos)
         << gpu.err;
     EXPECT_EQ(gpu.out, cpu.out);
     CommandResult unnamed = RunCommand(

@@ -252,6 +252,8 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     std::function<std::string(const Material &)> unsupported;
     const auto basic = [&](const Material &m) -> std::string {
         if (m.kind == Material::kMix) return "mixfunc of mixfuncs";
+        if (m.kind == Material::kAntimatter && m.alternate)
+            return "antimatter with a material for its inside";
         if (m.kind == Material::kBsdf) {
             double thick, up[3];
             if (!ConstantBsdfFrame(*m.bsdf, &thick, up)) return "BSDF with a ray-dependent frame";
