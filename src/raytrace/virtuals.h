@@ -14,8 +14,9 @@ namespace dayflux {
 // the reflecting side), a disc about it (RADIANCE's getdisk()) and its outline.
 struct MirrorRelay {
     int object = -1;
-    double normal[3], offset;
-    double centre[3], radius2;    // the disc: the vertices' centre (a ring's), the farthest vertex
+    double normal[3]{}, offset = 0;
+    // The disc: the vertices' centre (a ring's), and the farthest vertex's distance squared.
+    double centre[3]{}, radius2 = 0;
     std::vector<double> polygon;  // vertices, 3 numbers each (empty for a ring)
     double inner2 = 0;            // a ring's inner radius squared (its outer one is radius2)
     // Whether the ray from org along dir meets the mirror: RADIANCE's srcvalue() asks the relay
