@@ -13,10 +13,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "cal/calcomp.h"
@@ -293,39 +296,40 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
         if (!ParseNumber(w, &v)) ErrorExit(opt + ": bad number '" + w + "'");
         return v;
     };
+    // addmodifier(): -bn is evaluated now, with what is defined so far (the value remembered for
+    // the modifiers after it, since -M may name thousands); a name may be tracked once.
+    std::map<std::tuple<size_t, std::string, std::string>, int> bin_counts;
+    std::set<std::string> names;
+    const auto add_modifier = [&](const std::string &name) {
+        if (!names.insert(name).second) ErrorExit("duplicate modifier '" + name + "'");
+        auto [it, added] = bin_counts.emplace(std::make_tuple(o.cal.size(), params, bn), 0);
+        if (added) {
+            auto cx = MakeContext(o, params);
+            const double n = cx->Compile(bn, FileLoc{"-bn", 0}).Evaluate(*cx);
+            it->second = static_cast<int>(n + .5);
+            if (it->second < 1)
+                ErrorExit("-bn " + bn + ": bin count " + std::to_string(it->second) +
+                          " is below 1");
+        }
+        ModifierSpec m;
+        m.tracked.name = name;
+        m.tracked.bin_expression = binv;
+        m.tracked.nbins = it->second;
+        m.params = params;
+        o.modifiers.push_back(m);
+    };
     for (; i < expanded.size(); ++i) {
         const std::string a = expanded[i];
         if (a.empty() || a[0] != '-' || a.size() == 1) break;
         const size_t start = i;
         if (a == "-m") {
-            ModifierSpec m;
-            m.tracked.name = value(a);
-            m.tracked.bin_expression = binv;
-            m.params = params;
-            // -bn is evaluated now, with what is defined so far.
-            auto cx = MakeContext(o, params);
-            const double n = cx->Compile(bn, FileLoc{"-bn", 0}).Evaluate(*cx);
-            m.tracked.nbins = static_cast<int>(n + .5);
-            if (m.tracked.nbins < 1)
-                ErrorExit("-bn " + bn + ": bin count " + std::to_string(m.tracked.nbins) +
-                          " is below 1");
-            for (const ModifierSpec &other : o.modifiers)
-                if (other.tracked.name == m.tracked.name)
-                    ErrorExit("duplicate modifier '" + m.tracked.name + "'");
-            o.modifiers.push_back(m);
+            add_modifier(value(a));
         } else if (a == "-M") {
-            std::ifstream f(FindOnRaypath(value(a)));
+            const std::string file = value(a);
+            std::ifstream f(FindOnRaypath(file));
+            if (!f) ErrorExit("-M: cannot open modifier file '" + file + "'");
             std::string w;
-            while (f >> w) {
-                ModifierSpec m;
-                m.tracked.name = w;
-                m.tracked.bin_expression = binv;
-                m.params = params;
-                auto cx = MakeContext(o, params);
-                m.tracked.nbins =
-                    static_cast<int>(cx->Compile(bn, FileLoc{"-bn", 0}).Evaluate(*cx) + .5);
-                o.modifiers.push_back(m);
-            }
+            while (f >> w) add_modifier(w);
         } else if (a == "-b") {
             binv = value(a);
         } else if (a == "-bn") {
@@ -472,7 +476,13 @@ int Main(int argc, char **argv) {
     }
     FlatScene flat = Flatten(std::move(scene));
     std::vector<TrackedModifier> tracked;
-    for (const ModifierSpec &m : o.modifiers) tracked.push_back(m.tracked);
+    std::map<std::string, int> first_with_params;
+    for (const ModifierSpec &m : o.modifiers) {
+        tracked.push_back(m.tracked);
+        const int k = static_cast<int>(tracked.size()) - 1;
+        const int first = first_with_params.emplace(m.params, k).first->second;
+        if (first != k) tracked.back().context_of = first;
+    }
     const auto make_context = [&o](int k) { return MakeContext(o, o.modifiers[k].params); };
     // -backend, else DAYFLUX_BACKEND, else embree. The Vulkan integrator takes the run when it
     // can; otherwise one line says why and Embree does it.

@@ -108,15 +108,17 @@ struct ContribIntegrator::Impl {
     double image_spread = 0;          // the widest angle -dj moves a distant image's direction by
 
     struct ThreadState {
-        std::vector<std::unique_ptr<cal::Context>> contexts;
+        std::vector<std::unique_ptr<cal::Context>> own_contexts;
+        std::vector<cal::Context *> contexts;  // per tracked modifier, maybe shared
         std::vector<cal::Expression> bins;
         std::vector<float> ambient_dirs;  // Ambient()'s sample directions, a stack
-        // The last bin of each (distant source, tracked modifier) and the direction it was for:
+        // The last bin of each distant source and the direction and tracked modifier it was for:
         // a ray reaching a distant source has variables that depend on its direction only, and
         // shadow rays with -dj 0 (sun coefficients) reach each source in one direction, so the
         // bin expression need not run again.
         struct SourceBin {
             double dir[3];
+            int tracked = -1;
             int bin = kUnknownBin;
         };
         std::vector<SourceBin> source_bins;
@@ -126,10 +128,16 @@ struct ContribIntegrator::Impl {
 
     ThreadState &State() const {
         ThreadState &t = threads.local();
-        if (t.source_bins.empty()) t.source_bins.resize(real_sources * tracked.size() + 1);
+        if (t.source_bins.empty()) t.source_bins.resize(real_sources + 1);
         if (t.contexts.empty())
             for (size_t k = 0; k < tracked.size(); ++k) {
-                t.contexts.push_back(make_context(static_cast<int>(k)));
+                const int of = tracked[k].context_of;
+                if (of < 0) {
+                    t.own_contexts.push_back(make_context(static_cast<int>(k)));
+                    t.contexts.push_back(t.own_contexts.back().get());
+                } else {
+                    t.contexts.push_back(t.contexts[of]);
+                }
                 t.bins.push_back(
                     t.contexts.back()->Compile(tracked[k].bin_expression, FileLoc{"-b", 0}));
             }
@@ -203,9 +211,9 @@ struct ContribIntegrator::Impl {
             int source, ThreadState &ts) const {
         ThreadState::SourceBin *memo = nullptr;
         if (source >= 0) {
-            memo = &ts.source_bins[static_cast<size_t>(source) * tracked.size() + k];
-            if (memo->bin != kUnknownBin && memo->dir[0] == r.dir[0] && memo->dir[1] == r.dir[1] &&
-                memo->dir[2] == r.dir[2])
+            memo = &ts.source_bins[source];
+            if (memo->bin != kUnknownBin && memo->tracked == k && memo->dir[0] == r.dir[0] &&
+                memo->dir[1] == r.dir[1] && memo->dir[2] == r.dir[2])
                 return memo->bin;
         }
         const RayVariables v = MakeRayVariables(r.dir, point, normal, t);
@@ -214,6 +222,7 @@ struct ContribIntegrator::Impl {
         const int bin = b < -.5 ? -1 : static_cast<int>(std::floor(b + .5));  // negative: ignored
         if (memo) {
             std::copy(r.dir, r.dir + 3, memo->dir);
+            memo->tracked = k;
             memo->bin = bin;
         }
         return bin;

@@ -44,12 +44,16 @@ struct TrackedModifier {
     std::string bin_expression = "0";
     int nbins = 1;
     int first_column = 0;  // its first bin's position in an output record
+    // An earlier modifier whose context this one's bins are evaluated in (the same -p
+    // parameters), or -1 for a context of its own.
+    int context_of = -1;
 };
 
 class ContribIntegrator {
   public:
     // make_context builds, for tracked modifier k, a context with every -e/-f and k's -p applied;
-    // it is called once per thread, since evaluation caches constants.
+    // it is called once per thread for each modifier with a context of its own, since
+    // evaluation caches constants.
     ContribIntegrator(const FlatScene &scene, const Backend &backend, const ContribOptions &options,
                       std::vector<TrackedModifier> tracked,
                       std::function<std::unique_ptr<cal::Context>(int)> make_context);

@@ -574,6 +574,57 @@ TEST(RcontribGpu, SunCoefficientsMatchRadiance) {
     EXPECT_LE(differ, 3u);
 }
 
+// -M: a file of modifier names, each tracked as if named by -m, in the file's order; here 2000
+// suns of radiance 1, each its own modifier (as direct-sun workflows track them), seen by a
+// sensor facing up: column j is the sine of the altitude of the j-th sun named times its
+// solid angle. The file lists them in an order of its own. A name given twice is an error.
+// Modifiers whose -p parameters are the same share one calcomp context.
+TEST(RcontribGpu, ModifierFileOfManySuns) {
+    TempDir tmp;
+    constexpr int kSuns = 2000;
+    const double half = 0.533 / 2 * M_PI / 180, omega = 2 * M_PI * (1 - std::cos(half));
+    std::ostringstream suns, names;
+    suns.precision(17);
+    std::vector<double> altitude(kSuns);
+    for (int i = 0; i < kSuns; ++i) {
+        altitude[i] = (1 + 88. * i / kSuns) * M_PI / 180;
+        const double az = 2 * M_PI * i / 7.3;
+        suns << "void light sol" << i << " 0 0 3 1 1 1\nsol" << i << " source s" << i << " 0 0 4 "
+             << std::cos(altitude[i]) * std::sin(az) << " " << std::cos(altitude[i]) * std::cos(az)
+             << " " << std::sin(altitude[i]) << " 0.533\n";
+    }
+    std::vector<int> order(kSuns);
+    for (int j = 0; j < kSuns; ++j) order[j] = (j * 7 + 3) % kSuns;  // 7 is prime to 2000
+    for (int j = 0; j < kSuns; ++j) names << "sol" << order[j] << (j % 10 == 9 ? "\n" : " ");
+    WriteFile(tmp.path() / "suns.rad", suns.str());
+    WriteFile(tmp.path() / "suns.mod", names.str());
+    const std::vector<double> v = RunForValues(
+        "echo '0 0 0 0 0 1' | rcontrib-gpu -I+ -ab 0 -dj 0 -faa -h -M suns.mod suns.rad",
+        tmp.path());
+    ASSERT_EQ(v.size(), 3u * kSuns);
+    for (int j = 0; j < kSuns; ++j) {
+        const double exact = std::sin(altitude[order[j]]) * omega;
+        EXPECT_NEAR(v[3 * j], exact, 1e-6 * exact) << j;
+    }
+    // Modifiers with the same -p share a calcomp context; different -p, different contexts.
+    const std::vector<double> p = RunForValues(
+        "echo '0 0 0 0 0 1' | rcontrib-gpu -I+ -ab 0 -dj 0 -faa -h -bn 3 -b B -p B=2 -m sol0 "
+        "-m sol1 -p B=1 -m sol2 suns.rad",
+        tmp.path());
+    ASSERT_EQ(p.size(), 3u * 9);
+    for (int k = 0; k < 3; ++k)
+        for (int bin = 0; bin < 3; ++bin) {
+            const double exact = std::sin(altitude[k]) * omega;
+            EXPECT_NEAR(p[3 * (3 * k + bin)], bin == (k < 2 ? 2 : 1) ? exact : 0, 1e-6 * exact)
+                << k << " " << bin;
+        }
+    WriteFile(tmp.path() / "twice.mod", "sol1 sol2\nsol1\n");
+    const CommandResult r =
+        RunCommand("echo '0 0 0 0 0 1' | rcontrib-gpu -I+ -ab 0 -M twice.mod suns.rad", tmp.path());
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.err.find("duplicate modifier 'sol1'"), std::string::npos) << r.err;
+}
+
 // One sun of radiance 1 and no geometry: a sensor sees ldot times the sun's solid angle;
 // behind a pane of glass, that times the pane's transmittance; behind an opaque one, nothing.
 TEST(RcontribGpu, DirectSunIsAnalytic) {
