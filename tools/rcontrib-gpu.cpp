@@ -4,6 +4,7 @@
 // directly, plastic, metal and trans (pure specular), glass and mirror, -I/-V and the ambient and
 // limit options. Options it does not know are errors, as in RADIANCE; options that RADIANCE
 // forces in rcontrib (-aa 0 -as 0 -dt 0) are accepted and ignored.
+#include <sys/resource.h>
 #include <tbb/global_control.h>
 
 #include <cctype>
@@ -527,18 +528,26 @@ int Main(int argc, char **argv) {
         outputs.emplace_back().name = "-";
         for (int c = 0; c < ncols; ++c) outputs[0].columns.push_back(c);
     } else {
+        std::map<std::string, size_t> output_named;
         for (const ModifierSpec &m : o.modifiers)
             for (int b = 0; b < m.tracked.nbins; ++b) {
                 int flags = 0;
                 const std::string name = OutputName(o.ospec, m.tracked.name, b, &flags);
-                size_t k = 0;
-                while (k < outputs.size() && outputs[k].name != name) ++k;
-                if (k == outputs.size()) {
+                auto [it, added] = output_named.emplace(name, outputs.size());
+                if (added) {
                     OutputStream &s = outputs.emplace_back();
                     s.name = name, s.modifier = m.tracked.name, s.bin = b, s.flags = flags;
                 }
-                outputs[k].columns.push_back(m.tracked.first_column + b);
+                outputs[it->second].columns.push_back(m.tracked.first_column + b);
             }
+        // A file per modifier (-o %s with a sun per modifier) can mean thousands open at once:
+        // up to the hard limit, where RADIANCE stops at the soft one (1024 on Debian).
+        struct rlimit files;
+        if (getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur < files.rlim_max &&
+            outputs.size() + 64 > files.rlim_cur) {
+            files.rlim_cur = files.rlim_max;
+            setrlimit(RLIMIT_NOFILE, &files);
+        }
     }
     if (!o.stderr_file.empty()) {
         OutputStream &se = outputs.emplace_back();

@@ -1,5 +1,6 @@
 // rcontrib-gpu: analytic cases and RADIANCE's converged references for the tutorial room.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include <array>
 #include <cmath>
@@ -578,7 +579,8 @@ TEST(RcontribGpu, SunCoefficientsMatchRadiance) {
 // suns of radiance 1, each its own modifier (as direct-sun workflows track them), seen by a
 // sensor facing up: column j is the sine of the altitude of the j-th sun named times its
 // solid angle. The file lists them in an order of its own. A name given twice is an error.
-// Modifiers whose -p parameters are the same share one calcomp context.
+// Modifiers whose -p parameters are the same share one calcomp context. An output file per
+// modifier may mean more open files than the soft limit allows.
 TEST(RcontribGpu, ModifierFileOfManySuns) {
     TempDir tmp;
     constexpr int kSuns = 2000;
@@ -618,6 +620,27 @@ TEST(RcontribGpu, ModifierFileOfManySuns) {
             EXPECT_NEAR(p[3 * (3 * k + bin)], bin == (k < 2 ? 2 : 1) ? exact : 0, 1e-6 * exact)
                 << k << " " << bin;
         }
+    // A file per modifier, more of them than the soft limit of open files allows: raised to
+    // the hard limit (RADIANCE stops at the soft one).
+    std::ostringstream first300;
+    for (int i = 0; i < 300; ++i) first300 << "sol" << i << "\n";
+    WriteFile(tmp.path() / "first300.mod", first300.str());
+    fs::create_directory(tmp.path() / "out");
+    struct rlimit files;
+    ASSERT_EQ(getrlimit(RLIMIT_NOFILE, &files), 0);
+    if (files.rlim_max >= 1024) {
+        const CommandResult many = RunCommand(
+            "ulimit -Sn 128 && echo '0 0 0 0 0 1' | rcontrib-gpu -I+ -ab 0 -dj 0 -faa "
+            "-o out/%s.txt -M first300.mod suns.rad",
+            tmp.path());
+        ASSERT_EQ(many.status, 0) << many.err;
+        for (int i : {0, 150, 299}) {
+            const std::vector<double> one =
+                Values(ReadFile(tmp.path() / "out" / ("sol" + std::to_string(i) + ".txt")), false);
+            ASSERT_EQ(one.size(), 3u) << i;
+            EXPECT_NEAR(one[0], std::sin(altitude[i]) * omega, 1e-6 * one[0]) << i;
+        }
+    }
     WriteFile(tmp.path() / "twice.mod", "sol1 sol2\nsol1\n");
     const CommandResult r =
         RunCommand("echo '0 0 0 0 0 1' | rcontrib-gpu -I+ -ab 0 -M twice.mod suns.rad", tmp.path());
