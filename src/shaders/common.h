@@ -29,6 +29,8 @@ DAYFLUX_GPU_CONST kBindingShapes = 10;    // GpuShape per analytic surface (proc
 DAYFLUX_GPU_CONST kBindingBvhPrims = 11;  // int per BVH leaf entry: triangle, or shape + triangles
 DAYFLUX_GPU_CONST kBindingKlems = 12;     // float: the BSDF materials' Klems data (PackKlems)
 DAYFLUX_GPU_CONST kBindingRelays = 13;    // vec4: the mirrors that relay sources (GpuSource.relay)
+DAYFLUX_GPU_CONST kBindingTracked = 14;   // ivec4 per tracked modifier: first column, bins, bin
+                                          // function (EvalBin), 0
 
 // Analytic surfaces, as scene/flatten.h's AnalyticShape::Kind.
 DAYFLUX_GPU_CONST kShapeSphere = 0;
@@ -150,7 +152,7 @@ struct GpuTasks {
     int nsources;
     uint seed;
     int ndirect;  // sources sampled with shadow rays (not glow)
-    int pad1;
+    int ncols;    // columns of a record (all tracked modifiers' bins)
     float lw, dj, tmin, st;                     // -lw, -dj, the ray start offset, -st
     float ss, ds, pad3, pad4;                   // -ss, -ds
     double centre_x, centre_y, centre_z, pad5;  // added back to positions for the bins

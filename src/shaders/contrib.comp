@@ -5,8 +5,8 @@
 // recursion.
 //
 // The host prepends: #version and extensions, the constants below as #defines, common.h, the
-// generated calcomp functions and EvalBin(k), kFirstColumn[] and kBins[]:
-//   AB AD LW LR NCOLS IRRADIANCE FIRST_HIT CONTRIBUTIONS NTRACKED NSOURCES DJ SEED TMIN
+// generated calcomp functions and EvalBin(j), which runs bin function j:
+//   AB AD LW LR NCOLS IRRADIANCE FIRST_HIT CONTRIBUTIONS NSOURCES DJ SEED TMIN
 //   CENTRE_X CENTRE_Y CENTRE_Z MAXN LOCAL_SIZE STACK_SIZE ACCUM_T (float or double)
 
 layout(local_size_x = LOCAL_SIZE) in;
@@ -27,6 +27,7 @@ layout(std430, set = 0, binding = kBindingTasks) readonly buffer Tasks { GpuTask
 layout(std430, set = 0, binding = kBindingStats) buffer Stats { uint stats_dropped; };
 layout(std430, set = 0, binding = kBindingShapes) readonly buffer Shapes { GpuShape shapes[]; };
 layout(std430, set = 0, binding = kBindingRelays) readonly buffer Relays { vec4 relays[]; };
+layout(std430, set = 0, binding = kBindingTracked) readonly buffer Tracked { ivec4 tracked[]; };
 
 const float kTiny = 1e-6;  // RADIANCE's FTINY
 const float kPi = 3.14159265358979;
@@ -151,11 +152,12 @@ vec3 Colour(GpuSurface m, Ray r, vec3 point, vec3 normal, float t) {
 
 void Contribute(int k, Ray r, vec3 point, vec3 normal, float t, vec3 radiance) {
     SetRayVariables(r, point, normal, t);
-    double b = EvalBin(k);
+    ivec4 mod = tracked[k];  // first column, bins, bin function
+    double b = EvalBin(mod.z);
     if (b < -0.5) return;
     int bin = int(floor(b + 0.5));
-    if (bin >= kBins[k]) return;
-    uint at = acc_base + 3u * uint(kFirstColumn[k] + bin);
+    if (bin >= mod.y) return;
+    uint at = acc_base + 3u * uint(mod.x + bin);
     vec3 v = CONTRIBUTIONS != 0 ? r.coef * radiance : r.coef;
     accum[at] += ACCUM_T(v.x);
     accum[at + 1] += ACCUM_T(v.y);

@@ -99,7 +99,7 @@ struct DeviceState {
     std::unique_ptr<vk::GpuDevice> device;
     std::vector<uint32_t> spirv;
     int positions = -1, indices = -1, triangles = -1, surfaces = -1, sources = -1, shapes = -1;
-    int bvh_nodes = -1, bvh_prims = -1, klems = -1, relays = -1;
+    int bvh_nodes = -1, bvh_prims = -1, klems = -1, relays = -1, tracked = -1;
     uint64_t dropped = 0;  // stack items lost in its last Trace
 };
 
@@ -514,14 +514,24 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         srcs.push_back(g);
     }
 
-    // The bins, compiled from calcomp to GLSL.
+    // The bins, compiled from calcomp to GLSL: one function per distinct expression (-M may
+    // name thousands of modifiers sharing one).
     std::unique_ptr<cal::Context> cx = make_context(0);
     std::vector<cal::Expression> bins;
-    for (const TrackedModifier &t : tracked)
-        bins.push_back(cx->Compile(t.bin_expression, FileLoc{"-b", 0}));
-    std::vector<cal::GlslEntry> entries;
+    std::map<std::string, int> bin_function;
+    std::vector<int> bin_function_of;  // per tracked modifier
+    for (const TrackedModifier &t : tracked) {
+        auto [it, added] = bin_function.emplace(t.bin_expression, static_cast<int>(bins.size()));
+        if (added) bins.push_back(cx->Compile(t.bin_expression, FileLoc{"-b", 0}));
+        bin_function_of.push_back(it->second);
+    }
+    std::vector<int32_t> tracked_table;  // kBindingTracked
     for (size_t k = 0; k < tracked.size(); ++k)
-        entries.push_back({"cal_bin" + std::to_string(k), &bins[k]});
+        for (int v : {tracked[k].first_column, tracked[k].nbins, bin_function_of[k], 0})
+            tracked_table.push_back(v);
+    std::vector<cal::GlslEntry> entries;
+    for (size_t j = 0; j < bins.size(); ++j)
+        entries.push_back({"cal_bin" + std::to_string(j), &bins[j]});
     std::string cal_glsl;
     try {
         cal_glsl = cal::GenerateGlsl(*cx, entries);
@@ -588,8 +598,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     define("CENTRE_X", "tasks.centre_x");
     define("CENTRE_Y", "tasks.centre_y");
     define("CENTRE_Z", "tasks.centre_z");
-    define("NCOLS", std::to_string(columns));
-    define("NTRACKED", std::to_string(tracked.size()));
+    define("NCOLS", "tasks.ncols");
     define("MAXN", std::to_string(kMaxRows));
     define("LOCAL_SIZE", std::to_string(kLocalSize));
     define("STACK_SIZE", std::to_string(kStackSize));
@@ -605,18 +614,11 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     src += kShaderCommon;
     src += cal_glsl;
     src += pattern_glsl;
-    src += "double EvalBin(int k) {\n";
-    for (size_t k = 0; k < tracked.size(); ++k)
+    src += "double EvalBin(int j) {\n";
+    for (size_t j = 0; j < bins.size(); ++j)
         src +=
-            "    if (k == " + std::to_string(k) + ") return cal_bin" + std::to_string(k) + "();\n";
+            "    if (j == " + std::to_string(j) + ") return cal_bin" + std::to_string(j) + "();\n";
     src += "    return -1.0LF;\n}\n";
-    std::string first = "const int kFirstColumn[NTRACKED] = int[](",
-                nbins = "const int kBins[NTRACKED] = int[](";
-    for (size_t k = 0; k < tracked.size(); ++k) {
-        first += (k ? ", " : "") + std::to_string(tracked[k].first_column);
-        nbins += (k ? ", " : "") + std::to_string(tracked[k].nbins);
-    }
-    src += first + ");\n" + nbins + ");\n";
     src += kShaderContrib;
 
     // Our BVH over the triangles (entries i >= 0) and the analytic shapes (-(i + 1)), for
@@ -684,6 +686,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         dev.shapes = device->Resident(Bytes(shapes));
         dev.klems = device->Resident(Bytes(klems));
         dev.relays = device->Resident(Bytes(relay_data));
+        dev.tracked = device->Resident(Bytes(tracked_table));
         impl->names += (impl->names.empty() ? "" : " + ") + device->Name();
         dev.device = std::move(device);
         impl->devices.push_back(std::move(dev));
@@ -762,6 +765,7 @@ void VulkanContribIntegrator::Impl::TraceOn(DeviceState &dev, const double *rays
         tasks.contributions = d.o.contributions;
         tasks.nsources = d.nsources;
         tasks.ndirect = d.ndirect;
+        tasks.ncols = d.columns;
         tasks.seed = static_cast<uint32_t>(d.o.seed ^ (d.o.seed >> 32));
         tasks.lw = static_cast<float>(d.o.limit_weight);
         tasks.dj = static_cast<float>(d.o.source_jitter);
@@ -788,8 +792,9 @@ void VulkanContribIntegrator::Impl::TraceOn(DeviceState &dev, const double *rays
         } else {
             buffers.push_back(G::In(&none));  // binding 11 unused
         }
-        buffers.push_back(G::OnDevice(dev.klems));   // kBindingKlems
-        buffers.push_back(G::OnDevice(dev.relays));  // kBindingRelays
+        buffers.push_back(G::OnDevice(dev.klems));    // kBindingKlems
+        buffers.push_back(G::OnDevice(dev.relays));   // kBindingRelays
+        buffers.push_back(G::OnDevice(dev.tracked));  // kBindingTracked
         dev.device->Run(dev.spirv, static_cast<uint32_t>(count), kLocalSize, buffers);
         uint32_t lost;
         std::memcpy(&lost, stats.data(), sizeof lost);
