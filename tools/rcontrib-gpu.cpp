@@ -491,12 +491,9 @@ int Main(int argc, char **argv) {
 #ifdef DAYFLUX_HAVE_GPU_CONTRIB
     std::unique_ptr<VulkanContribIntegrator> gpu;
     if (backend_name == "vulkan") {
-        bool one_context = true;
-        for (const ModifierSpec &m : o.modifiers)
-            one_context = one_context && m.params == o.modifiers[0].params;
         std::string why;
-        gpu = VulkanContribIntegrator::Create(flat, o.contrib, tracked, make_context, one_context,
-                                              o.gpu_float, &why);
+        gpu = VulkanContribIntegrator::Create(flat, o.contrib, tracked, make_context, o.gpu_float,
+                                              &why);
         if (!gpu) Warning("the Vulkan backend cannot take this run (" + why + "); using Embree");
     }
     std::mutex gpu_mutex;

@@ -360,7 +360,8 @@ struct ContribIntegrator::Impl {
         const uint64_t clip_mask =
             mat >= 0 ? table.ClipMaskOfMeshMaterial(mat) : table.ClipMaskOfObject(object);
         r.hit_counter = static_cast<int8_t>(table.InsideCounterOfClipMask(clip_mask));
-        r.hit_front = r.dir[0] * normal[0] + r.dir[1] * normal[1] + r.dir[2] * normal[2] < 0;
+        if (r.hit_counter >= 0)
+            r.hit_front = r.dir[0] * normal[0] + r.dir[1] * normal[1] + r.dir[2] * normal[2] < 0;
         if (r.clip & clip_mask) {
             // raycont(): antimatter hides the surface; rcontrib's trace_contrib() still sees the
             // hit, so a tracked modifier counts its coefficient (we have no value for -V).

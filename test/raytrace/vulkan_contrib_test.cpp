@@ -663,8 +663,9 @@ TEST_F(VulkanContrib, AntimatterAsEmbree) {
 
 // What the GPU integrator does not trace yet goes to Embree, with one line saying why, and the
 // results are Embree's: more specular samples than the ray stack holds (-ss above 16), a mirror
-// whose substitute is a mixfunc of mixfuncs, and antimatter with a material for its inside. So does
-// a machine whose only device is a CPU one, unless it is named.
+// whose substitute is a mixfunc of mixfuncs, modifiers whose bins need different -p, and
+// antimatter with a material for its inside. So does a machine whose only device is a CPU one,
+// unless it is named.
 TEST_F(VulkanContrib, WhatItCannotTraceFallsBackToEmbree) {
     WriteFile(tmp_.path() / "rays", "0 0 0 0 0 1\n");
     // Both backends on args: the Vulkan one says why it cannot, and its output is Embree's.
@@ -694,6 +695,10 @@ TEST_F(VulkanContrib, WhatItCannotTraceFallsBackToEmbree) {
               "void plastic grey 0 0 5 .5 .5 .5 0 0\nvoid antimatter hole 1 grey 0 0\n"
               "grey polygon roof 0 0 12 -2 -2 1  2 -2 1  2 2 1  -2 2 1\n"
               "hole sphere ball 0 0 4 0 0 1 .5\n");
+    WriteFile(tmp_.path() / "ground.rad",
+              "void glow groundglow 0 0 4 1 1 1 0\ngroundglow source ground 0 0 4 0 0 -1 180\n");
+    expect_fallback("-ad 64 -b A -bn 3 -p A=1 -m skyglow -p A=2 -m groundglow sky.rad ground.rad",
+                    "(modifiers with different -p parameters)");
     expect_fallback("-ad 64" + kBins + "-m skyglow cut.rad sky.rad",
                     "(antimatter with a material for its inside (ball) is traced on the CPU only)");
     CommandResult unnamed = RunCommand(

@@ -235,13 +235,14 @@ bool ConstantBsdfFrame(const BsdfInfo &b, double *thickness, double up[3]) {
 std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     const FlatScene &scene, const ContribOptions &options,
     const std::vector<TrackedModifier> &tracked,
-    const std::function<std::unique_ptr<cal::Context>(int)> &make_context, bool one_context,
-    bool float_accumulators, std::string *why) {
-    // What the GPU integrator does not do yet.
-    if (!one_context) {
-        *why = "modifiers with different -p parameters";
-        return nullptr;
-    }
+    const std::function<std::unique_ptr<cal::Context>(int)> &make_context, bool float_accumulators,
+    std::string *why) {
+    // What the GPU integrator does not do yet: its bins share one context.
+    for (size_t k = 1; k < tracked.size(); ++k)
+        if (tracked[k].context_of != 0) {
+            *why = "modifiers with different -p parameters";
+            return nullptr;
+        }
     if (options.specular_jitter > 16) {  // each sample waits on the ray stack
         *why = "-ss above 16 (more specular samples than the GPU's ray stack holds)";
         return nullptr;

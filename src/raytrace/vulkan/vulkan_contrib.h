@@ -20,8 +20,8 @@ class VulkanContribIntegrator {
     // Returns nullptr and says why when there is no Vulkan device with ray queries or the run
     // needs what the GPU integrator does not do yet (mixfunc, bin or pattern expressions GLSL
     // cannot express); the caller then
-    // uses the CPU integrator. make_context(0) gives the context the bins are compiled in:
-    // one_context says every modifier's is the same (no differing -p). Each task accumulates
+    // uses the CPU integrator. make_context(0) gives the context the bins are compiled in, so
+    // every other modifier must share it (TrackedModifier::context_of). Each task accumulates
     // its contributions in double, or in float with float_accumulators (half the memory). -I
     // sensors split their first hemisphere between tasks, so a task's sums are short and float
     // costs little there (a uniform sky at -ad 50000: 4e-8 relative either way, the rounding of
@@ -30,7 +30,7 @@ class VulkanContribIntegrator {
     static std::unique_ptr<VulkanContribIntegrator> Create(
         const FlatScene &scene, const ContribOptions &options,
         const std::vector<TrackedModifier> &tracked,
-        const std::function<std::unique_ptr<cal::Context>(int)> &make_context, bool one_context,
+        const std::function<std::unique_ptr<cal::Context>(int)> &make_context,
         bool float_accumulators, std::string *why);
     ~VulkanContribIntegrator();
 
