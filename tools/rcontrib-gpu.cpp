@@ -81,7 +81,7 @@ struct Options {
     ErrorExit(std::string("Usage: ") + prog +
               " [-n nprocs][-V][-c count][-fo][-r][-e expr][-f source][-o ospec][-p "
               "p1=V1,p2=V2][-b binv][-bn N]"
-              " {-m mod | -M file} [rtrace options] [-seed N][-backend name][-device "
+              " {-m mod | -M file} [rtrace options] [-seed N][-asub N][-backend name][-device "
               "name][-progress] octree");
 }
 
@@ -386,6 +386,11 @@ Options Parse(int argc, char **argv, std::vector<std::string> *args_for_header) 
             o.contrib.limit_weight = number(a);
         } else if (a == "-lr") {
             o.contrib.limit_reflections = static_cast<int>(number(a));
+        } else if (a == "-asub") {
+            // Ours: N x N samples in each cell of the first ambient hemisphere, one of them
+            // continuing its diffuse paths (docs/compat.md).
+            o.contrib.ambient_subsamples = static_cast<int>(number(a));
+            if (o.contrib.ambient_subsamples < 1) ErrorExit("-asub: a whole number of 1 or more");
         } else if (a == "-seed") {
             o.contrib.seed = static_cast<uint64_t>(number(a));
         } else if (a == "-backend") {

@@ -91,6 +91,11 @@ struct RayState {
     bool hit_front = false;   // and whether it met its front
     int from_object = -1;     // the object it leaves (TraceRay::from_object), or -1
     int at_object = -1;       // the object it met, which the rays it spawns leave
+    // -asub: what the diffuse paths (ambient and direct) it starts are multiplied by. A
+    // sub-sample of a first-level hemisphere cell carries 1/N^2 of the cell's coefficient; all
+    // N^2 follow their specular paths, and one chosen at random carries the cell's diffuse
+    // paths (N^2), the others none (0). Its specular descendants inherit it.
+    double diffuse_scale = 1;
 };
 
 }  // namespace
@@ -186,6 +191,7 @@ struct ContribIntegrator::Impl {
         child->from_object = parent.at_object;
         child->at_object = -1;
         child->t = 0;
+        child->diffuse_scale = parent.diffuse_scale;
         // rayorigin()'s estimate of the parent's extinction
         if (const double re = std::min({parent.cext[0], parent.cext[1], parent.cext[2]}) * parent.t;
             re > 0.1)
@@ -256,6 +262,15 @@ struct ContribIntegrator::Impl {
         return c;
     }
 
+    // A ray with a diffuse_scale other than 1, as the ray its diffuse paths start from (or none).
+    static bool ScaledForDiffuse(const RayState &r, RayState *scaled) {
+        if (r.diffuse_scale == 0) return false;
+        *scaled = r;
+        for (double &c : scaled->coef) c *= r.diffuse_scale;
+        scaled->diffuse_scale = 1;
+        return true;
+    }
+
     // n x n cosine-weighted, stratified samples of the hemisphere about normal, each carrying
     // colour / n^2 (samp_hemi() with -aa 0).
     void Ambient(const RayState &r, const RGB &colour, const double point[3],
@@ -263,6 +278,12 @@ struct ContribIntegrator::Impl {
                  int depth) const {
         if (r.ambient_depth >= o.ambient_bounces || o.ambient_divisions <= 0) return;
         if (Bright(colour) <= kTiny) return;
+        if (r.diffuse_scale != 1) {
+            RayState scaled;
+            if (ScaledForDiffuse(r, &scaled))
+                Ambient(scaled, colour, point, normal, rng, ts, record, depth);
+            return;
+        }
         double wt = r.weight;
         const double d = 0.8 * Max3(colour) * r.weight / (o.ambient_divisions * o.limit_weight);
         if (wt > d) wt = d;
@@ -273,6 +294,17 @@ struct ContribIntegrator::Impl {
         double ux[3], uy[3];
         const double turn[4] = {rng.Uniform(), rng.Uniform(), rng.Uniform(), rng.Uniform()};
         RandomTangents(normal, turn, ux, uy);
+        const auto cell_direction = [&](double fx, double fy, double dir[3]) {
+            double x, y;
+            SquareToDisk(fx, fy, &x, &y);
+            const double z = std::sqrt(std::max(0.0, 1. - x * x - y * y));
+            for (int k = 0; k < 3; ++k) dir[k] = x * ux[k] + y * uy[k] + z * normal[k];
+            Normalize(dir);
+        };
+        if (r.ambient_depth == 0 && o.ambient_subsamples > 1) {
+            SubsampledHemisphere(r, acoef, n, point, cell_direction, rng, ts, record, depth);
+            return;
+        }
         // RADIANCE's ambcollision(): a sample within a quarter division of an earlier
         // neighbour's direction is drawn again, anywhere in its cell. This moves samples away
         // from their neighbours (so its estimate differs from plain stratified sampling in the
@@ -299,15 +331,9 @@ struct ContribIntegrator::Impl {
                 if (!Spawn(r, kAmbient, acoef, rng, &child)) continue;
                 child.ambient_depth = r.ambient_depth + 1;
                 double u = rng.Uniform(), v = rng.Uniform();
+                std::copy(point, point + 3, child.org);
                 for (int tries = 0;; ++tries) {
-                    double x, y;
-                    SquareToDisk((j + v) / n, (i + u) / n, &x, &y);
-                    const double z = std::sqrt(std::max(0.0, 1. - x * x - y * y));
-                    for (int k = 0; k < 3; ++k) {
-                        child.org[k] = point[k];
-                        child.dir[k] = x * ux[k] + y * uy[k] + z * normal[k];
-                    }
-                    Normalize(child.dir);
+                    cell_direction((j + v) / n, (i + u) / n, child.dir);
                     if (n == 1 || tries == 1000 || !collides(i, j, child.dir)) break;
                     u = rng.Uniform(), v = rng.Uniform();
                 }
@@ -318,6 +344,33 @@ struct ContribIntegrator::Impl {
                 Trace(child, rng, ts, record, depth + 1);
             }
         dirs.resize(base);
+    }
+
+    // -asub N: each of the n x n cells split into N x N sub-cells, one sample each; all follow
+    // their specular paths (what reaches a window or the sky through glass directly), one of
+    // them, chosen at random, continues the cell's diffuse paths with N^2 times its
+    // coefficient. Unbiased; no ambcollision() (the sub-samples stratify the cell instead).
+    template <typename CellDirection>
+    void SubsampledHemisphere(const RayState &r, const RGB &acoef, int n, const double point[3],
+                              const CellDirection &cell_direction, Random &rng, ThreadState &ts,
+                              double *record, int depth) const {
+        const int m = o.ambient_subsamples, per_cell = m * m;
+        for (int i = n; i--;)
+            for (int j = n; j--;) {
+                const int chosen =
+                    std::min(per_cell - 1, static_cast<int>(rng.Uniform() * per_cell));
+                for (int s = 0; s < per_cell; ++s) {
+                    RayState child;
+                    if (!Spawn(r, kAmbient, acoef, rng, &child)) continue;
+                    child.ambient_depth = r.ambient_depth + 1;
+                    for (double &c : child.coef) c /= per_cell;
+                    child.diffuse_scale = s == chosen ? per_cell : 0;
+                    const double u = rng.Uniform(), v = rng.Uniform();
+                    std::copy(point, point + 3, child.org);
+                    cell_direction((j + (s % m + v) / m) / n, (i + (s / m + u) / m) / n, child.dir);
+                    Trace(child, rng, ts, record, depth + 1);
+                }
+            }
     }
 
     static void Normalize(double v[3]) {
@@ -887,6 +940,12 @@ struct ContribIntegrator::Impl {
     void Direct(const RayState &r, const DiffuseSurface &surface, const double point[3],
                 const double normal[3], Random &rng, ThreadState &ts, double *record,
                 int depth) const {
+        if (r.diffuse_scale != 1) {
+            RayState scaled;
+            if (ScaledForDiffuse(r, &scaled))
+                Direct(scaled, surface, point, normal, rng, ts, record, depth);
+            return;
+        }
         const RGB &mcolor = surface.colour;
         // Black surfaces (five-phase "black" models) send no shadow rays at all.
         const bool rough = surface.alpha2 > 0 && Max3(surface.specular) > 0;

@@ -243,6 +243,10 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             *why = "modifiers with different -p parameters";
             return nullptr;
         }
+    if (options.ambient_subsamples > 1) {
+        *why = "-asub";
+        return nullptr;
+    }
     if (options.specular_jitter > 16) {  // each sample waits on the ray stack
         *why = "-ss above 16 (more specular samples than the GPU's ray stack holds)";
         return nullptr;
