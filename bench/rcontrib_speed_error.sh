@@ -10,6 +10,7 @@
 # (/usr/bin/time), both programs on all cores of the machine (RADIANCE with -n nproc).
 # usage: bench/rcontrib_speed_error.sh   environment: OURS, RADIANCE_BIN (/opt/radiance/bin),
 #        REFS (../shared/data/references/rcontrib), ADS ("1024 4096 16384"),
+#        ASUBS ("2 3": ours again with -asub N at each -ad, as "dayflux-asubN"; "" for none),
 #        VULKAN (a Vulkan device for rcontrib-gpu -device, e.g. 0 or llvmpipe: adds its rows,
 #        timed after a warm-up run that compiles the shaders)
 # writes bench/results/rcontrib_speed_error.csv and .svg
@@ -20,6 +21,7 @@ OURS=${OURS:-$root/build/bin/rcontrib-gpu}
 RADIANCE_BIN=${RADIANCE_BIN:-/opt/radiance/bin}
 REFS=${REFS:-$(realpath -m "$root/../shared/data/references/rcontrib")}
 ADS=${ADS:-"1024 4096 16384"}
+ASUBS=${ASUBS-"2 3"}
 ROOM=$root/test/data/scene/models/room
 PTS=$root/test/data/rcontrib/points.txt
 NPROC=$(nproc)
@@ -51,6 +53,14 @@ for ad in $ADS; do
     t=$(cd "$ROOM" && timed "$tmp/v_ours" "$OURS" -I+ -ab 4 -ad "$ad" -lw 2e-4 -faf $V_ARGS \
         materials.rad room.rad objects/GlazingVmtx.rad)
     record V dayflux "$ad" "$t" "$tmp/v_ours" "$REFS/v_conv.fmx"
+    for asub in $ASUBS; do
+        t=$(cd "$ROOM" && timed "$tmp/v_sub" "$OURS" -asub "$asub" -I+ -ab 4 -ad "$ad" -lw 2e-4 \
+            -faf $V_ARGS materials.rad room.rad objects/GlazingVmtx.rad)
+        record V "dayflux-asub$asub" "$ad" "$t" "$tmp/v_sub" "$REFS/v_conv.fmx"
+        t=$(cd "$ROOM" && timed "$tmp/dc_sub" "$OURS" -asub "$asub" -I+ -ab 4 -ad "$ad" -lw 1e-4 \
+            -faf $DC_ARGS materials.rad room.rad objects/Glazing.rad skyDomes/skyglow.rad)
+        record DC "dayflux-asub$asub" "$ad" "$t" "$tmp/dc_sub" "$REFS/dc_conv.fmx"
+    done
     if [ -n "$VULKAN" ]; then
         t=$(cd "$ROOM" && timed "$tmp/v_gpu" "$OURS" -device "$VULKAN" -I+ -ab 4 -ad "$ad" \
             -lw 2e-4 -faf $V_ARGS materials.rad room.rad objects/GlazingVmtx.rad)

@@ -98,6 +98,9 @@ struct Ray {
     int depth;    // rays above it in the tree (the CPU integrator's guard against loops)
     int from;     // the object it leaves (-1: none), which it does not meet again where it starts
     uint clip;    // antimatter bits of the modifiers it passes unseen (RADIANCE's clipset)
+#ifdef ASUB
+    float dscale; // -asub: what the diffuse paths it starts are multiplied by (1, 0 or ASUB^2)
+#endif
 #ifdef DAYFLUX_DIELECTRIC
     vec3 cext;    // extinction of the medium it travels in (rayorigin() weighs children by it)
     float t;      // its length, where a dielectric set it
@@ -495,9 +498,23 @@ void Shade(Ray r, int object, int k, GpuSurface m, vec3 point, vec3 geo_normal, 
 
 uint pushed0 = 0u;  // first-level hemispheres pushed by this task
 
+#ifdef ASUB
+// -asub (the CPU integrator's RayState::diffuse_scale): a first-level sub-sample starts the
+// diffuse paths of its cell (scale ASUB^2) or none (0); false for none.
+bool ScaleForDiffuse(inout Ray r) {
+    if (r.dscale == 0.0) return false;
+    r.coef *= r.dscale;
+    r.dscale = 1.0;
+    return true;
+}
+#endif
+
 void PushHemisphere(Ray r, vec3 colour, vec3 point, vec3 normal) {
     if (r.adepth >= AB || AD <= 0) return;
     if (Bright(colour) <= kTiny) return;
+#ifdef ASUB
+    if (!ScaleForDiffuse(r)) return;
+#endif
     float wt = r.weight;
     float d = 0.8 * Max3(colour) * r.weight / float(AD * LW);
     if (wt > d) wt = d;
@@ -512,6 +529,9 @@ void PushHemisphere(Ray r, vec3 colour, vec3 point, vec3 normal) {
     it.n = n;
     it.next = 0;
     it.end = n * n;
+#ifdef ASUB
+    if (r.adepth == 0) it.end *= ASUB * ASUB;  // steps: the cells' sub-samples
+#endif
     // The grid's turn: at the first level from numbers keyed by the hemisphere, so that every
     // slice of a sensor's hemisphere turns it the same way.
     uint saved = rng;
@@ -527,6 +547,9 @@ void PushDirect(Ray r, vec3 colour, float rdiff, float tdiff, float trans, bool 
     if (tasks.ndirect == 0) return;  // glow sources are found only by escaping rays
     bool rough = alpha2 > 0 && Max3(spec) > 0;
     if ((Max3(colour) <= 0 || (rdiff <= kTiny && tdiff <= kTiny)) && !rough) return;
+#ifdef ASUB
+    if (!ScaleForDiffuse(r)) return;
+#endif
     Item it;
     it.r = r;
     it.kind = kItemDirect;
@@ -1499,10 +1522,43 @@ bool CellDirection(Item it, int i, int j, float cos_thresh, bool check, out Ray 
 
 uint hemispheres0 = 0u;  // first-level hemispheres started by this task (random-number keys)
 
+#ifdef ASUB
+// -asub: step k of a first-level hemisphere is sub-sample k % ASUB^2 of cell k / ASUB^2, in the
+// cell's ASUB x ASUB sub-cells (as the CPU integrator's SubsampledHemisphere()); one chosen per
+// cell carries its diffuse paths. No ambcollision(). Returns true if it pushed the ray.
+bool SubsampleStep(Item it, int k) {
+    const int per = ASUB * ASUB;
+    int cell = k / per, s = k % per;
+    int i = it.n - 1 - cell / it.n, j = it.n - 1 - cell % it.n;
+    if (k == 0) ++hemispheres0;
+    rng = Key(cell_key, uint(cell), 0x85ebca6bu, hemispheres0);  // the same for the cell's steps
+    int chosen = min(per - 1, int(Rand() * float(per)));
+    rng = Key(cell_key, uint(k), 0x9e3779b9u, hemispheres0);
+    Item sub = it;
+    sub.n = it.n * ASUB;
+    Ray child;
+    vec3 dir;
+    if (!CellDirection(sub, i * ASUB + s / ASUB, j * ASUB + s % ASUB, 0.0, false, child, dir))
+        return false;
+    child.coef /= float(per);
+    child.dscale = s == chosen ? float(per) : 0.0;
+    child.org = it.point;
+    child.dir = dir;
+    Item c;
+    c.r = child;
+    c.kind = kItemTrace;
+    Push(c);
+    return true;
+}
+#endif
+
 // Returns true if it pushed the cell's ray.
 bool AmbientStep(inout Item it) {
     // Cells in RADIANCE's order: k = 0 is (n - 1, n - 1), then j, then i, downward.
     int k = it.next++;
+#ifdef ASUB
+    if (it.r.adepth == 0) return SubsampleStep(it, k);
+#endif
     int i = it.n - 1 - k / it.n, j = it.n - 1 - k % it.n;
     int d = it.r.adepth;
     bool rule = CollisionRule(d, it.n);
@@ -1618,6 +1674,9 @@ void Task() {
     r.depth = 0;
     r.from = -1;
     r.clip = 0u;
+#ifdef ASUB
+    r.dscale = 1.0;
+#endif
 #ifdef DAYFLUX_DIELECTRIC
     r.cext = vec3(0);
     r.t = 0;
@@ -1637,14 +1696,18 @@ void Task() {
         int rows = h.n, per = (rows + tasks.slices - 1) / tasks.slices;
         int row_first = int(slice) * per, row_end = min(rows, row_first + per);
         if (row_first >= row_end) return;
-        for (int k = 0; k < row_first * h.n; ++k) {
+        int row_steps = h.n;
+#ifdef ASUB
+        row_steps *= ASUB * ASUB;
+#endif
+        for (int k = 0; k < row_first * row_steps; ++k) {
             Item replay = h;
             replay.next = k;
             AmbientStep(replay);
             top = 0;  // the cell's ray is dropped: replayed, not traced
         }
-        h.next = row_first * h.n;
-        h.end = row_end * h.n;
+        h.next = row_first * row_steps;
+        h.end = row_end * row_steps;
         Push(h);
         RunStack();
         return;

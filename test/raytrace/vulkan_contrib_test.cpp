@@ -224,6 +224,16 @@ TEST_F(VulkanContrib, TutorialRoomAgreesWithEmbree) {
                        146);
 }
 
+// -asub 2: each first-level cell sampled by 2 x 2 rays, one carrying its diffuse paths with 4
+// times its coefficient, the same on both backends (a wrong scale would move every entry lit
+// after a bounce).
+TEST_F(VulkanContrib, SubsampledHemispheresAsEmbree) {
+    RoomMatrixAsEmbree("-asub 2 -I+ -ab 2 -ad 512 -lw 1e-3" + kBins +
+                           "-m skyglow materials.rad room.rad objects/Glazing.rad "
+                           "skyDomes/skyglow.rad",
+                       146);
+}
+
 // Sun coefficients through the tutorial room's glazing (RADIANCE's octree with 5185 suns,
 // direct only, no jitter): no sampling at all, so each sensor's total equals Embree's to float
 // rounding. (Per bin, suns lying on a bin's edge may fall either side.)

@@ -243,10 +243,6 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             *why = "modifiers with different -p parameters";
             return nullptr;
         }
-    if (options.ambient_subsamples > 1) {
-        *why = "-asub";
-        return nullptr;
-    }
     if (options.specular_jitter > 16) {  // each sample waits on the ray stack
         *why = "-ss above 16 (more specular samples than the GPU's ray stack holds)";
         return nullptr;
@@ -608,6 +604,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     define("LOCAL_SIZE", std::to_string(kLocalSize));
     define("STACK_SIZE", std::to_string(kStackSize));
     define("ACCUM_T", float_accumulators ? "float" : "double");
+    if (o.ambient_subsamples > 1) define("ASUB", std::to_string(o.ambient_subsamples));
     if (!klems.empty()) define("DAYFLUX_BSDF", "1");
     if (dielectric) define("DAYFLUX_DIELECTRIC", "1");
     if (srcs.size() > table.Sources().size()) define("DAYFLUX_MIRROR_IMAGES", "1");
