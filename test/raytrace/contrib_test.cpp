@@ -189,6 +189,20 @@ void MeanAndStandardError(const std::vector<double> &x, double *mean, double *se
     *se = std::sqrt(ss / (x.size() - 1) / x.size());
 }
 
+// The mean of `count` runs of rcontrib-gpu args for an upward sensor at the origin (each with its
+// own random numbers) and its standard error; NaNs, which fail every comparison, if it failed.
+struct MeanAndError {
+    double mean, se;
+};
+MeanAndError UpwardSensorMean(const fs::path &dir, const std::string &args, int count) {
+    const std::vector<double> t = RecordTotals(dir, args, count, "0 0 0 0 0 1");
+    EXPECT_EQ(t.size(), static_cast<size_t>(count)) << args;
+    if (t.size() != static_cast<size_t>(count)) return {NAN, NAN};
+    MeanAndError m;
+    MeanAndStandardError(t, &m.mean, &m.se);
+    return m;
+}
+
 }  // namespace
 
 // A sensor inside a closed box of reflectance rho with the walls tracked: every ray hits a wall,
@@ -207,12 +221,8 @@ TEST(RcontribGpu, FurnaceSumsTheSeries) {
             "0 0 0 0 0 1");
         ASSERT_EQ(exact_runs.size(), 4u);
         for (double t : exact_runs) EXPECT_NEAR(t, M_PI * (1 + rho + rho * rho), 1e-5);
-        const std::vector<double> roulette = RecordTotals(
-            tmp.path(), std::string(sampling) + "-I+ -ab 6 -ad 16 -lw 0.05 -m wall box.rad", 400,
-            "0 0 0 0 0 1");
-        ASSERT_EQ(roulette.size(), 400u);
-        double mean, se;
-        MeanAndStandardError(roulette, &mean, &se);
+        const auto [mean, se] = UpwardSensorMean(
+            tmp.path(), std::string(sampling) + "-I+ -ab 6 -ad 16 -lw 0.05 -m wall box.rad", 400);
         EXPECT_GT(se, 0);  // roulette did act
         EXPECT_NEAR(mean, M_PI * (1 - std::pow(rho, 6)) / (1 - rho), 4 * se);
     }
@@ -261,11 +271,8 @@ TEST(RcontribGpu, ThinSlatDoesNotLeak) {
     face("s3", {-a, -b, z0, -a, b, z0, -a, b, z1, -a, -b, z1});
     face("s4", {a, -b, z0, a, -b, z1, a, b, z1, a, b, z0});
     WriteFile(tmp.path() / "slat.rad", slat.str());
-    const std::vector<double> t = RecordTotals(
-        tmp.path(), "-I+ -ab 1 -ad 1024 -lw 1e-6 -m skyglow slat.rad", 200, "0 0 0 0 0 1");
-    ASSERT_EQ(t.size(), 200u);
-    double mean, se;
-    MeanAndStandardError(t, &mean, &se);
+    const auto [mean, se] =
+        UpwardSensorMean(tmp.path(), "-I+ -ab 1 -ad 1024 -lw 1e-6 -m skyglow slat.rad", 200);
     EXPECT_NEAR(mean, M_PI * (1 - ParallelRectangleViewFactor(a, b, c)), 4 * se);
 }
 
@@ -282,11 +289,8 @@ TEST(RcontribGpu, CoplanarOverlappingPolygons) {
         << "black polygon p2 0 0 12 0 " << -b << ' ' << c << ' ' << a << ' ' << -b << ' ' << c
         << ' ' << a << ' ' << b << ' ' << c << " 0 " << b << ' ' << c << "\n";
     WriteFile(tmp.path() / "two.rad", two.str());
-    const std::vector<double> t = RecordTotals(
-        tmp.path(), "-I+ -ab 1 -ad 1024 -lw 1e-6 -m skyglow two.rad", 200, "0 0 0 0 0 1");
-    ASSERT_EQ(t.size(), 200u);
-    double mean, se;
-    MeanAndStandardError(t, &mean, &se);
+    const auto [mean, se] =
+        UpwardSensorMean(tmp.path(), "-I+ -ab 1 -ad 1024 -lw 1e-6 -m skyglow two.rad", 200);
     EXPECT_NEAR(mean, M_PI * (1 - ParallelRectangleViewFactor(a, b, c)), 4 * se);
 }
 
@@ -372,11 +376,8 @@ TEST(RcontribGpu, AnalyticSurfaces) {
                  {"-m lamp disc.rad", M_PI * R * R / (R * R + h * h)},
                  {"-m skyglow tube.rad", M_PI * R * R / (R * R + L * L)}};
     for (const Case &c : cases) {
-        const std::vector<double> t = RecordTotals(
-            tmp.path(), std::string("-I+ -ab 1 -ad 1024 -lw 1e-6 ") + c.args, 200, "0 0 0 0 0 1");
-        ASSERT_EQ(t.size(), 200u) << c.args;
-        double mean, se;
-        MeanAndStandardError(t, &mean, &se);
+        const auto [mean, se] =
+            UpwardSensorMean(tmp.path(), std::string("-I+ -ab 1 -ad 1024 -lw 1e-6 ") + c.args, 200);
         EXPECT_NEAR(mean, c.exact, 4 * se + 1e-9) << c.args;
         EXPECT_LT(se, 0.01 * c.exact) << c.args;
     }
@@ -447,12 +448,8 @@ TEST(RcontribGpu, ViewFactorOfAWindow) {
     double plain_se = 0;
     for (const char *sampling : {"", "-asub 3 "}) {
         SCOPED_TRACE(sampling);
-        const std::vector<double> t = RecordTotals(
-            tmp.path(), std::string(sampling) + "-I+ -ab 1 -ad 1024 -lw 1e-6 -m pane win.rad", 200,
-            "0 0 0 0 0 1");
-        ASSERT_EQ(t.size(), 200u);
-        double mean, se;
-        MeanAndStandardError(t, &mean, &se);
+        const auto [mean, se] = UpwardSensorMean(
+            tmp.path(), std::string(sampling) + "-I+ -ab 1 -ad 1024 -lw 1e-6 -m pane win.rad", 200);
         EXPECT_GT(se, 0);
         EXPECT_NEAR(mean, exact, 4 * se);
         EXPECT_LT(se, 0.01 * exact);  // and the estimate is a good one
@@ -494,11 +491,8 @@ TEST(RcontribGpu, AntimatterCutsAWindow) {
       << test::BoxOfPolygons("hole", "cut", {-a, -b, c - .1}, {a, b, c + .1});
     WriteFile(tmp.path() / "cut.rad", s.str());
     const double exact = M_PI * ParallelRectangleViewFactor(a, b, c) / 2;
-    const std::vector<double> t = RecordTotals(
-        tmp.path(), "-I+ -ab 1 -ad 1024 -lw 1e-6 -m skyglow cut.rad", 200, "0 0 0 0 0 1");
-    ASSERT_EQ(t.size(), 200u);
-    double mean, se;
-    MeanAndStandardError(t, &mean, &se);
+    const auto [mean, se] =
+        UpwardSensorMean(tmp.path(), "-I+ -ab 1 -ad 1024 -lw 1e-6 -m skyglow cut.rad", 200);
     EXPECT_GT(se, 0);
     EXPECT_NEAR(mean, exact, 4 * se);
     EXPECT_LT(se, 0.01 * exact);
@@ -527,12 +521,8 @@ TEST(RcontribGpu, AntimatterShadesTheInsideOfItsCut) {
     for (const char *file : {"mirror.rad", "void.rad"}) {
         const bool mirror = file[0] == 'm';
         const double exact = M_PI * ParallelRectangleViewFactor(a, b, mirror ? c : c + h);
-        const std::vector<double> t =
-            RecordTotals(tmp.path(), std::string("-I+ -ab 1 -ad 1024 -lw 1e-6 -m skyglow ") + file,
-                         200, "0 0 0 0 0 1");
-        ASSERT_EQ(t.size(), 200u);
-        double mean, se;
-        MeanAndStandardError(t, &mean, &se);
+        const auto [mean, se] = UpwardSensorMean(
+            tmp.path(), std::string("-I+ -ab 1 -ad 1024 -lw 1e-6 -m skyglow ") + file, 200);
         EXPECT_GT(se, 0);
         EXPECT_NEAR(mean, exact, 4 * se) << file;
         EXPECT_LT(se, 0.01 * exact);
