@@ -11,17 +11,7 @@
 # usage: bench/rcontrib_mirror_bench.sh   environment: OURS, RADIANCE_BIN (/opt/radiance/bin)
 # writes bench/results/rcontrib_mirror.csv
 set -euo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-root=$(realpath "$here/..")
-OURS=${OURS:-$root/build/bin/rcontrib-gpu}
-RADIANCE_BIN=${RADIANCE_BIN:-/opt/radiance/bin}
-ROOM=$root/test/data/scene/models/room
-NPROC=$(nproc)
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-mkdir -p "$here/results"
-csv=$here/results/rcontrib_mirror.csv
-echo "case,program,dr,wall_s,check" > "$csv"
+source "$(dirname "$0")/rcontrib_common.sh" rcontrib_mirror "case,program,dr,wall_s,check"
 
 cp -r "$ROOM"/* "$tmp"/
 cp "$root/test/data/rcontrib/suns_m6.rad" "$tmp/"

@@ -8,18 +8,7 @@
 # usage: bench/rcontrib_modifier_file_bench.sh   environment: OURS, RADIANCE_BIN
 # writes bench/results/rcontrib_modifier_file.csv
 set -euo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-root=$(realpath "$here/..")
-OURS=${OURS:-$root/build/bin/rcontrib-gpu}
-RADIANCE_BIN=${RADIANCE_BIN:-/opt/radiance/bin}
-ROOM=$root/test/data/scene/models/room
-PTS=$root/test/data/rcontrib/points.txt
-NPROC=$(nproc)
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-mkdir -p "$here/results"
-csv=$here/results/rcontrib_modifier_file.csv
-echo "program,modifiers,wall_s,max_rss_kb,check" > "$csv"
+source "$(dirname "$0")/rcontrib_common.sh" rcontrib_modifier_file "program,modifiers,wall_s,max_rss_kb,check"
 
 cp -r "$ROOM"/* "$tmp"/
 # Each sun of suns_m6.rad as a light of its own, sol1 ... sol5185, and their names.

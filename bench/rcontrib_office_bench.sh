@@ -18,10 +18,7 @@
 #   CASES ("V Cds"), OURS, RADIANCE_BIN (/opt/radiance/bin; RADIANCE=0 skips it)
 # writes bench/results/rcontrib_office.csv and .svg
 set -euo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-root=$(realpath "$here/..")
-OURS=${OURS:-$root/build/bin/rcontrib-gpu}
-RADIANCE_BIN=${RADIANCE_BIN:-/opt/radiance/bin}
+source "$(dirname "$0")/rcontrib_common.sh" rcontrib_office "case,program,sensors,ad,wall_s,rel_rms"
 OFFICES=${OFFICES:-1}
 STRIDE=${STRIDE:-1}
 ADS=${ADS:-"5000 50000"}
@@ -29,12 +26,6 @@ REF_RUNS=${REF_RUNS:-2}
 DEVICES=${DEVICES:-}
 TRAVERSALS=${TRAVERSALS:-"rayquery bvh"}
 CASES=${CASES:-"V Cds"}
-NPROC=$(nproc)
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-mkdir -p "$here/results"
-csv=$here/results/rcontrib_office.csv
-echo "case,program,sensors,ad,wall_s,rel_rms" > "$csv"
 
 python3 "$root/examples/reference-office/make_office.py" --offices "$OFFICES" --out "$tmp/model" >&2
 awk -v s="$STRIDE" '(NR - 1) % s == 0' "$tmp/model/sensors.pts" > "$tmp/sensors.pts"

@@ -15,21 +15,10 @@
 #        timed after a warm-up run that compiles the shaders)
 # writes bench/results/rcontrib_speed_error.csv and .svg
 set -euo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-root=$(realpath "$here/..")
-OURS=${OURS:-$root/build/bin/rcontrib-gpu}
-RADIANCE_BIN=${RADIANCE_BIN:-/opt/radiance/bin}
+source "$(dirname "$0")/rcontrib_common.sh" rcontrib_speed_error "case,program,ad,wall_s,rel_rms"
 REFS=${REFS:-$(realpath -m "$root/../shared/data/references/rcontrib")}
 ADS=${ADS:-"1024 4096 16384"}
 ASUBS=${ASUBS-"2 3"}
-ROOM=$root/test/data/scene/models/room
-PTS=$root/test/data/rcontrib/points.txt
-NPROC=$(nproc)
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-mkdir -p "$here/results"
-csv=$here/results/rcontrib_speed_error.csv
-echo "case,program,ad,wall_s,rel_rms" > "$csv"
 V_ARGS="-f klems_full.cal -b kbin(0,1,0,0,0,1) -bn Nkbins -m Glazing"
 DC_ARGS="-e MF:1 -f reinhart.cal -b rbin -bn Nrbins -m skyglow -m groundglow"
 CDS_ARGS="-I+ -ab 1 -ad 256 -lw 1e-3 -dc 1 -dt 0 -dj 0 -faf -e MF:6 -f reinhart.cal -b rbin -bn Nrbins -m solar"
