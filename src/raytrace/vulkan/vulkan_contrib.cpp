@@ -237,12 +237,6 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     const std::vector<TrackedModifier> &tracked,
     const std::function<std::unique_ptr<cal::Context>(int)> &make_context, bool float_accumulators,
     std::string *why) {
-    // What the GPU integrator does not do yet: its bins share one context.
-    for (size_t k = 1; k < tracked.size(); ++k)
-        if (tracked[k].context_of != 0) {
-            *why = "modifiers with different -p parameters";
-            return nullptr;
-        }
     if (options.specular_jitter > 16) {  // each sample waits on the ray stack
         *why = "-ss above 16 (more specular samples than the GPU's ray stack holds)";
         return nullptr;
@@ -515,27 +509,50 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         srcs.push_back(g);
     }
 
-    // The bins, compiled from calcomp to GLSL: one function per distinct expression (-M may
-    // name thousands of modifiers sharing one).
-    std::unique_ptr<cal::Context> cx = make_context(0);
-    std::vector<cal::Expression> bins;
-    std::map<std::string, int> bin_function;
+    // The bins, compiled from calcomp to GLSL: one function per distinct expression within
+    // each context (-M may name thousands of modifiers sharing one; modifiers given different
+    // -p parameters have contexts of their own), each context's definitions under a prefix of
+    // its own.
+    struct BinContext {
+        std::unique_ptr<cal::Context> cx;
+        std::vector<cal::Expression> bins;
+        std::vector<cal::GlslEntry> entries;
+        std::map<std::string, int> bin_function;  // expression -> global bin function index
+    };
+    std::vector<BinContext> contexts;
+    std::vector<int> context_of_tracked(tracked.size());
+    int nbin_functions = 0;
     std::vector<int> bin_function_of;  // per tracked modifier
-    for (const TrackedModifier &t : tracked) {
-        auto [it, added] = bin_function.emplace(t.bin_expression, static_cast<int>(bins.size()));
-        if (added) bins.push_back(cx->Compile(t.bin_expression, FileLoc{"-b", 0}));
+    for (size_t k = 0; k < tracked.size(); ++k) {
+        const TrackedModifier &t = tracked[k];
+        if (t.context_of < 0) {
+            context_of_tracked[k] = static_cast<int>(contexts.size());
+            contexts.push_back({make_context(static_cast<int>(k)), {}, {}, {}});
+            contexts.back().bins.reserve(tracked.size());  // entries point into it
+        } else {
+            context_of_tracked[k] = context_of_tracked[t.context_of];
+        }
+        BinContext &c = contexts[context_of_tracked[k]];
+        auto [it, added] = c.bin_function.emplace(t.bin_expression, nbin_functions);
+        if (added) {
+            c.bins.push_back(c.cx->Compile(t.bin_expression, FileLoc{"-b", 0}));
+            c.entries.push_back({"cal_bin" + std::to_string(nbin_functions), &c.bins.back()});
+            ++nbin_functions;
+        }
         bin_function_of.push_back(it->second);
     }
     std::vector<int32_t> tracked_table;  // kBindingTracked
     for (size_t k = 0; k < tracked.size(); ++k)
         for (int v : {tracked[k].first_column, tracked[k].nbins, bin_function_of[k], 0})
             tracked_table.push_back(v);
-    std::vector<cal::GlslEntry> entries;
-    for (size_t j = 0; j < bins.size(); ++j)
-        entries.push_back({"cal_bin" + std::to_string(j), &bins[j]});
     std::string cal_glsl;
     try {
-        cal_glsl = cal::GenerateGlsl(*cx, entries);
+        for (size_t g = 0; g < contexts.size(); ++g) {
+            cal::GlslOptions go;
+            go.prefix = g == 0 ? go.prefix : "cal_c" + std::to_string(g) + "_d";
+            go.preamble = g == 0;
+            cal_glsl += cal::GenerateGlsl(*contexts[g].cx, contexts[g].entries, go);
+        }
     } catch (const UserError &e) {
         *why = std::string("a bin expression GLSL cannot express: ") + e.what();
         return nullptr;
@@ -617,7 +634,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     src += cal_glsl;
     src += pattern_glsl;
     src += "double EvalBin(int j) {\n";
-    for (size_t j = 0; j < bins.size(); ++j)
+    for (int j = 0; j < nbin_functions; ++j)
         src +=
             "    if (j == " + std::to_string(j) + ") return cal_bin" + std::to_string(j) + "();\n";
     src += "    return -1.0LF;\n}\n";

@@ -18,11 +18,11 @@ namespace dayflux {
 class VulkanContribIntegrator {
   public:
     // Returns nullptr and says why when there is no Vulkan device with ray queries or the run
-    // needs what the GPU integrator does not do yet (mixfunc, bin or pattern expressions GLSL
-    // cannot express); the caller then
-    // uses the CPU integrator. make_context(0) gives the context the bins are compiled in, so
-    // every other modifier must share it (TrackedModifier::context_of). Each task accumulates
-    // its contributions in double, or in float with float_accumulators (half the memory). -I
+    // needs what the GPU integrator does not do yet (a mixfunc of mixfuncs, bin or pattern
+    // expressions GLSL cannot express); the caller then uses the CPU integrator.
+    // make_context(k) gives the context modifier k's bins are compiled in, for each k with a
+    // context of its own (TrackedModifier::context_of). Each task accumulates its
+    // contributions in double, or in float with float_accumulators (half the memory). -I
     // sensors split their first hemisphere between tasks, so a task's sums are short and float
     // costs little there (a uniform sky at -ad 50000: 4e-8 relative either way, the rounding of
     // float coefficients); a view ray's first hemisphere is one task's, where float sums of
