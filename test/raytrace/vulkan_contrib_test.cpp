@@ -698,8 +698,8 @@ TEST_F(VulkanContrib, AntimatterAsEmbree) {
 
 // What the GPU integrator does not trace yet goes to Embree, with one line saying why, and the
 // results are Embree's: more specular samples than the ray stack holds (-ss above 16), a mirror
-// whose substitute is a mixfunc of mixfuncs, and antimatter with a material for its inside. So does a machine whose only device is a CPU one,
-// unless it is named.
+// whose substitute is a mixfunc of mixfuncs, and antimatter with a material for its inside.
+// So does a machine whose only device is a CPU one, unless it is named.
 TEST_F(VulkanContrib, WhatItCannotTraceFallsBackToEmbree) {
     WriteFile(tmp_.path() / "rays", "0 0 0 0 0 1\n");
     // Both backends on args: the Vulkan one says why it cannot, and its output is Embree's.
