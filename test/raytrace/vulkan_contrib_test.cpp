@@ -150,6 +150,27 @@ class VulkanContrib : public ::testing::Test {
         ASSERT_EQ(gpu.size(), 100u * ncols * 3);
         ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 5000);
     }
+    // Three suns of radiance 1 (sa, sb and sc, at altitudes whose sines are .8, .8 and .28) seen
+    // by an upward sensor, direct only, through both backends with the modifiers and bins of
+    // args: each column is its sun's solid angle times `exact` (the sine, or nought), to float
+    // rounding.
+    void ExpectSunColumns(const std::string &args, const std::vector<double> &exact) {
+        WriteFile(tmp_.path() / "suns.rad",
+                  "void light sa 0 0 3 1 1 1\nsa source a 0 0 4 0 .6 .8 .533\n"
+                  "void light sb 0 0 3 1 1 1\nsb source b 0 0 4 .6 0 .8 .533\n"
+                  "void light sc 0 0 3 1 1 1\nsc source c 0 0 4 0 -.96 .28 .533\n");
+        WriteFile(tmp_.path() / "ray", "0 0 0 0 0 1\n");
+        const std::string all = "-I+ -ab 0 -dj 0 " + args + " suns.rad < ray";
+        const std::vector<double> gpu = Run("vulkan", all, tmp_.path()),
+                                  cpu = Run("embree", all, tmp_.path());
+        ASSERT_EQ(cpu.size(), exact.size() * 3);
+        ASSERT_EQ(gpu.size(), cpu.size());
+        const double omega = 2 * M_PI * (1 - std::cos(0.533 / 2 * M_PI / 180));
+        for (size_t c = 0; c < exact.size(); ++c) {
+            EXPECT_NEAR(cpu[3 * c], exact[c] * omega, 1e-6 * omega) << c;
+            EXPECT_NEAR(gpu[3 * c], exact[c] * omega, 1e-5 * omega) << c;
+        }
+    }
     TempDir tmp_;
 };
 
@@ -256,53 +277,23 @@ TEST_F(VulkanContrib, SunsThroughGlassAsEmbree) {
 
 // Several tracked modifiers with bin expressions of their own, one shared by two of them (the
 // shader has a function per distinct expression and a table of the modifiers' columns, bin
-// counts and functions): three suns of radiance 1, direct only, so both backends give each
-// column exactly (to float rounding). The shared expression puts a high sun in bin 1 of 2; the
-// second modifier's puts its sun, as high, in its only bin.
+// counts and functions). The shared expression puts a high sun in bin 1 of 2; the second
+// modifier's puts its sun, as high, in its only bin.
 TEST_F(VulkanContrib, ModifiersWithTheirOwnBinsAsEmbree) {
-    WriteFile(tmp_.path() / "suns.rad",
-              "void light sa 0 0 3 1 1 1\nsa source a 0 0 4 0 .6 .8 .533\n"
-              "void light sb 0 0 3 1 1 1\nsb source b 0 0 4 .6 0 .8 .533\n"
-              "void light sc 0 0 3 1 1 1\nsc source c 0 0 4 0 -.96 .28 .533\n");
-    WriteFile(tmp_.path() / "ray", "0 0 0 0 0 1\n");
-    const std::string args =
-        "-I+ -ab 0 -dj 0 -b 'if(Dz-.7,1,0)' -bn 2 -m sa -b 0 -bn 1 -m sb "
-        "-b 'if(Dz-.7,1,0)' -bn 2 -m sc suns.rad < ray";
-    const std::vector<double> gpu = Run("vulkan", args, tmp_.path()),
-                              cpu = Run("embree", args, tmp_.path());
-    ASSERT_EQ(cpu.size(), 5u * 3);
-    ASSERT_EQ(gpu.size(), cpu.size());
-    const double omega = 2 * M_PI * (1 - std::cos(0.533 / 2 * M_PI / 180));
-    const double exact[5] = {0, .8 * omega, .8 * omega, .28 * omega, 0};
-    for (int c = 0; c < 5; ++c) {
-        EXPECT_NEAR(cpu[3 * c], exact[c], 1e-6 * omega) << c;
-        EXPECT_NEAR(gpu[3 * c], exact[c], 1e-5 * omega) << c;
-    }
+    ExpectSunColumns(
+        "-b 'if(Dz-.7,1,0)' -bn 2 -m sa -b 0 -bn 1 -m sb -b 'if(Dz-.7,1,0)' -bn 2 -m sc",
+        {0, .8, .8, .28, 0});
 }
 
 // Modifiers given different -p parameters evaluate one bin function, from one -f file, in
-// contexts of their own; modifiers given the same ones share a context. Three suns seen by an
-// upward sensor, each in the bin its parameters pick, exactly as on the CPU.
+// contexts of their own; modifiers given the same ones share a context: each sun lands in the
+// bin its parameters pick.
 TEST_F(VulkanContrib, ModifiersWithTheirOwnParametersAsEmbree) {
-    WriteFile(tmp_.path() / "suns.rad",
-              "void light sa 0 0 3 1 1 1\nsa source a 0 0 4 0 .6 .8 .533\n"
-              "void light sb 0 0 3 1 1 1\nsb source b 0 0 4 .6 0 .8 .533\n"
-              "void light sc 0 0 3 1 1 1\nsc source c 0 0 4 0 -.96 .28 .533\n");
     WriteFile(tmp_.path() / "pick.cal", "above(t) = if(Dz - t, 1, 0);\npick = B * above(T);\n");
-    WriteFile(tmp_.path() / "ray", "0 0 0 0 0 1\n");
-    const std::string args =
-        "-I+ -ab 0 -dj 0 -f pick.cal -b pick -bn 3 -p T=.7,B=1 -m sa -p T=.2,B=2 -m sb "
-        "-p T=.7,B=1 -m sc suns.rad < ray";
-    const std::vector<double> gpu = Run("vulkan", args, tmp_.path()),
-                              cpu = Run("embree", args, tmp_.path());
-    ASSERT_EQ(cpu.size(), 9u * 3);
-    ASSERT_EQ(gpu.size(), cpu.size());
-    const double omega = 2 * M_PI * (1 - std::cos(0.533 / 2 * M_PI / 180));
-    const double exact[9] = {0, .8 * omega, 0, 0, 0, .8 * omega, .28 * omega, 0, 0};
-    for (int c = 0; c < 9; ++c) {
-        EXPECT_NEAR(cpu[3 * c], exact[c], 1e-6 * omega) << c;
-        EXPECT_NEAR(gpu[3 * c], exact[c], 1e-5 * omega) << c;
-    }
+    ExpectSunColumns(
+        "-f pick.cal -b pick -bn 3 -p T=.7,B=1 -m sa -p T=.2,B=2 -m sb "
+        "-p T=.7,B=1 -m sc",
+        {0, .8, 0, 0, 0, .8, .28, 0, 0});
 }
 
 // Rough specular reflection (sampled, and as a lobe toward the sun) and a rough surface below
