@@ -38,7 +38,7 @@ DAYFLUX_GPU_CONST kShapeCone = 1;
 DAYFLUX_GPU_CONST kShapeCylinder = 2;
 DAYFLUX_GPU_CONST kShapeRing = 3;
 
-// Material kinds, as raytrace/materials.h's Material::Kind (no mixfunc on the GPU yet).
+// Material kinds, as raytrace/materials.h's Material::Kind.
 DAYFLUX_GPU_CONST kMatBlack = 0;
 DAYFLUX_GPU_CONST kMatDiffuse = 1;
 DAYFLUX_GPU_CONST kMatGlass = 2;
@@ -46,6 +46,9 @@ DAYFLUX_GPU_CONST kMatMirror = 3;
 DAYFLUX_GPU_CONST kMatGlow = 4;
 DAYFLUX_GPU_CONST kMatLight = 5;
 DAYFLUX_GPU_CONST kMatMix = 6;   // mixfunc: `pattern` mixes surfaces `fore` and `back` (-1: void)
+// The sides of mixfuncs a hit may have waiting to be shaded: a tree of mixfuncs nested n deep
+// needs n + 1.
+DAYFLUX_GPU_CONST kMixStack = 8;
 DAYFLUX_GPU_CONST kMatBsdf = 7;  // BSDF (Klems): its data at klems[fore]
 DAYFLUX_GPU_CONST kMatDielectric = 8;  // color: transmission per unit length, w: the index
 // kMatLight, kMatIllum: params.xyz a spotlight's axis, params.w its focus distance, alpha2 the

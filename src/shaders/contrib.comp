@@ -401,7 +401,7 @@ bool Closest(vec3 org, vec3 dir, int from, out float t, out int prim, out int sh
 }
 #endif
 
-void ShadeMaterial(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t);
+void ShadeMaterial(Ray r, int object, GpuSurface m, vec3 point, vec3 normal, float rod, float t);
 void PushChild(Ray r, int type, vec3 coef, vec3 org, vec3 dir);
 
 // A ray reaches something (tracked modifier k, material m); normal faces the ray afterwards.
@@ -475,25 +475,7 @@ void Shade(Ray r, int object, int k, GpuSurface m, vec3 point, vec3 geo_normal, 
         m.alpha2 = 0;
         m.pattern = -1;
     }
-    if (m.kind == kMatMirror && (int(m.params.w) & kSurfaceMirrorAlternate) != 0) {
-        // m_mirror(): its substitute material sees the rays other than those the direct
-        // calculation sends through it toward an image, and ambient and specular rays meeting
-        // its front (the light those would find comes through the images).
-        bool relayed = r.aimed >= 0 && sources[r.aimed].relay >= 0 &&
-                       sources[r.aimed].object == object;
-        if (!relayed && !((r.crtype & (kAmbient | kSpecular)) != 0 && hit_front)) {
-            if (m.fore < 0) {
-                PushChild(r, kTrans, vec3(1), point, r.dir);
-                return;
-            }
-            m = surfaces[m.fore];
-            if (m.kind == kMatAntimatter) {
-                PassAntimatter(r, m, point);
-                return;
-            }
-        }
-    }
-    ShadeMaterial(r, m, point, normal, rod, t);
+    ShadeMaterial(r, object, m, point, normal, rod, t);
 }
 
 uint pushed0 = 0u;  // first-level hemispheres pushed by this task
@@ -926,31 +908,59 @@ void ShadeBsdf(Ray r, GpuSurface m, vec3 point, vec3 normal, float t) {
 
 void ShadeBasic(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t);
 
-// raymixture() for a mixfunc: each side shades its share of the ray (a void side lets its share
-// through); GLSL has no recursion, so sides are basic materials (no mixfunc of mixfuncs).
-// (One call of ShadeBasic, so that the compiler inlines it once.)
-void ShadeMaterial(Ray r, GpuSurface m, vec3 point, vec3 normal, float rod, float t) {
-    float c = 1;
-    if (m.kind == kMatMix) {
-        SetRayVariables(r, point, normal, t);
-        c = clamp(float(PatternRGB(m.pattern).x), 0.0, 1.0);
-    }
-    for (int side = 0; side < (m.kind == kMatMix ? 2 : 1); ++side) {
-        float share = side == 0 ? c : 1 - c;
-        if (m.kind == kMatMix && share <= kTiny) continue;
+// What a material does with a ray (after Shade's rules for lights, antimatter and -i). A mirror
+// with a substitute material: m_mirror() gives it the rays other than those the direct
+// calculation sends through the mirror toward an image, and ambient and specular rays meeting
+// its front (the light those would find comes through the images). A mixfunc, raymixture():
+// each side shades its share of the ray (a void side lets its share through). GLSL has no
+// recursion, so the sides of mixfuncs of mixfuncs wait on a small stack (the host refuses trees
+// deeper than it holds). One call of ShadeBasic, so that the compiler inlines it once.
+void ShadeMaterial(Ray r, int object, GpuSurface m, vec3 point, vec3 normal, float rod, float t) {
+    bool substituted = !(r.aimed >= 0 && sources[r.aimed].relay >= 0 &&
+                         sources[r.aimed].object == object) &&
+                       !((r.crtype & (kAmbient | kSpecular)) != 0 && hit_front);
+    int waiting[kMixStack];
+    float waiting_share[kMixStack];
+    int nwaiting = 0;
+    float share = 1;
+    for (;;) {
         Ray part = r;
-        GpuSurface basic = m;
-        if (m.kind == kMatMix) {
-            part.weight *= share;
-            part.coef *= share;
-            int s = side == 0 ? m.fore : m.back;
-            if (s < 0) {
+        part.weight *= share;
+        part.coef *= share;
+        if (m.kind == kMatMirror && (int(m.params.w) & kSurfaceMirrorAlternate) != 0 &&
+            substituted) {
+            if (m.fore < 0) {
                 PushChild(part, kTrans, vec3(1), point, part.dir);
-                continue;
+            } else {
+                m = surfaces[m.fore];
+                if (m.kind != kMatAntimatter) continue;  // shaded as the mirror would have been
+                PassAntimatter(part, m, point);
             }
-            basic = surfaces[s];
+        } else if (m.kind == kMatMix) {
+            SetRayVariables(r, point, normal, t);
+            float c = clamp(float(PatternRGB(m.pattern).x), 0.0, 1.0);
+            for (int side = 1; side >= 0; --side) {  // the foreground is shaded first
+                float fraction = side == 0 ? c : 1 - c;
+                if (fraction <= kTiny) continue;
+                int s = side == 0 ? m.fore : m.back;
+                if (s < 0) {
+                    Ray through = part;
+                    through.weight *= fraction;
+                    through.coef *= fraction;
+                    PushChild(through, kTrans, vec3(1), point, through.dir);
+                    continue;
+                }
+                waiting[nwaiting] = s;
+                waiting_share[nwaiting] = share * fraction;
+                ++nwaiting;
+            }
+        } else {
+            ShadeBasic(part, m, point, normal, rod, t);
         }
-        ShadeBasic(part, basic, point, normal, rod, t);
+        if (nwaiting == 0) return;
+        --nwaiting;
+        m = surfaces[waiting[nwaiting]];
+        share = waiting_share[nwaiting];
     }
 }
 

@@ -244,9 +244,9 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
     SceneMaterials table(scene, tracked);
     // What a material needs that the shader lacks ("" if nothing); a mirror's substitute is
     // judged as a surface's material of its own.
-    std::function<std::string(const Material &)> unsupported;
+    std::function<std::string(const Material &, int)> unsupported_in;
+    const auto unsupported = [&](const Material &m) { return unsupported_in(m, 0); };
     const auto basic = [&](const Material &m) -> std::string {
-        if (m.kind == Material::kMix) return "mixfunc of mixfuncs";
         if (m.kind == Material::kAntimatter && m.alternate)
             return "antimatter with a material for its inside";
         if (m.kind == Material::kBsdf) {
@@ -257,21 +257,19 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             (m.alternate->kind == Material::kMix || m.alternate->kind == Material::kBsdf ||
              m.alternate->kind == Material::kIllum))
             return "illum with a mixfunc, BSDF or illum behind it";
-        if (m.kind == Material::kMirror && m.mirror_alternate && m.alternate) {
-            if (m.alternate->kind == Material::kMirror && m.alternate->mirror_alternate)
-                return "a mirror whose substitute is a mirror with a substitute";
-            return unsupported(*m.alternate);
-        }
         return "";
     };
-    unsupported = [&](const Material &m) -> std::string {
+    // mixes: how many mixfuncs m is a side of. A mirror's substitute is judged in its place.
+    unsupported_in = [&](const Material &m, int mixes) -> std::string {
+        if (m.kind == Material::kMirror && m.mirror_alternate && m.alternate)
+            return unsupported_in(*m.alternate, mixes);
         if (m.kind != Material::kMix) return basic(m);
+        if (mixes + 2 > gpu::kMixStack)
+            return "mixfuncs nested more than " + std::to_string(gpu::kMixStack - 1) + " deep";
         for (int side = 0; side < 2; ++side) {
             if (m.mix->is_void[side]) continue;
             const Material &s = side ? m.mix->back : m.mix->fore;
-            if (s.kind == Material::kMirror && s.mirror_alternate)
-                return "a mixfunc of a mirror with a substitute material";
-            if (std::string u = basic(s); !u.empty()) return u;
+            if (std::string u = unsupported_in(s, mixes + 1); !u.empty()) return u;
         }
         return "";
     };

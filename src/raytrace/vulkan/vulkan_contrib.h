@@ -18,8 +18,8 @@ namespace dayflux {
 class VulkanContribIntegrator {
   public:
     // Returns nullptr and says why when there is no Vulkan device with ray queries or the run
-    // needs what the GPU integrator does not do yet (a mixfunc of mixfuncs, bin or pattern
-    // expressions GLSL cannot express); the caller then uses the CPU integrator.
+    // needs what the GPU integrator does not do yet (-ss above 16, bin or pattern expressions
+    // GLSL cannot express, ...); the caller then uses the CPU integrator.
     // make_context(k) gives the context modifier k's bins are compiled in, for each k with a
     // context of its own (TrackedModifier::context_of). Each task accumulates its
     // contributions in double, or in float with float_accumulators (half the memory). -I
