@@ -173,6 +173,8 @@ class VulkanContrib : public ::testing::Test {
             EXPECT_NEAR(gpu[3 * c], exact[c] * omega, 1e-5 * omega) << c;
         }
     }
+    // The undersides of a panel (its materials: panel) seen from below (the test that calls it).
+    void ExpectPanelUndersideSeen(const std::string &panel);
     TempDir tmp_;
 };
 
@@ -660,18 +662,27 @@ TEST_F(VulkanContrib, MirrorImagesAsEmbree) {
         "-I+ -ab 1 -ad 4096 -lw 1e-5 -dj .7 -m solar -m lamp -m spot mirrors.rad < facing", 3, .05);
 }
 
-// A mirror naming a substitute (grey plastic) as a side of a mixfunc (the other half void):
-// rays meeting the mirror's back see the substitute. A 4 x 4 panel, mirror side up, one unit
-// above an upward sensor, between a sky and a ground of radiance 1 (-ab 2): the sky's column is
-// pi (1 - F / 2) and the ground's pi F / 4 (the grey underside, lit by the ground, reflects .5
-// on half the panel), F the panel's view factor. Both backends within their standard errors.
-TEST_F(VulkanContrib, MirrorSubstituteInAMixfuncAsEmbree) {
+// Materials standing in for others, with mixfuncs: a mirror naming a substitute (grey
+// plastic) as a side of a mixfunc (the other half void), and an illum whose alternate is such
+// a mixfunc (of grey and void). Rays meeting the mirror's back see its substitute, and rays
+// meeting the illum's back its alternate. A 4 x 4 panel, its front up, one unit above an upward
+// sensor, between a sky and a ground of radiance 1 (-ab 2): the sky's column is pi (1 - F / 2)
+// and the ground's pi F / 4 (the grey underside, lit by the ground, reflects .5 on half the
+// panel), F the panel's view factor. Both backends within their standard errors.
+TEST_F(VulkanContrib, StandInMaterialsWithMixfuncsAsEmbree) {
+    for (const std::string panel : {"void mirror silver 1 grey 0 3 .9 .9 .9\n"
+                                    "void mixfunc half 4 silver void .5 . 0 0\n",
+                                    "void mixfunc greyish 4 grey void .5 . 0 0\n"
+                                    "void illum half 1 greyish 0 3 1 1 1\n"})
+        ExpectPanelUndersideSeen(panel);
+}
+
+void VulkanContrib::ExpectPanelUndersideSeen(const std::string &panel) {
     WriteFile(tmp_.path() / "panel.rad",
-              "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
-              "void mirror silver 1 grey 0 3 .9 .9 .9\n"
-              "void mixfunc half 4 silver void .5 . 0 0\n"
-              "half polygon panel 0 0 12 -2 -2 1  2 -2 1  2 2 1  -2 2 1\n"
-              "void glow groundglow 0 0 4 1 1 1 0\ngroundglow source ground 0 0 4 0 0 -1 180\n");
+              "void plastic grey 0 0 5 .5 .5 .5 0 0\n" + panel +
+                  "half polygon panel 0 0 12 -2 -2 1  2 -2 1  2 2 1  -2 2 1\n"
+                  "void glow groundglow 0 0 4 1 1 1 0\n"
+                  "groundglow source ground 0 0 4 0 0 -1 180\n");
     WriteFile(tmp_.path() / "up", "0 0 0 0 0 1\n");
     // A parallel rectangle's view factor from a point below a corner (a, b: its sides over the
     // height), four times.
@@ -687,9 +698,9 @@ TEST_F(VulkanContrib, MirrorSubstituteInAMixfuncAsEmbree) {
     ASSERT_EQ(gpu.size(), cpu.size());
     const double exact[2] = {M_PI * (1 - f / 2), M_PI * f / 4};
     for (int c = 0; c < 2; ++c) {
-        EXPECT_NEAR(cpu[3 * c], exact[c], kZ * se_cpu[3 * c]) << c;
-        EXPECT_NEAR(gpu[3 * c], exact[c], kZ * se_gpu[3 * c]) << c;
-        EXPECT_LT(se_gpu[3 * c], .02 * exact[c]) << c;
+        EXPECT_NEAR(cpu[3 * c], exact[c], kZ * se_cpu[3 * c]) << panel << c;
+        EXPECT_NEAR(gpu[3 * c], exact[c], kZ * se_gpu[3 * c]) << panel << c;
+        EXPECT_LT(se_gpu[3 * c], .02 * exact[c]) << panel << c;
     }
 }
 

@@ -254,9 +254,8 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             if (!ConstantBsdfFrame(*m.bsdf, &thick, up)) return "BSDF with a ray-dependent frame";
         }
         if (m.kind == Material::kIllum && m.alternate &&
-            (m.alternate->kind == Material::kMix || m.alternate->kind == Material::kBsdf ||
-             m.alternate->kind == Material::kIllum))
-            return "illum with a mixfunc, BSDF or illum behind it";
+            (m.alternate->kind == Material::kBsdf || m.alternate->kind == Material::kIllum))
+            return "illum with a BSDF or illum behind it";
         return "";
     };
     // mixes: how many mixfuncs m is a side of. A mirror's substitute is judged in its place.
