@@ -242,8 +242,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
         return nullptr;
     }
     SceneMaterials table(scene, tracked);
-    // What a material needs that the shader lacks ("" if nothing); a mirror's substitute is
-    // judged as a surface's material of its own.
+    // What a material needs that the shader lacks ("" if nothing).
     std::function<std::string(const Material &, int)> unsupported_in;
     const auto unsupported = [&](const Material &m) { return unsupported_in(m, 0); };
     const auto basic = [&](const Material &m) -> std::string {
