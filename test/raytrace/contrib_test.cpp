@@ -161,16 +161,6 @@ void WriteFurnace(const fs::path &file) {
     WriteFile(file, "void plastic wall 0 0 5 .5 .5 .5 0 0\n" + CubeOfPolygons("wall"));
 }
 
-// View factor from a point to a parallel rectangle of half-widths a, b centred above it at
-// height c: four times the corner formula.
-double ParallelRectangleViewFactor(double a, double b, double c) {
-    const double X = a / c, Y = b / c;
-    return 4 *
-           (X / std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) +
-            Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y))) /
-           (2 * M_PI);
-}
-
 // A distant sun of radiance 1 (modifier 'solar', RADIANCE's 0.533 degrees) at altitude alt
 // (radians), due north.
 std::string SunScene(double alt) {

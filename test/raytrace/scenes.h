@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <sstream>
 #include <string>
 
@@ -23,6 +24,16 @@ inline std::string BoxOfPolygons(const std::string &mod, const std::string &name
         box << "\n";
     }
     return box.str();
+}
+
+// View factor from a point to a parallel rectangle of half-widths a, b centred above it at
+// height c: four times the corner formula.
+inline double ParallelRectangleViewFactor(double a, double b, double c) {
+    const double X = a / c, Y = b / c;
+    return 4 *
+           (X / std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) +
+            Y / std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y))) /
+           (2 * M_PI);
 }
 
 // A closed 2 m cube around the origin.

@@ -684,13 +684,7 @@ void VulkanContrib::ExpectPanelUndersideSeen(const std::string &panel) {
                   "void glow groundglow 0 0 4 1 1 1 0\n"
                   "groundglow source ground 0 0 4 0 0 -1 180\n");
     WriteFile(tmp_.path() / "up", "0 0 0 0 0 1\n");
-    // A parallel rectangle's view factor from a point below a corner (a, b: its sides over the
-    // height), four times.
-    const auto corner = [](double a, double b) {
-        const double sa = std::sqrt(1 + a * a), sb = std::sqrt(1 + b * b);
-        return (a / sa * std::atan(b / sa) + b / sb * std::atan(a / sb)) / (2 * M_PI);
-    };
-    const double f = 4 * corner(2, 2);
+    const double f = test::ParallelRectangleViewFactor(2, 2, 1);
     const auto [gpu, se_gpu, cpu, se_cpu] = RunBoth(
         "-I+ -ab 2 -ad 4096 -lw 1e-6 -b 0 -bn 1 -m skyglow -m groundglow panel.rad sky.rad < up",
         tmp_.path());
@@ -738,8 +732,7 @@ TEST_F(VulkanContrib, AntimatterAsEmbree) {
 // What the GPU integrator does not trace yet goes to Embree, with one line saying why, and the
 // results are Embree's: more specular samples than the ray stack holds (-ss above 16), mixfuncs
 // nested deeper than the shader's stack of their sides, and antimatter with a material for its
-// inside.
-// So does a machine whose only device is a CPU one, unless it is named.
+// inside. So does a machine whose only device is a CPU one, unless it is named.
 TEST_F(VulkanContrib, WhatItCannotTraceFallsBackToEmbree) {
     WriteFile(tmp_.path() / "rays", "0 0 0 0 0 1\n");
     // Both backends on args: the Vulkan one says why it cannot, and its output is Embree's.
@@ -763,7 +756,7 @@ TEST_F(VulkanContrib, WhatItCannotTraceFallsBackToEmbree) {
     WriteFile(tmp_.path() / "nested.rad",
               nested + "m8 polygon roof 0 0 12 -2 -2 1  2 -2 1  2 2 1  -2 2 1\n");
     expect_fallback("-ad 64" + kBins + "-m skyglow nested.rad sky.rad",
-                    "(mixfuncs nested more than 7 deep (roof) is traced on the CPU only)");
+                    "(a mixfunc nested more than 7 deep (roof) is traced on the CPU only)");
     WriteFile(tmp_.path() / "cut.rad",
               "void plastic grey 0 0 5 .5 .5 .5 0 0\nvoid antimatter hole 1 grey 0 0\n"
               "grey polygon roof 0 0 12 -2 -2 1  2 -2 1  2 2 1  -2 2 1\n"

@@ -263,7 +263,7 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             return unsupported_in(*m.alternate, mixes);
         if (m.kind != Material::kMix) return basic(m);
         if (mixes + 2 > gpu::kMixStack)
-            return "mixfuncs nested more than " + std::to_string(gpu::kMixStack - 1) + " deep";
+            return "a mixfunc nested more than " + std::to_string(gpu::kMixStack - 1) + " deep";
         for (int side = 0; side < 2; ++side) {
             if (m.mix->is_void[side]) continue;
             const Material &s = side ? m.mix->back : m.mix->fore;
