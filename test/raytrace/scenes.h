@@ -68,4 +68,27 @@ inline std::string IllumWindowRoom() {
            "winillum polygon win 0 0 12  1 0 1  1 0 2  4 0 2  4 0 1\n";
 }
 
+// A Klems Full BSDF file of a Lambertian layer: every transmission entry tau / pi and every
+// reflection entry rho / pi (both sides), so that it transmits tau and reflects rho of any
+// incident light, spread by the cosine (the bins' projected solid angles sum to pi).
+inline std::string LambertianKlemsXml(double tau, double rho) {
+    std::ostringstream x;
+    x.precision(17);
+    x << "<?xml version=\"1.0\"?>\n<WindowElement><FileType>BSDF</FileType><Optical><Layer>\n"
+      << "<DataDefinition><IncidentDataStructure>Columns</IncidentDataStructure>"
+      << "</DataDefinition>\n";
+    for (const char *block :
+         {"Transmission Front", "Transmission Back", "Reflection Front", "Reflection Back"}) {
+        const double value = (block[0] == 'T' ? tau : rho) / M_PI;
+        x << "<WavelengthData><Wavelength>Visible</Wavelength><WavelengthDataBlock>"
+          << "<WavelengthDataDirection>" << block << "</WavelengthDataDirection>"
+          << "<ColumnAngleBasis>LBNL/Klems Full</ColumnAngleBasis>"
+          << "<RowAngleBasis>LBNL/Klems Full</RowAngleBasis><ScatteringData>";
+        for (int k = 0; k < 145 * 145; ++k) x << (k ? ", " : "") << value;
+        x << "</ScatteringData></WavelengthDataBlock></WavelengthData>\n";
+    }
+    x << "</Layer></Optical></WindowElement>\n";
+    return x.str();
+}
+
 }  // namespace dayflux::test

@@ -173,8 +173,9 @@ class VulkanContrib : public ::testing::Test {
             EXPECT_NEAR(gpu[3 * c], exact[c] * omega, 1e-5 * omega) << c;
         }
     }
-    // The undersides of a panel (its materials: panel) seen from below (the test that calls it).
-    void ExpectPanelUndersideSeen(const std::string &panel);
+    // The underside of a panel (its materials: panel, passing through of the sky above it and
+    // reflecting reflected of the ground) seen from below (the test that calls it says more).
+    void ExpectPanelUndersideSeen(const std::string &panel, double through, double reflected);
     TempDir tmp_;
 };
 
@@ -662,22 +663,30 @@ TEST_F(VulkanContrib, MirrorImagesAsEmbree) {
         "-I+ -ab 1 -ad 4096 -lw 1e-5 -dj .7 -m solar -m lamp -m spot mirrors.rad < facing", 3, .05);
 }
 
-// Materials standing in for others, with mixfuncs: a mirror naming a substitute (grey
-// plastic) as a side of a mixfunc (the other half void), and an illum whose alternate is such
-// a mixfunc (of grey and void). Rays meeting the mirror's back see its substitute, and rays
-// meeting the illum's back its alternate. A 4 x 4 panel, its front up, one unit above an upward
-// sensor, between a sky and a ground of radiance 1 (-ab 2): the sky's column is pi (1 - F / 2)
-// and the ground's pi F / 4 (the grey underside, lit by the ground, reflects .5 on half the
-// panel), F the panel's view factor. Both backends within their standard errors.
-TEST_F(VulkanContrib, StandInMaterialsWithMixfuncsAsEmbree) {
+// Materials standing in for others: a mirror naming a substitute (grey plastic) as a side of a
+// mixfunc (the other half void), an illum whose alternate is such a mixfunc (of grey and void),
+// and an illum whose alternate is a Lambertian Klems BSDF (transmitting .3, reflecting .2).
+// Rays meeting the mirror's back see its substitute, and rays meeting an illum's back its
+// alternate. A 4 x 4 panel, its front up, one unit above an upward sensor, between a sky and a
+// ground of radiance 1 (-ab 2): the sky's column is pi (1 - F + F t) and the ground's pi F r,
+// F the panel's view factor, t and r what the panel's underside passes of the sky and reflects
+// of the ground (for the mixfuncs .5 and .5 x .5 of grey's .5). Both backends within their
+// standard errors.
+TEST_F(VulkanContrib, StandInMaterialsAsEmbree) {
     for (const std::string panel : {"void mirror silver 1 grey 0 3 .9 .9 .9\n"
                                     "void mixfunc half 4 silver void .5 . 0 0\n",
                                     "void mixfunc greyish 4 grey void .5 . 0 0\n"
                                     "void illum half 1 greyish 0 3 1 1 1\n"})
-        ExpectPanelUndersideSeen(panel);
+        ExpectPanelUndersideSeen(panel, .5, .25);
+    WriteFile(tmp_.path() / "lambertian.xml", test::LambertianKlemsXml(.3, .2));
+    ExpectPanelUndersideSeen(
+        "void BSDF lambertian 6 0 lambertian.xml 0 1 0 . 0 0\n"
+        "void illum half 1 lambertian 0 3 1 1 1\n",
+        .3, .2);
 }
 
-void VulkanContrib::ExpectPanelUndersideSeen(const std::string &panel) {
+void VulkanContrib::ExpectPanelUndersideSeen(const std::string &panel, double through,
+                                             double reflected) {
     WriteFile(tmp_.path() / "panel.rad",
               "void plastic grey 0 0 5 .5 .5 .5 0 0\n" + panel +
                   "half polygon panel 0 0 12 -2 -2 1  2 -2 1  2 2 1  -2 2 1\n"
@@ -690,7 +699,7 @@ void VulkanContrib::ExpectPanelUndersideSeen(const std::string &panel) {
         tmp_.path());
     ASSERT_EQ(cpu.size(), 2u * 3);
     ASSERT_EQ(gpu.size(), cpu.size());
-    const double exact[2] = {M_PI * (1 - f / 2), M_PI * f / 4};
+    const double exact[2] = {M_PI * (1 - f + f * through), M_PI * f * reflected};
     for (int c = 0; c < 2; ++c) {
         EXPECT_NEAR(cpu[3 * c], exact[c], kZ * se_cpu[3 * c]) << panel << c;
         EXPECT_NEAR(gpu[3 * c], exact[c], kZ * se_gpu[3 * c]) << panel << c;

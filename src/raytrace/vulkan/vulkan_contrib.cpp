@@ -252,15 +252,17 @@ std::unique_ptr<VulkanContribIntegrator> VulkanContribIntegrator::Create(
             double thick, up[3];
             if (!ConstantBsdfFrame(*m.bsdf, &thick, up)) return "BSDF with a ray-dependent frame";
         }
-        if (m.kind == Material::kIllum && m.alternate &&
-            (m.alternate->kind == Material::kBsdf || m.alternate->kind == Material::kIllum))
-            return "illum with a BSDF or illum behind it";
         return "";
     };
-    // mixes: how many mixfuncs m is a side of. A mirror's substitute is judged in its place.
+    // mixes: how many mixfuncs m is a side of. A mirror's substitute and an illum's alternate
+    // are judged in their places.
     unsupported_in = [&](const Material &m, int mixes) -> std::string {
         if (m.kind == Material::kMirror && m.mirror_alternate && m.alternate)
             return unsupported_in(*m.alternate, mixes);
+        if (m.kind == Material::kIllum && m.alternate) {
+            if (m.alternate->kind == Material::kIllum) return "illum with an illum behind it";
+            return unsupported_in(*m.alternate, mixes);
+        }
         if (m.kind != Material::kMix) return basic(m);
         if (mixes + 2 > gpu::kMixStack)
             return "a mixfunc nested more than " + std::to_string(gpu::kMixStack - 1) + " deep";
