@@ -173,8 +173,8 @@ class VulkanContrib : public ::testing::Test {
             EXPECT_NEAR(gpu[3 * c], exact[c] * omega, 1e-5 * omega) << c;
         }
     }
-    // The underside of a panel (its materials: panel, passing through of the sky above it and
-    // reflecting reflected of the ground) seen from below (the test that calls it says more).
+    // The underside of a panel seen from below (the test that calls it says more): panel holds
+    // its materials, which pass `through` of the sky above and reflect `reflected` of the ground.
     void ExpectPanelUndersideSeen(const std::string &panel, double through, double reflected);
     TempDir tmp_;
 };
