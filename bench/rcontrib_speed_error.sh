@@ -12,7 +12,8 @@
 #        REFS (../shared/data/references/rcontrib), ADS ("1024 4096 16384"),
 #        ASUBS ("2 3": ours again with -asub N at each -ad, as "dayflux-asubN"; "" for none),
 #        VULKAN (a Vulkan device for rcontrib-gpu -device, e.g. 0 or llvmpipe: adds its rows,
-#        timed after a warm-up run that compiles the shaders)
+#        timed after a warm-up run that compiles the shaders), LABEL (dayflux: our rows' name,
+#        to tell two builds apart), RADIANCE (0 skips RADIANCE's rows; so does its absence)
 # writes bench/results/rcontrib_speed_error.csv and .svg
 set -euo pipefail
 source "$(dirname "$0")/rcontrib_common.sh" rcontrib_speed_error "case,program,ad,wall_s,rel_rms"
@@ -31,6 +32,9 @@ record() {  # case program ad seconds output reference
     echo "$1,$2,$3,$4,$err" | tee -a "$csv"
 }
 VULKAN=${VULKAN:-}
+LABEL=${LABEL:-dayflux}
+have_radiance=1
+if [ "${RADIANCE:-1}" = 0 ] || [ ! -x "$RADIANCE_BIN/rcontrib" ]; then have_radiance=0; fi
 if [ -n "$VULKAN" ]; then  # compile the shaders once, outside the timings
     (cd "$ROOM" && "$OURS" -device "$VULKAN" -I+ -ab 1 -ad 16 -faf $V_ARGS materials.rad room.rad \
         objects/GlazingVmtx.rad < "$PTS" > /dev/null)
@@ -41,41 +45,47 @@ fi
 for ad in $ADS; do
     t=$(cd "$ROOM" && timed "$tmp/v_ours" "$OURS" -I+ -ab 4 -ad "$ad" -lw 2e-4 -faf $V_ARGS \
         materials.rad room.rad objects/GlazingVmtx.rad)
-    record V dayflux "$ad" "$t" "$tmp/v_ours" "$REFS/v_conv.fmx"
+    record V "$LABEL" "$ad" "$t" "$tmp/v_ours" "$REFS/v_conv.fmx"
     for asub in $ASUBS; do
         t=$(cd "$ROOM" && timed "$tmp/v_sub" "$OURS" -asub "$asub" -I+ -ab 4 -ad "$ad" -lw 2e-4 \
             -faf $V_ARGS materials.rad room.rad objects/GlazingVmtx.rad)
-        record V "dayflux-asub$asub" "$ad" "$t" "$tmp/v_sub" "$REFS/v_conv.fmx"
+        record V "$LABEL-asub$asub" "$ad" "$t" "$tmp/v_sub" "$REFS/v_conv.fmx"
         t=$(cd "$ROOM" && timed "$tmp/dc_sub" "$OURS" -asub "$asub" -I+ -ab 4 -ad "$ad" -lw 1e-4 \
             -faf $DC_ARGS materials.rad room.rad objects/Glazing.rad skyDomes/skyglow.rad)
-        record DC "dayflux-asub$asub" "$ad" "$t" "$tmp/dc_sub" "$REFS/dc_conv.fmx"
+        record DC "$LABEL-asub$asub" "$ad" "$t" "$tmp/dc_sub" "$REFS/dc_conv.fmx"
     done
     if [ -n "$VULKAN" ]; then
         t=$(cd "$ROOM" && timed "$tmp/v_gpu" "$OURS" -device "$VULKAN" -I+ -ab 4 -ad "$ad" \
             -lw 2e-4 -faf $V_ARGS materials.rad room.rad objects/GlazingVmtx.rad)
-        record V dayflux-vulkan "$ad" "$t" "$tmp/v_gpu" "$REFS/v_conv.fmx"
+        record V "$LABEL-vulkan" "$ad" "$t" "$tmp/v_gpu" "$REFS/v_conv.fmx"
         t=$(cd "$ROOM" && timed "$tmp/dc_gpu" "$OURS" -device "$VULKAN" -I+ -ab 4 -ad "$ad" \
             -lw 1e-4 -faf $DC_ARGS materials.rad room.rad objects/Glazing.rad skyDomes/skyglow.rad)
-        record DC dayflux-vulkan "$ad" "$t" "$tmp/dc_gpu" "$REFS/dc_conv.fmx"
+        record DC "$LABEL-vulkan" "$ad" "$t" "$tmp/dc_gpu" "$REFS/dc_conv.fmx"
     fi
-    t=$(cd "$REFS" && RAYPATH=.:$RADIANCE_BIN/../lib timed "$tmp/v_rad" "$RADIANCE_BIN/rcontrib" \
-        -n "$NPROC" -I+ -ab 4 -ad "$ad" -lw 2e-4 -faf $V_ARGS roomV.oct)
-    record V radiance "$ad" "$t" "$tmp/v_rad" "$REFS/v_conv.fmx"
+    if [ $have_radiance = 1 ]; then
+        t=$(cd "$REFS" && RAYPATH=.:$RADIANCE_BIN/../lib timed "$tmp/v_rad" \
+            "$RADIANCE_BIN/rcontrib" -n "$NPROC" -I+ -ab 4 -ad "$ad" -lw 2e-4 -faf $V_ARGS roomV.oct)
+        record V radiance "$ad" "$t" "$tmp/v_rad" "$REFS/v_conv.fmx"
+    fi
     t=$(cd "$ROOM" && timed "$tmp/dc_ours" "$OURS" -I+ -ab 4 -ad "$ad" -lw 1e-4 -faf $DC_ARGS \
         materials.rad room.rad objects/Glazing.rad skyDomes/skyglow.rad)
-    record DC dayflux "$ad" "$t" "$tmp/dc_ours" "$REFS/dc_conv.fmx"
-    t=$(cd "$REFS" && RAYPATH=.:$RADIANCE_BIN/../lib timed "$tmp/dc_rad" "$RADIANCE_BIN/rcontrib" \
-        -n "$NPROC" -I+ -ab 4 -ad "$ad" -lw 1e-4 -faf $DC_ARGS room2ph.oct)
-    record DC radiance "$ad" "$t" "$tmp/dc_rad" "$REFS/dc_conv.fmx"
+    record DC "$LABEL" "$ad" "$t" "$tmp/dc_ours" "$REFS/dc_conv.fmx"
+    if [ $have_radiance = 1 ]; then
+        t=$(cd "$REFS" && RAYPATH=.:$RADIANCE_BIN/../lib timed "$tmp/dc_rad" \
+            "$RADIANCE_BIN/rcontrib" -n "$NPROC" -I+ -ab 4 -ad "$ad" -lw 1e-4 -faf $DC_ARGS room2ph.oct)
+        record DC radiance "$ad" "$t" "$tmp/dc_rad" "$REFS/dc_conv.fmx"
+    fi
 done
 xz -dc "$REFS/cds_test.fmx.xz" > "$tmp/cds_ref"
 t=$(cd "$REFS" && timed "$tmp/cds_ours" "$OURS" $CDS_ARGS cds.oct)
-record Cds dayflux 256 "$t" "$tmp/cds_ours" "$tmp/cds_ref"
+record Cds "$LABEL" 256 "$t" "$tmp/cds_ours" "$tmp/cds_ref"
 if [ -n "$VULKAN" ]; then
     t=$(cd "$REFS" && timed "$tmp/cds_gpu" "$OURS" -device "$VULKAN" $CDS_ARGS cds.oct)
-    record Cds dayflux-vulkan 256 "$t" "$tmp/cds_gpu" "$tmp/cds_ref"
+    record Cds "$LABEL-vulkan" 256 "$t" "$tmp/cds_gpu" "$tmp/cds_ref"
 fi
-t=$(cd "$REFS" && RAYPATH=.:$RADIANCE_BIN/../lib timed "$tmp/cds_rad" "$RADIANCE_BIN/rcontrib" \
-    -n "$NPROC" $CDS_ARGS cds.oct)
-record Cds radiance 256 "$t" "$tmp/cds_rad" "$tmp/cds_ref"
+if [ $have_radiance = 1 ]; then
+    t=$(cd "$REFS" && RAYPATH=.:$RADIANCE_BIN/../lib timed "$tmp/cds_rad" "$RADIANCE_BIN/rcontrib" \
+        -n "$NPROC" $CDS_ARGS cds.oct)
+    record Cds radiance 256 "$t" "$tmp/cds_rad" "$tmp/cds_ref"
+fi
 python3 "$here/rcontrib_error.py" --plot "$csv" "$here/results/rcontrib_speed_error.svg"
