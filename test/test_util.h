@@ -1,13 +1,25 @@
 // Helpers shared by the tests: data paths, temporary folders, running the built programs.
 #pragma once
 
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
 namespace dayflux::test {
 
-inline std::filesystem::path DataDir() { return DAYFLUX_TEST_DATA; }
-inline std::filesystem::path BinDir() { return DAYFLUX_BIN_DIR; }
+// The test data and the built programs, where the build put them, or where
+// DAYFLUX_TEST_DATA_DIR and DAYFLUX_TEST_BIN_DIR say (a build copied to another machine:
+// bench/gpu.sh).
+inline std::filesystem::path FromEnvironment(const char *name, const char *built) {
+    const char *v = std::getenv(name);
+    return v && *v ? v : built;
+}
+inline std::filesystem::path DataDir() {
+    return FromEnvironment("DAYFLUX_TEST_DATA_DIR", DAYFLUX_TEST_DATA);
+}
+inline std::filesystem::path BinDir() {
+    return FromEnvironment("DAYFLUX_TEST_BIN_DIR", DAYFLUX_BIN_DIR);
+}
 
 // A fresh folder under the system temp directory, removed with the object.
 class TempDir {

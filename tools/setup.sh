@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
     build-essential cmake ninja-build pkg-config git xz-utils python3
     libvulkan-dev vulkan-tools glslang-dev glslang-tools libshaderc-dev spirv-tools
-    libembree-dev libtbb-dev libopenexr-dev libpugixml-dev libeigen3-dev libopenblas-dev
+    libembree-dev libtbb-dev libglm-dev libopenexr-dev libpugixml-dev libeigen3-dev libopenblas-dev
     libgtest-dev libgmock-dev libbenchmark-dev libcairo2-dev fonts-dejavu-core
 )
 backports=(mesa-vulkan-drivers)

@@ -549,17 +549,20 @@ void Context::Set(const std::string &name, double value, bool constant) {
     Load(s.str(), FileLoc{"", 0});
 }
 
-Expression Context::Compile(std::string_view text, const FileLoc &loc) const {
+Expression Context::CompileInterpreted(std::string_view text, const FileLoc &loc) const {
     Expression e;
     Parser p(*impl_, text, loc);
     e.root_ = p.Expression();
     e.text_ = std::string(text);
     e.loc_ = loc;
-    if (!std::getenv("DAYFLUX_CAL_INTERPRET")) {
-        e.fast_ = SpecialisedExpression::Make(*impl_, e.root_.get(), loc);
-        e.fast_context_ = impl_.get();
-        e.fast_generation_ = impl_->generation;
-    }
+    return e;
+}
+
+Expression Context::Compile(std::string_view text, const FileLoc &loc) const {
+    Expression e = CompileInterpreted(text, loc);
+    e.fast_ = SpecialisedExpression::Make(*impl_, e.root_.get(), loc);
+    e.fast_context_ = impl_.get();
+    e.fast_generation_ = impl_->generation;
     return e;
 }
 

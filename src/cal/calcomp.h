@@ -83,8 +83,8 @@ class Expression {
     double Evaluate(const Context &cx, const Channels *channels = nullptr) const;
     const Node *Root() const { return root_.get(); }
     // Whether it runs specialised (specialise.h) rather than interpreted, while its context
-    // keeps the definitions it was compiled with. DAYFLUX_CAL_INTERPRET in the environment at
-    // compile time keeps the interpreter (for comparisons).
+    // keeps the definitions it was compiled with (CompileInterpreted() keeps the interpreter,
+    // for comparisons).
     bool Specialised() const { return fast_ != nullptr; }
     const std::string &Text() const { return text_; }
 
@@ -122,6 +122,8 @@ class Context {
     void Set(const std::string &name, double value, bool constant = false);
     // Parses an expression (for example a -b bin expression).
     Expression Compile(std::string_view text, const FileLoc &loc) const;
+    // The same, always interpreted (to compare the specialised evaluation with).
+    Expression CompileInterpreted(std::string_view text, const FileLoc &loc) const;
 
     // Value of a variable (no arguments).
     double Value(const std::string &name, const Channels *channels = nullptr) const;

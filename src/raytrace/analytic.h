@@ -1,5 +1,6 @@
 // Ray intersections with RADIANCE's analytic surfaces (sphere/bubble, cone/cup, cylinder/tube,
-// ring), in double precision, for any backend that traces them as such rather than as triangles.
+// ring) as flattened scenes hold them, in double precision, for the Embree backend: the estimator
+// core's (raytrace/core/shapes.h), which the GPU runs in float.
 #pragma once
 
 #include "scene/flatten.h"

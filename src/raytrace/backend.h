@@ -1,7 +1,6 @@
 // What the integrators need from a ray tracer, and nothing more: build once from a flattened
-// scene, then closest-hit and any-hit queries on batches of rays. Embree implements it on the CPU
-// (embree/), Vulkan ray queries on the GPU (vulkan/, to come). Like Embree's own API: an opaque
-// object, an explicit commit, one error path.
+// scene, then closest-hit and any-hit queries on batches of rays. Embree implements it for the CPU
+// driver (embree/). Like Embree's own API: an opaque object, an explicit commit, one error path.
 #pragma once
 
 #include <cstdint>
@@ -45,12 +44,7 @@ class Backend {
     virtual void Occluded(const TraceRay *rays, bool *occluded, size_t n) const = 0;
 };
 
-// The backend a program was asked for: requested (an option), else DAYFLUX_BACKEND, else
-// "embree"; "vulkan" is the other. Anything else is an error.
-std::string ChooseBackend(const std::string &requested);
-
-// The CPU ray caster. (The Vulkan backend is an integrator of its own,
-// raytrace/vulkan/vulkan_contrib.h, not a ray caster behind this interface.)
+// The CPU ray caster. (The GPU driver finds its hits itself, in the shader.)
 std::unique_ptr<Backend> CreateEmbreeBackend();
 
 }  // namespace dayflux

@@ -1,24 +1,13 @@
-// rcontrib's estimator: the ray tree RADIANCE traces from each input ray, with every ray carrying
-// the product of the coefficients above it; where a ray reaches an object whose modifier is
-// tracked (-m), that coefficient (times the object's radiance with -V+) is added to the bin the
-// modifier's bin expression gives. Ambient hemispheres are n x n cosine-stratified with
-// n = sqrt(ad * min(weight, 0.8 rho weight / (ad lw))) as RADIANCE computes them with -aa 0;
-// Russian roulette follows -lr and -lw. Diffuse surfaces sample distant `light` sources directly,
-// as RADIANCE's direct() does with rcontrib's forced -dt 0: one shadow ray per source in front of
-// the surface, carrying dirnorm()'s coefficient, passing through glass. Random numbers come from a
-// counter-based generator keyed by (seed, input ray), so results do not depend on the number of
-// threads.
+// rcontrib's estimator, as the engines run it (raytrace/engine.h, the core in raytrace/core):
+// the ray tree RADIANCE traces from each input ray, with every ray carrying the product of the
+// coefficients above it; where a ray reaches an object whose modifier is tracked (-m), that
+// coefficient (times the object's radiance with -V+) is added to the bin the modifier's bin
+// expression gives. This file holds what a run asks of it: the options and the tracked
+// modifiers.
 #pragma once
 
-#include <functional>
-#include <memory>
+#include <cstdint>
 #include <string>
-#include <vector>
-
-#include "cal/calcomp.h"
-#include "raytrace/backend.h"
-#include "scene/flatten.h"
-#include "scene/patterns.h"
 
 namespace dayflux {
 
@@ -48,28 +37,6 @@ struct TrackedModifier {
     // An earlier modifier whose context this one's bins are evaluated in (the same -p
     // parameters), or -1 for a context of its own.
     int context_of = -1;
-};
-
-class ContribIntegrator {
-  public:
-    // make_context builds, for tracked modifier k, a context with every -e/-f and k's -p applied;
-    // it is called once per thread for each modifier with a context of its own, since
-    // evaluation caches constants.
-    ContribIntegrator(const FlatScene &scene, const Backend &backend, const ContribOptions &options,
-                      std::vector<TrackedModifier> tracked,
-                      std::function<std::unique_ptr<cal::Context>(int)> make_context);
-    ~ContribIntegrator();
-
-    int Columns() const { return columns_; }
-    // Adds the contributions of one input ray to record (Columns() x 3 values). ray_index keys
-    // the random numbers.
-    void Trace(const double org[3], const double dir[3], uint64_t ray_index, double *record) const;
-
-    struct Impl;
-
-  private:
-    std::unique_ptr<Impl> impl_;
-    int columns_ = 0;
 };
 
 }  // namespace dayflux

@@ -351,7 +351,8 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
             }
             const int bit =
                 clip_bits_.emplace(j, static_cast<int>(clip_bits_.size())).first->second;
-            if (bit >= 64) ErrorExit(&p.loc, "antimatter: more than 64 modifiers clipped");
+            // The core's clip sets are 32 bits (RADIANCE's are sets of any size).
+            if (bit >= 32) ErrorExit(&p.loc, "antimatter: more than 32 modifiers clipped");
             m.clip_mask |= uint64_t{1} << bit;
         }
         if (const int inside = p.sargs[0] == "void" ? -1 : LastModifier(mod, p.sargs[0]);

@@ -14,54 +14,25 @@
 #include <vector>
 
 #include "raytrace/contrib.h"
+#include "raytrace/core/sampling.h"
 #include "raytrace/klems.h"
 #include "scene/flatten.h"
 #include "scene/patterns.h"
 
 namespace dayflux {
 
-constexpr double kTiny = 1e-6;  // RADIANCE's FTINY
+constexpr double kTiny = core::kTiny;  // RADIANCE's FTINY
 
 using RGB = std::array<double, 3>;
 
 inline double Max3(const RGB &c) { return std::max({c[0], c[1], c[2]}); }
-// RADIANCE's bright(): luminance weights of its standard primaries.
-inline double Bright(const RGB &c) {
-    return 0.2651058 * c[0] + 0.6701058 * c[1] + 0.0647884 * c[2];
-}
 
-// u = e x n normalised and v = n x u: two unit vectors perpendicular to n and to each other.
-inline void TangentsFrom(const double e[3], const double n[3], double u[3], double v[3]) {
-    u[0] = e[1] * n[2] - e[2] * n[1];
-    u[1] = e[2] * n[0] - e[0] * n[2];
-    u[2] = e[0] * n[1] - e[1] * n[0];
-    const double l = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    for (int k = 0; k < 3; ++k) u[k] /= l;
-    v[0] = n[1] * u[2] - n[2] * u[1];
-    v[1] = n[2] * u[0] - n[0] * u[2];
-    v[2] = n[0] * u[1] - n[1] * u[0];
-}
-
-// Two unit vectors perpendicular to n and to each other.
+// Two unit vectors perpendicular to n and to each other (the core's, for the host's set-up of
+// sources).
 inline void Tangents(const double n[3], double u[3], double v[3]) {
-    const int ax = std::fabs(n[0]) < 0.6 ? 0 : (std::fabs(n[1]) < 0.6 ? 1 : 2);
-    double e[3] = {0, 0, 0};
-    e[ax] = 1;
-    TangentsFrom(e, n, u, v);
-}
-
-// RADIANCE's getperpendicular() with randomize on, as its ambient hemispheres use it: the
-// stratification grid turned by a random amount about n (r[0..3] uniform in [0,1)). The turn
-// matters because the sample-collision rule (ambcollision) is not invariant to it.
-inline void RandomTangents(const double n[3], const double r[4], double u[3], double v[3]) {
-    double e[3] = {0.5 - r[0], 0.5 - r[1], 0.5 - r[2]};
-    static const int orders[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2},
-                                     {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-    const int *ord = orders[std::min(5, static_cast<int>(r[3] * 6.))];
-    int i = 2;
-    while (i > 0 && !(std::fabs(n[ord[i]]) < 0.6)) --i;
-    e[ord[i]] = 1.0;
-    TangentsFrom(e, n, u, v);
+    core::real3 a, b;
+    core::Tangents(core::real3(n[0], n[1], n[2]), a, b);
+    for (int k = 0; k < 3; ++k) u[k] = a[k], v[k] = b[k];
 }
 
 struct MixInfo;
@@ -158,12 +129,6 @@ struct Source {
     double spot_aim[3] = {0, 0, 0};
 };
 
-// RADIANCE's Fresnel estimate for pure specular plastic and metal (normal.c).
-inline double FresnelEstimate(double cos_incidence) {
-    return std::exp(-5.85 * cos_incidence) - 0.00287989916;
-}
-constexpr double kFresnelThreshold = 0.017999;
-
 class SceneMaterials {
   public:
     // Resolves every surface's modifier (errors, with file and line, for what is not traced).
@@ -199,7 +164,7 @@ class SceneMaterials {
     Material Resolve(int mod, std::vector<int> &pattern_of);
 
     const FlatScene &scene_;
-    const std::vector<TrackedModifier> &tracked_;
+    std::vector<TrackedModifier> tracked_;
     std::vector<Material> materials_;      // per scene object (surfaces: their material)
     std::vector<int> tracked_of_object_;   // tracked modifier whose name is the object's modifier
     std::map<int, Material> by_modifier_;  // each modifier resolved once (stable references)

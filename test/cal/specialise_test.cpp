@@ -17,10 +17,7 @@ namespace {
 std::string Lib(const char *f) { return std::string(DAYFLUX_LIB_DIR) + "/" + f; }
 
 Expression Interpreted(const Context &cx, const std::string &text) {
-    setenv("DAYFLUX_CAL_INTERPRET", "1", 1);
-    Expression e = cx.Compile(text, FileLoc{"-b", 0});
-    unsetenv("DAYFLUX_CAL_INTERPRET");
-    return e;
+    return cx.CompileInterpreted(text, FileLoc{"-b", 0});
 }
 
 // Random directions, then the axes and the diagonals of the axis planes, where zeros of either

@@ -179,68 +179,6 @@ class VulkanContrib : public ::testing::Test {
     TempDir tmp_;
 };
 
-// Under a uniform sky (radiance 1) every sample of a horizontal sensor reaches the sky: the
-// total is pi exactly, and each Reinhart MF:1 bin is its cosine-weighted solid angle, within
-// the bin's own standard error (-se: samples straddling the bin's edges).
-TEST_F(VulkanContrib, UniformSkyGivesPiAndItsBins) {
-    WriteFile(tmp_.path() / "rays", "0 0 0 0 0 1\n");
-    std::vector<double> se;
-    const std::vector<double> v =
-        Run("vulkan", "-I+ -ab 1 -ad 4096 -lw 1e-6" + kBins + "-m skyglow sky.rad < rays",
-            tmp_.path(), &se);
-    ASSERT_EQ(v.size(), 146u * 3);
-    double total = 0;
-    for (size_t b = 0; b < 146; ++b) {
-        total += v[3 * b];
-        EXPECT_EQ(v[3 * b], v[3 * b + 2]);
-    }
-    EXPECT_NEAR(total, M_PI, 1e-5);
-    EXPECT_EQ(v[0], 0) << "nothing from below the horizon";
-    static const int per_row[] = {30, 30, 24, 24, 18, 12, 6};
-    int b = 1;
-    for (int row = 0; row <= 7; ++row) {
-        const int n = row == 7 ? 1 : per_row[row];
-        const double a1 = row * 12 * M_PI / 180, a2 = (row + 1) * 12 * M_PI / 180;
-        const double exact =
-            row == 7 ? M_PI * std::pow(std::cos(84 * M_PI / 180), 2)
-                     : M_PI / n * (std::pow(std::sin(a2), 2) - std::pow(std::sin(a1), 2));
-        for (int k = 0; k < n; ++k, ++b)
-            EXPECT_NEAR(v[3 * b], exact, 5 * se[3 * b] + 2e-6 * exact) << "bin " << b;
-    }
-}
-
-// A sensor in a closed box of reflectance .5 with its walls tracked: pi (1 + rho + rho^2)
-// exactly without Russian roulette, and on average with it (4 standard errors of the mean).
-TEST_F(VulkanContrib, FurnaceSumsTheSeries) {
-    WriteFile(tmp_.path() / "box.rad",
-              "void plastic wall 0 0 5 .5 .5 .5 0 0\n" + CubeOfPolygons("wall"));
-    std::string rays;
-    for (int i = 0; i < 400; ++i) rays += "0 0 0 0 0 1\n";
-    WriteFile(tmp_.path() / "rays", rays);
-    WriteFile(tmp_.path() / "four", "0 0 0 0 0 1\n0 0 0 0 0 1\n0 0 0 0 0 1\n0 0 0 0 0 1\n");
-    const auto totals = [](const std::vector<double> &v, size_t rows) {
-        std::vector<double> t(rows, 0.0);
-        const size_t per = v.size() / rows;
-        for (size_t r = 0; r < rows; ++r)
-            for (size_t k = 0; k < per; k += 3) t[r] += v[r * per + k];
-        return t;
-    };
-    const double rho = .5;
-    const auto exact = totals(
-        Run("vulkan", "-I+ -ab 3 -ad 64 -lw 1e-9" + kBins + "-m wall box.rad < four", tmp_.path()),
-        4);
-    for (double t : exact) EXPECT_NEAR(t, M_PI * (1 + rho + rho * rho), 1e-5);
-    const auto roulette = totals(
-        Run("vulkan", "-I+ -ab 6 -ad 16 -lw 0.05" + kBins + "-m wall box.rad < rays", tmp_.path()),
-        400);
-    double mean = 0, ss = 0;
-    for (double t : roulette) mean += t / roulette.size();
-    for (double t : roulette) ss += (t - mean) * (t - mean);
-    const double se = std::sqrt(ss / (roulette.size() - 1) / roulette.size());
-    EXPECT_GT(se, 0);
-    EXPECT_NEAR(mean, M_PI * (1 - std::pow(rho, 6)) / (1 - rho), 4 * se);
-}
-
 // The tutorial room's daylight coefficients from both backends: per-entry t-scores from the
 // two standard errors stay within what 7500 entries explain, and so does the total.
 TEST_F(VulkanContrib, TutorialRoomAgreesWithEmbree) {
@@ -248,6 +186,34 @@ TEST_F(VulkanContrib, TutorialRoomAgreesWithEmbree) {
                            "-m skyglow materials.rad room.rad objects/Glazing.rad "
                            "skyDomes/skyglow.rad",
                        146);
+}
+
+// One random stream: with the same -seed both backends draw the same numbers for the same
+// record, ray and bounce, so the tutorial room's daylight coefficients differ between them only
+// where float and double round differently (and the rare path that this turns another way), far
+// less than between two seeds on one backend: on lavapipe 1e-7 against 0.7 (relative RMS over
+// the entries).
+TEST_F(VulkanContrib, OneRandomStreamOnBothBackends) {
+    const fs::path room = DataDir() / "scene" / "models" / "room";
+    const std::string args = "-I+ -ab 2 -ad 512 -lw 1e-3" + kBins +
+                             "-m skyglow materials.rad room.rad objects/Glazing.rad "
+                             "skyDomes/skyglow.rad < '" +
+                             (DataDir() / "rcontrib" / "points.txt").string() + "'";
+    const std::vector<double> gpu = Run("vulkan", "-seed 1 " + args, room),
+                              cpu = Run("embree", "-seed 1 " + args, room),
+                              other = Run("embree", "-seed 2 " + args, room);
+    ASSERT_EQ(gpu.size(), 100u * 146 * 3);
+    ASSERT_EQ(cpu.size(), gpu.size());
+    ASSERT_EQ(other.size(), gpu.size());
+    double backends = 0, seeds = 0, scale = 0;
+    for (size_t i = 0; i < gpu.size(); ++i) {
+        backends += (gpu[i] - cpu[i]) * (gpu[i] - cpu[i]);
+        seeds += (other[i] - cpu[i]) * (other[i] - cpu[i]);
+        scale += cpu[i] * cpu[i];
+    }
+    EXPECT_GT(seeds, 0.01 * scale) << "two seeds should differ";
+    EXPECT_LT(std::sqrt(backends), 0.2 * std::sqrt(seeds))
+        << "backends " << std::sqrt(backends / scale) << ", seeds " << std::sqrt(seeds / scale);
 }
 
 // -asub 2: each first-level cell sampled by 2 x 2 rays, one carrying its diffuse paths with 4
@@ -442,51 +408,6 @@ TEST_F(VulkanContrib, FloatAndDoubleAccumulators) {
     }
 }
 
-// Analytic surfaces as procedural boxes, intersected in the shader: a closed bubble is a furnace
-// (exact), and a sphere, a glowing disc (ring) and a tube subtend their analytic view factors.
-TEST_F(VulkanContrib, AnalyticSurfaces) {
-    WriteFile(tmp_.path() / "bubble.rad",
-              "void plastic wall 0 0 5 .5 .5 .5 0 0\nwall bubble b 0 0 4 0 0 0 3\n");
-    WriteFile(tmp_.path() / "two", "0 0 0 0 0 1\n0 0 0 0 0 1\n");
-    const std::vector<double> furnace = Run(
-        "vulkan", "-I+ -ab 3 -ad 64 -lw 1e-9" + kBins + "-m wall bubble.rad < two", tmp_.path());
-    ASSERT_EQ(furnace.size(), 2u * 146 * 3);
-    for (int r = 0; r < 2; ++r) {
-        double t = 0;
-        for (int k = 0; k < 146 * 3; k += 3) t += furnace[r * 438 + k];
-        EXPECT_NEAR(t, M_PI * 1.75, 1e-5);
-    }
-    const double R = .5, h = 2, L = 3;
-    WriteFile(tmp_.path() / "sphere.rad",
-              "void plastic black 0 0 5 0 0 0 0 0\nblack sphere s 0 0 4 0 0 2 .5\n");
-    WriteFile(tmp_.path() / "disc.rad",
-              "void glow lamp 0 0 4 1 1 1 0\nlamp ring d 0 0 8 0 0 2 0 0 -1 0 .5\n");
-    WriteFile(tmp_.path() / "tube.rad",
-              "void plastic black 0 0 5 0 0 0 0 0\nblack tube t 0 0 7 0 0 0 0 0 3 .5\n");
-    std::string rays;
-    for (int i = 0; i < 100; ++i) rays += "0 0 0 0 0 1\n";
-    WriteFile(tmp_.path() / "rays", rays);
-    struct Case {
-        const char *args;
-        double exact;
-    } cases[] = {{"-m skyglow sphere.rad sky.rad", M_PI * (1 - R * R / (h * h))},
-                 {"-m lamp disc.rad", M_PI * R * R / (R * R + h * h)},
-                 {"-m skyglow tube.rad sky.rad", M_PI * R * R / (R * R + L * L)}};
-    for (const Case &c : cases) {
-        const std::vector<double> v =
-            Run("vulkan", "-I+ -ab 1 -ad 1024 -lw 1e-6" + kBins + c.args + " < rays", tmp_.path());
-        ASSERT_EQ(v.size(), 100u * 438) << c.args;
-        double mean = 0, ss = 0;
-        std::vector<double> t(100, 0.0);
-        for (int r = 0; r < 100; ++r)
-            for (int k = 0; k < 438; k += 3) t[r] += v[r * 438 + k];
-        for (double x : t) mean += x / 100;
-        for (double x : t) ss += (x - mean) * (x - mean);
-        const double se = std::sqrt(ss / 99 / 100);
-        EXPECT_NEAR(mean, c.exact, 4 * se + 1e-6) << c.args;
-    }
-}
-
 // Patterns compiled from calcomp to GLSL: a brightfunc ramp on a floor (with its arguments) and a
 // colorfunc sky whose radiance -V counts; both backends within their standard errors.
 TEST_F(VulkanContrib, PatternsAsEmbree) {
@@ -555,25 +476,6 @@ TEST_F(VulkanContrib, DielectricAsEmbree) {
     ASSERT_EQ(gpu.size(), 20u * 146 * 3);
     ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 2000);
     ExpectSameSensorTotals(gpu, se_gpu, cpu, se_cpu, 20, 146);
-}
-
-// A closed room in a large scene (a 2 km ground) stays dark on the GPU too, by either traversal:
-// rays leaving a surface meet every other one from the start.
-TEST_F(VulkanContrib, ClosedRoomInALargeSceneIsDark) {
-    WriteFile(tmp_.path() / "box.rad", test::ClosedRoomInALargeScene());
-    std::string rays;
-    for (int i = 0; i < 10; ++i)
-        rays += std::to_string(.5 + .4 * i) + " " + std::to_string(.5 + .3 * i) + " .8 0 0 1\n";
-    WriteFile(tmp_.path() / "rays", rays);
-    for (const char *traversal : {"rayquery", "bvh"}) {
-        const std::vector<double> v =
-            Run("vulkan",
-                std::string("-gpu_traversal ") + traversal + " -I+ -ab 4 -ad 1024 -lw 1e-5" +
-                    kBins + "-m skyglow box.rad < rays",
-                tmp_.path());
-        ASSERT_EQ(v.size(), 10u * 146 * 3) << traversal;
-        for (double x : v) ASSERT_EQ(x, 0) << traversal;
-    }
 }
 
 // Local light sources on the GPU: a square panel, a hexagon (sampled over a turned square) facing
@@ -738,10 +640,10 @@ TEST_F(VulkanContrib, AntimatterAsEmbree) {
     }
 }
 
-// What the GPU integrator does not trace yet goes to Embree, with one line saying why, and the
-// results are Embree's: more specular samples than the ray stack holds (-ss above 16), mixfuncs
-// nested deeper than the shader's stack of their sides, and antimatter with a material for its
-// inside. So does a machine whose only device is a CPU one, unless it is named.
+// What the GPU's core cannot trace goes to Embree, with one line saying why, and the results
+// are Embree's: more specular samples than the ray stack holds (-ss above 16), and mixfuncs
+// nested deeper than the shader's stack of their sides. So does a machine whose only device is
+// a CPU one, unless it is named.
 TEST_F(VulkanContrib, WhatItCannotTraceFallsBackToEmbree) {
     WriteFile(tmp_.path() / "rays", "0 0 0 0 0 1\n");
     // Both backends on args: the Vulkan one says why it cannot, and its output is Embree's.
@@ -766,12 +668,6 @@ TEST_F(VulkanContrib, WhatItCannotTraceFallsBackToEmbree) {
               nested + "m8 polygon roof 0 0 12 -2 -2 1  2 -2 1  2 2 1  -2 2 1\n");
     expect_fallback("-ad 64" + kBins + "-m skyglow nested.rad sky.rad",
                     "(a mixfunc nested more than 7 deep (roof) is traced on the CPU only)");
-    WriteFile(tmp_.path() / "cut.rad",
-              "void plastic grey 0 0 5 .5 .5 .5 0 0\nvoid antimatter hole 1 grey 0 0\n"
-              "grey polygon roof 0 0 12 -2 -2 1  2 -2 1  2 2 1  -2 2 1\n"
-              "hole sphere ball 0 0 4 0 0 1 .5\n");
-    expect_fallback("-ad 64" + kBins + "-m skyglow cut.rad sky.rad",
-                    "(antimatter with a material for its inside (ball) is traced on the CPU only)");
     CommandResult unnamed = RunCommand(
         "DAYFLUX_VULKAN_DEVICE= rcontrib-gpu -backend vulkan -h "
         "-I+ -ab 1 -ad 16" +

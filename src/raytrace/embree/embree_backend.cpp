@@ -10,6 +10,7 @@
 
 #include "raytrace/analytic.h"
 #include "raytrace/backend.h"
+#include "raytrace/core/shapes.h"
 #include "util/errors.h"
 
 namespace dayflux {
@@ -82,6 +83,16 @@ class EmbreeBackend : public Backend {
                                         3 * sizeof(unsigned), flat.triangles.size()));
             for (size_t i = 0; i < flat.triangles.size(); ++i)
                 for (int k = 0; k < 3; ++k) ib[3 * i + k] = flat.triangles[i][k];
+            normals_.reserve(flat.triangles.size());
+            for (const auto &t : flat.triangles) {
+                const Vec3 &a = flat.vertices[t[0]], &b = flat.vertices[t[1]],
+                           &c = flat.vertices[t[2]];
+                const core::real3 n =
+                    glm::cross(core::real3(b[0] - a[0], b[1] - a[1], b[2] - a[2]),
+                               core::real3(c[0] - a[0], c[1] - a[1], c[2] - a[2]));
+                const double len = glm::length(n);
+                normals_.push_back(len > 0 ? n / len : core::real3(0));
+            }
             rtcSetGeometryUserData(g, this);
             rtcSetGeometryIntersectFilterFunction(g, TriangleFilterFunction);
             rtcSetGeometryOccludedFilterFunction(g, TriangleFilterFunction);
@@ -129,77 +140,20 @@ class EmbreeBackend : public Backend {
             }
             h.shape = -1;
             h.triangle = rh.hit.primID;
-            // The normal from the double-precision vertices, in the triangle's winding.
+            // The normal from the double-precision vertices, in the triangle's winding; the hit
+            // refined in double (core/shapes.h, as the GPU refines its hits).
             const auto &t = flat_->triangles[h.triangle];
             const Vec3 &a = flat_->vertices[t[0]], &b = flat_->vertices[t[1]],
                        &c = flat_->vertices[t[2]];
-            const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
-                         v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-            double nn[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
-                            u[0] * v[1] - u[1] * v[0]};
-            const double len = std::sqrt(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2]);
-            for (int k = 0; k < 3; ++k) h.normal[k] = len > 0 ? nn[k] / len : 0;
-            HitPointOnTriangle(rays[i], a, b, c, nn, &h);
+            const core::real3 n = normals_[h.triangle];
+            for (int k = 0; k < 3; ++k) h.normal[k] = n[k];
+            const core::real3 p =
+                core::PointOnTriangle(core::real3(rays[i].org[0], rays[i].org[1], rays[i].org[2]),
+                                      core::real3(rays[i].dir[0], rays[i].dir[1], rays[i].dir[2]),
+                                      core::real3(a[0], a[1], a[2]), core::real3(b[0], b[1], b[2]),
+                                      core::real3(c[0], c[1], c[2]), n, h.t);
+            for (int k = 0; k < 3; ++k) h.point[k] = p[k];
         }
-    }
-
-    // Refines a triangle hit in double: t from the plane, the point clamped into the triangle.
-    static void HitPointOnTriangle(const TraceRay &r, const Vec3 &a, const Vec3 &b, const Vec3 &c,
-                                   const double n[3], TraceHit *h) {
-        const double dn = r.dir[0] * n[0] + r.dir[1] * n[1] + r.dir[2] * n[2];
-        if (dn != 0) {
-            const double t =
-                ((a[0] - r.org[0]) * n[0] + (a[1] - r.org[1]) * n[1] + (a[2] - r.org[2]) * n[2]) /
-                dn;
-            if (t > 0) h->t = t;
-        }
-        double p[3];
-        for (int k = 0; k < 3; ++k) p[k] = r.org[k] + h->t * r.dir[k];
-        ClosestPointOnTriangle(p, a, b, c, h->point);
-    }
-
-    // The point of triangle abc closest to p (Ericson, Real-Time Collision Detection, 5.1.5).
-    static void ClosestPointOnTriangle(const double p[3], const Vec3 &a, const Vec3 &b,
-                                       const Vec3 &c, double out[3]) {
-        const auto sub = [](const double *x, const double *y, double *d) {
-            for (int k = 0; k < 3; ++k) d[k] = x[k] - y[k];
-        };
-        const auto dot = [](const double *x, const double *y) {
-            return x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
-        };
-        const auto set = [&](double u, double v, double w) {  // barycentric weights
-            for (int k = 0; k < 3; ++k) out[k] = u * a[k] + v * b[k] + w * c[k];
-        };
-        double ab[3], ac[3], ap[3], bp[3], cp[3];
-        sub(b.data(), a.data(), ab);
-        sub(c.data(), a.data(), ac);
-        sub(p, a.data(), ap);
-        const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-        if (d1 <= 0 && d2 <= 0) return set(1, 0, 0);
-        sub(p, b.data(), bp);
-        const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-        if (d3 >= 0 && d4 <= d3) return set(0, 1, 0);
-        const double vc = d1 * d4 - d3 * d2;
-        if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-            const double v = d1 / (d1 - d3);
-            return set(1 - v, v, 0);
-        }
-        sub(p, c.data(), cp);
-        const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-        if (d6 >= 0 && d5 <= d6) return set(0, 0, 1);
-        const double vb = d5 * d2 - d1 * d6;
-        if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-            const double w = d2 / (d2 - d6);
-            return set(1 - w, 0, w);
-        }
-        const double va = d3 * d6 - d5 * d4;
-        if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-            const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-            return set(0, 1 - w, w);
-        }
-        const double denom = 1 / (va + vb + vc);
-        const double v = vb * denom, w = vc * denom;
-        set(1 - v - w, v, w);
     }
 
     void Occluded(const TraceRay *rays, bool *occluded, size_t n) const override {
@@ -261,10 +215,9 @@ class EmbreeBackend : public Backend {
         RTCHitN *hit = RTCRayHitN_HitN(args->rayhit, 1);
         double org[3], dir[3];
         self->RayOf(org, dir);
-        const double t = IntersectShape(self->flat_->shapes[self->surfaces_[args->primID]],
-                                        self->centre_, org, dir,
-                                        self->ShapeNear(args->primID, RTCRayN_tnear(ray, 1, 0)),
-                                        RTCRayN_tfar(ray, 1, 0));
+        const double t = IntersectShape(
+            self->flat_->shapes[self->surfaces_[args->primID]], self->centre_, org, dir,
+            self->ShapeNear(args->primID, RTCRayN_tnear(ray, 1, 0)), RTCRayN_tfar(ray, 1, 0));
         if (t < 0) return;
         shape_query.t = t;
         RTCRayN_tfar(ray, 1, 0) = static_cast<float>(t);
@@ -281,10 +234,10 @@ class EmbreeBackend : public Backend {
         const auto *self = static_cast<const EmbreeBackend *>(args->geometryUserPtr);
         double org[3], dir[3];
         self->RayOf(org, dir);
-        const double t = IntersectShape(
-            self->flat_->shapes[self->surfaces_[args->primID]], self->centre_, org, dir,
-            self->ShapeNear(args->primID, RTCRayN_tnear(args->ray, 1, 0)),
-            RTCRayN_tfar(args->ray, 1, 0));
+        const double t =
+            IntersectShape(self->flat_->shapes[self->surfaces_[args->primID]], self->centre_, org,
+                           dir, self->ShapeNear(args->primID, RTCRayN_tnear(args->ray, 1, 0)),
+                           RTCRayN_tfar(args->ray, 1, 0));
         if (t >= 0) RTCRayN_tfar(args->ray, 1, 0) = -std::numeric_limits<float>::infinity();
     }
 
@@ -309,6 +262,7 @@ class EmbreeBackend : public Backend {
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
     const FlatScene *flat_ = nullptr;
+    std::vector<core::real3> normals_;  // per triangle: its unit normal in double (winding)
     std::vector<int> surfaces_;  // indices of the analytic surfaces (not sources) in flat_->shapes
     unsigned triangles_id_ = RTC_INVALID_GEOMETRY_ID, shapes_id_ = RTC_INVALID_GEOMETRY_ID;
     double centre_[3] = {0, 0, 0};

@@ -23,7 +23,7 @@ VkInstance CreateInstance(std::string *why) {
 
 std::vector<VkPhysicalDevice> ChooseDevices(
     VkInstance instance, const std::function<std::string(VkPhysicalDevice)> &lacks, bool allow_cpu,
-    const std::string &what, std::string *why) {
+    const std::string &want, const std::string &what, std::string *why) {
     uint32_t n = 0;
     vkEnumeratePhysicalDevices(instance, &n, nullptr);
     std::vector<VkPhysicalDevice> devices(n);
@@ -32,8 +32,6 @@ std::vector<VkPhysicalDevice> ChooseDevices(
         *why = "no Vulkan device";
         return {};
     }
-    const char *env = std::getenv("DAYFLUX_VULKAN_DEVICE");
-    const std::string want = env ? env : "";
     const bool named = !want.empty();
     std::vector<std::string> names;  // the list's items, or one empty item matching any device
     for (size_t at = 0;;) {
@@ -70,7 +68,7 @@ std::vector<VkPhysicalDevice> ChooseDevices(
             const bool cpu = p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
             if (cpu && !allow_cpu && !named) {
                 reject(p.deviceName,
-                       " is a CPU device (DAYFLUX_VULKAN_DEVICE or -device can name it)");
+                       " is a CPU device (-device can name it)");
                 continue;
             }
             const int s = p.deviceType == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU ? 3 : cpu ? 1 : 2;
@@ -91,7 +89,7 @@ std::vector<VkPhysicalDevice> ChooseDevices(
         chosen = kept;
     }
     if (chosen.empty()) {
-        *why = named ? "no Vulkan device " + what + " matches DAYFLUX_VULKAN_DEVICE=" + want
+        *why = named ? "no Vulkan device " + what + " matches '" + want + "'"
                      : "no Vulkan device " + what;
         if (!rejected.empty()) *why += " (" + rejected + ")";
     }

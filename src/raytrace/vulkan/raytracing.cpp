@@ -275,12 +275,43 @@ std::string LacksRayQueries(VkPhysicalDevice device) {
 
 }  // namespace
 
-std::vector<std::unique_ptr<GpuDevice>> GpuDevice::OpenAll(std::string *why, bool allow_cpu,
+std::vector<std::string> GpuDevice::Describe(std::string *why) {
+    VkInstance instance = CreateInstance(why);
+    if (!instance) return {};
+    uint32_t n = 0;
+    vkEnumeratePhysicalDevices(instance, &n, nullptr);
+    std::vector<VkPhysicalDevice> devices(n);
+    vkEnumeratePhysicalDevices(instance, &n, devices.data());
+    std::vector<std::string> lines;
+    for (uint32_t i = 0; i < n; ++i) {
+        VkPhysicalDeviceProperties p;
+        vkGetPhysicalDeviceProperties(devices[i], &p);
+        VkPhysicalDeviceFeatures f;
+        vkGetPhysicalDeviceFeatures(devices[i], &f);
+        const char *type = p.deviceType == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU ? "discrete GPU"
+                           : p.deviceType == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU
+                               ? "integrated GPU"
+                           : p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU ? "CPU"
+                                                                         : "other";
+        const std::string rq = LacksRayQueries(devices[i]);
+        lines.push_back(std::to_string(i) + ": " + p.deviceName + " (" + type + ", Vulkan " +
+                        std::to_string(VK_API_VERSION_MAJOR(p.apiVersion)) + "." +
+                        std::to_string(VK_API_VERSION_MINOR(p.apiVersion)) + "): ray queries " +
+                        (rq.empty() ? "yes" : "no (lacks" + rq + ")") + ", float64 " +
+                        (f.shaderFloat64 ? "yes" : "no"));
+    }
+    vkDestroyInstance(instance, nullptr);
+    if (lines.empty()) *why = "no Vulkan device";
+    return lines;
+}
+
+std::vector<std::unique_ptr<GpuDevice>> GpuDevice::OpenAll(std::string *why,
+                                                           const std::string &named,
                                                            Traversal traversal) {
     std::vector<std::unique_ptr<GpuDevice>> all;
     for (int k = 0;; ++k) {
         std::string why_k;
-        std::unique_ptr<GpuDevice> d = Open(&why_k, allow_cpu, traversal, k);
+        std::unique_ptr<GpuDevice> d = Open(&why_k, !named.empty(), traversal, k, named);
         if (!d) {
             if (all.empty()) *why = why_k;
             return all;
@@ -290,7 +321,7 @@ std::vector<std::unique_ptr<GpuDevice>> GpuDevice::OpenAll(std::string *why, boo
 }
 
 std::unique_ptr<GpuDevice> GpuDevice::Open(std::string *why, bool allow_cpu, Traversal traversal,
-                                           int ordinal) {
+                                           int ordinal, const std::string &named) {
     auto impl = std::make_unique<Impl>();
     impl->instance = CreateInstance(why);
     if (!impl->instance) return nullptr;
@@ -305,7 +336,7 @@ std::unique_ptr<GpuDevice> GpuDevice::Open(std::string *why, bool allow_cpu, Tra
         return lacks;
     };
     const std::vector<VkPhysicalDevice> choice = ChooseDevices(
-        impl->instance, lacks, allow_cpu,
+        impl->instance, lacks, allow_cpu, named,
         traversal == Traversal::kRayQuery ? "with ray queries" : "with double precision", why);
     if (ordinal >= static_cast<int>(choice.size())) {
         if (!choice.empty()) *why = "no more devices";
@@ -394,9 +425,40 @@ std::unique_ptr<GpuDevice> GpuDevice::FinishOpen(std::unique_ptr<Impl> impl) {
 
 bool GpuDevice::RayQueries() const { return impl_->ray_queries; }
 
-std::vector<uint32_t> GpuDevice::CompileGlsl(const std::string &source, const std::string &name) {
+namespace {
+
+// shaderc's includer over a function giving files' texts (#include "name").
+class Includer : public shaderc::CompileOptions::IncluderInterface {
+  public:
+    explicit Includer(std::function<std::string(const std::string &)> include)
+        : include_(std::move(include)) {}
+    shaderc_include_result *GetInclude(const char *requested, shaderc_include_type, const char *,
+                                       size_t) override {
+        auto *file = new File{requested, include_(requested), {}};
+        file->result = {file->name.c_str(), file->name.size(), file->text.c_str(),
+                        file->text.size(), file};
+        return &file->result;
+    }
+    void ReleaseInclude(shaderc_include_result *result) override {
+        delete static_cast<File *>(result->user_data);
+    }
+
+  private:
+    struct File {
+        std::string name, text;
+        shaderc_include_result result;
+    };
+    std::function<std::string(const std::string &)> include_;
+};
+
+}  // namespace
+
+std::vector<uint32_t> GpuDevice::CompileGlsl(
+    const std::string &source, const std::string &name,
+    const std::function<std::string(const std::string &)> &include) {
     shaderc::Compiler compiler;
     shaderc::CompileOptions options;
+    if (include) options.SetIncluder(std::make_unique<Includer>(include));
     options.SetOptimizationLevel(shaderc_optimization_level_performance);
     options.SetTargetEnvironment(shaderc_target_env_vulkan, shaderc_env_version_vulkan_1_2);
     // Ray queries need SPIR-V 1.4 (SPV_KHR_ray_query), which Vulkan 1.2 accepts.

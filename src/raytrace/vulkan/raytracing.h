@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,19 +18,23 @@ enum class Traversal { kAuto, kRayQuery, kBvh };
 
 class GpuDevice {
   public:
-    // The device choice of vulkan/devices.h (DAYFLUX_VULKAN_DEVICE by name substring or index,
-    // else a discrete GPU first, else any), among Vulkan 1.2 devices with shaderFloat64 (our
-    // generated GLSL uses doubles) and, for kRayQuery, VK_KHR_acceleration_structure,
-    // VK_KHR_ray_query and bufferDeviceAddress. CPU devices (lavapipe) count only with allow_cpu
-    // or when DAYFLUX_VULKAN_DEVICE names them: they are slower than our Embree backend. Returns
-    // nullptr and sets *why when none qualifies.
+    // The device choice of vulkan/devices.h (`named`, by name substring or index, else a
+    // discrete GPU first, else any), among Vulkan 1.2 devices with shaderFloat64 (our generated
+    // GLSL uses doubles) and, for kRayQuery, VK_KHR_acceleration_structure, VK_KHR_ray_query and
+    // bufferDeviceAddress. CPU devices (lavapipe) count only with allow_cpu or when named: they
+    // are slower than our Embree backend. Returns nullptr and sets *why when none qualifies.
     static std::unique_ptr<GpuDevice> Open(std::string *why, bool allow_cpu = true,
                                            Traversal traversal = Traversal::kRayQuery,
-                                           int ordinal = 0);
+                                           int ordinal = 0, const std::string &named = "");
     // Every device the choice gives (vulkan/devices.h: the ones named, else all of the best
-    // kind), each opened on its own; none, with *why, when none qualifies.
-    static std::vector<std::unique_ptr<GpuDevice>> OpenAll(std::string *why, bool allow_cpu,
+    // kind), each opened on its own; none, with *why, when none qualifies. CPU devices only when
+    // named.
+    static std::vector<std::unique_ptr<GpuDevice>> OpenAll(std::string *why,
+                                                           const std::string &named,
                                                            Traversal traversal);
+    // One line per Vulkan device: its index, name, type, and whether it has ray queries and
+    // double precision; none, with *why, when there is no driver or device.
+    static std::vector<std::string> Describe(std::string *why);
     // Whether shaders use ray queries here (else they walk a BVH: Run binds no acceleration
     // structure, and the buffers start at binding 0).
     bool RayQueries() const;
@@ -43,7 +48,10 @@ class GpuDevice {
 
     // Compiles a GLSL compute shader (source includes its #version line and
     // #extension GL_EXT_ray_query : require) to SPIR-V 1.4 for Vulkan 1.2; errors name `name`.
-    static std::vector<uint32_t> CompileGlsl(const std::string &source, const std::string &name);
+    // include(name) gives the text of a file the source #includes ("name").
+    static std::vector<uint32_t> CompileGlsl(
+        const std::string &source, const std::string &name,
+        const std::function<std::string(const std::string &)> &include = {});
 
     // Builds (or rebuilds) one bottom-level structure with all triangles (positions: xyz floats
     // per vertex; indices: 3 per triangle) flagged OPAQUE and not culled, and a top-level

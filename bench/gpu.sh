@@ -1,0 +1,117 @@
+#!/usr/bin/env bash
+# GPU readiness in one command, for the rare session lent a GPU (and here, on lavapipe, so that
+# it is known to work before): on one device,
+#   1. the Vulkan devices the build sees (ray queries or not);
+#   2. the test suite's Vulkan tests on that device;
+#   3. the reference office (examples/reference-office's model; small: 1425 sensors, large:
+#      14250) V, DC and C_ds on the GPU by both traversals, beside Embree on the same machine:
+#      wall seconds, and each GPU matrix's difference from Embree's at the same seed (the two run
+#      one estimator with one random stream, so this is float rounding, not noise).
+# Writes OUT/gpu.csv (model,case,program,sensors,wall_s,rel_rms_vs_embree), OUT/summary.txt and
+# the logs. Under 10 minutes on an H100 machine (16 cores for Embree).
+#
+# usage: bench/gpu.sh    (from the repository root)
+# environment: BUILD (build: a build tree, or bench/gpu_bundle.sh's copy), DEVICE (0; llvmpipe
+#   here), OUT (bench/results/gpu), MODELS ("small large"), QUICK (1: every 30th sensor and low
+#   settings, for lavapipe), TESTS (0 skips step 2)
+# On the device machine (device/README.md): bench/gpu_bundle.sh here, then, there, with .gpu and
+# .gl carried: for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig; BUILD=.gpu bench/gpu.sh
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+BUILD=$(realpath "${BUILD:-$root/build}")
+DEVICE=${DEVICE:-0}
+OUT=$(realpath -m "${OUT:-$root/bench/results/gpu}")
+MODELS=${MODELS:-"small large"}
+QUICK=${QUICK:-0}
+TESTS=${TESTS:-1}
+RCONTRIB=$BUILD/bin/rcontrib-gpu
+[ -d "$BUILD/runtime" ] && export LD_LIBRARY_PATH="$BUILD/runtime${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+mkdir -p "$OUT"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+start=$(date +%s)
+summary=$OUT/summary.txt
+csv=$OUT/gpu.csv
+echo "model,case,program,sensors,wall_s,rel_rms_vs_embree" > "$csv"
+{
+    echo "bench/gpu.sh $(date -u +%Y-%m-%dT%H:%MZ) on $(hostname), $(nproc) cores, device $DEVICE"
+    echo "commit $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
+} > "$summary"
+
+# 1. devices
+echo "== Vulkan devices" | tee -a "$summary"
+"$RCONTRIB" -devices | tee -a "$summary"
+
+# 2. the test suite's Vulkan tests on the device
+if [ "$TESTS" != 0 ]; then
+    echo "== Vulkan tests on device $DEVICE" | tee -a "$summary"
+    t0=$(date +%s)
+    set +e
+    DAYFLUX_VULKAN_DEVICE=$DEVICE GALLIVM_PERF=${GALLIVM_PERF-nopt} \
+        DAYFLUX_TEST_DATA_DIR=$root/test/data DAYFLUX_TEST_BIN_DIR=$BUILD/bin \
+        "$BUILD/test/dayflux_tests" --gtest_filter='*Vulkan*' > "$OUT/tests.log" 2>&1
+    status=$?
+    set -e
+    grep -E "^\[  (PASSED|FAILED|SKIPPED) " "$OUT/tests.log" | tee -a "$summary" || true
+    echo "exit status $status, $(($(date +%s) - t0)) s" | tee -a "$summary"
+fi
+
+# 3. the reference office
+if [ "$QUICK" = 1 ]; then
+    stride=30 v_ad=1024 dc_ad=512
+else
+    stride=1 v_ad=10000 dc_ad=4096
+fi
+V_ARGS="-I+ -ab 8 -ad $v_ad -lw 2e-5 -faf -f klems_full.cal -b kbin(0,1,0,0,0,1) -bn Nkbins -m glass_mat"
+DC_ARGS="-I+ -ab 6 -ad $dc_ad -lw 5e-5 -faf -e MF:1 -f reinhart.cal -b rbin -bn Nrbins -m skyglow"
+CDS_ARGS="-I+ -ab 0 -dc 1 -dt 0 -dj 0 -faf -e MF:6 -f reinhart.cal -b rbin -bn Nrbins -m solar"
+export RAYPATH=.:$root/lib
+programs=("embree|-backend embree" "vulkan-rayquery|-device $DEVICE -gpu_traversal rayquery"
+          "vulkan-bvh|-device $DEVICE -gpu_traversal bvh")
+echo "== reference office (wall s; relative RMS difference from Embree at the same seed)" |
+    tee -a "$summary"
+printf "%-6s %-4s %-16s %8s %10s %12s\n" model case program sensors wall_s vs_embree |
+    tee -a "$summary"
+for model in $MODELS; do
+    offices=1
+    [ "$model" = large ] && offices=10
+    dir=$tmp/$model
+    mkdir -p "$dir"
+    python3 "$root/examples/reference-office/make_office.py" --offices "$offices" \
+        --out "$dir/model" > /dev/null
+    awk -v s="$stride" '(NR - 1) % s == 0' "$dir/model/sensors.pts" > "$dir/sensors.pts"
+    sensors=$(wc -l < "$dir/sensors.pts")
+    # V: the window's glass a glow receiver; DC: the example's sky (and ground) glow.
+    sed 's/^void glass glass_mat .*$/void glow glass_mat 0 0 4 1 1 1 0/' \
+        "$dir/model/materials.rad" > "$dir/vmaterials.rad"
+    for case in V DC Cds; do
+        case $case in
+            V) args="$V_ARGS vmaterials.rad model/office.rad" ;;
+            DC) args="$DC_ARGS model/materials.rad model/office.rad model/sky.rad" ;;
+            Cds) args="$CDS_ARGS model/materials.rad model/office.rad model/suns.rad" ;;
+        esac
+        for p in "${programs[@]}"; do
+            name=${p%%|*}
+            out=$dir/$case-$name.fmx
+            if [[ $name == vulkan* ]]; then  # compile the shader first: not what is measured
+                (cd "$dir" && head -2 sensors.pts | "$RCONTRIB" ${p#*|} -seed 1 $args \
+                    > /dev/null 2> "$dir/err")
+                if grep -q "using Embree" "$dir/err"; then
+                    printf "%-6s %-4s %-16s %8s %10s %12s\n" "$model" "$case" "$name" "$sensors" \
+                        "n/a" "$(grep -o 'cannot take this run ([^;]*' "$dir/err" | head -1)" |
+                        tee -a "$summary"
+                    echo "$model,$case,$name,$sensors,," >> "$csv"
+                    continue
+                fi
+            fi
+            (cd "$dir" && /usr/bin/time -f "%e" -o "$dir/time" "$RCONTRIB" ${p#*|} -seed 1 $args \
+                < sensors.pts > "$out" 2> "$dir/err") || { cat "$dir/err"; exit 1; }
+            diff=$([ "$name" = embree ] && echo 0 ||
+                   python3 "$root/bench/rcontrib_error.py" "$out" "$dir/$case-embree.fmx")
+            printf "%-6s %-4s %-16s %8s %10s %12s\n" "$model" "$case" "$name" "$sensors" \
+                "$(cat "$dir/time")" "$diff" | tee -a "$summary"
+            echo "$model,$case,$name,$sensors,$(cat "$dir/time"),$diff" >> "$csv"
+        done
+    done
+done
+echo "total $(($(date +%s) - start)) s" | tee -a "$summary"

@@ -1,0 +1,155 @@
+// Ambient hemispheres (a fragment: see language.h): n x n cosine-weighted, stratified samples of
+// the hemisphere about a normal, each carrying colour / n^2, with
+// n = sqrt(ad * min(weight, 0.8 rho weight / (ad lw))) as RADIANCE's samp_hemi() computes it with
+// -aa 0, and -asub's sub-sampled first hemispheres (ours).
+//
+// RADIANCE's ambcollision(): a direction within a quarter division of an earlier neighbour's is
+// drawn again in its cell. This moves samples away from their neighbours (so its estimate differs
+// from plain stratified sampling in the percent range for light arriving at grazing angles); we
+// match it. The neighbours already drawn are (i, j + 1) and the row before, so each hemisphere
+// keeps two rows of directions: row i in slot i & 1. One hemisphere per ambient depth is active at
+// a time (the stack finishes a hemisphere's cells before a sibling's), so the rows are kept per
+// depth: up to MAXN cells a side at depth 0, DEEP_N below it, for the first DEEP_LEVELS depths
+// (beyond those, no collision rule: the GPU's defaults are small, since deeper hemispheres rarely
+// have more than 2 cells a side).
+// The first hemisphere's cells have random numbers keyed by the cell, so a task tracing some of
+// its rows replays the directions of the rows before them without tracing them.
+
+uint pushed0;       // first-level hemispheres pushed for this input ray (random-number keys)
+uint hemispheres0;  // first-level hemispheres started, likewise
+real3 rows0[2 * MAXN];
+real3 rowsd[DEEP_LEVELS * 2 * DEEP_N];
+
+void PushHemisphere(Ray r, real3 colour, real3 point, real3 normal) {
+    if (r.adepth >= AB || AD <= 0) return;
+    if (Bright(colour) <= kTiny) return;
+#ifdef DAYFLUX_ASUB
+    if (!ScaleForDiffuse(r)) return;
+#endif
+    real wt = r.weight;
+    real d = 0.8 * Max3(colour) * r.weight / real(AD * LW);
+    if (wt > d) wt = d;
+    int n = int(sqrt(real(AD) * wt) + 0.5);
+    if (n < 1) n = 1;
+    // The grid's turn: at the first level from numbers keyed by the hemisphere, so that every
+    // slice of a sensor's hemisphere turns it the same way.
+    uint saved = rng;
+    if (r.adepth == 0) rng = Key(cell_key, ++pushed0, 0x2545f491u, 7u);
+    real t0 = Rand(), t1 = Rand(), t2 = Rand(), t3 = Rand();
+    if (r.adepth == 0) rng = saved;
+    int at = PushSlot();
+    stack[at].r = r;
+    stack[at].kind = kItemAmbient;
+    stack[at].point = point;
+    stack[at].normal = normal;
+    stack[at].colour = colour / real(n * n);
+    stack[at].n = n;
+    stack[at].next = 0;
+    stack[at].end = n * n;
+#ifdef DAYFLUX_ASUB
+    if (r.adepth == 0) stack[at].end *= ASUB * ASUB;  // steps: the cells' sub-samples
+#endif
+    stack[at].incident = RandomTangent(normal, t0, t1, t2, t3);
+}
+
+bool CollisionRule(int depth, int n) {
+    return n > 1 && (depth == 0 ? n <= MAXN : depth <= DEEP_LEVELS && n <= DEEP_N);
+}
+real3 RowDir(int depth, int slot, int j) {
+    return depth == 0 ? rows0[slot * MAXN + j] : rowsd[((depth - 1) * 2 + slot) * DEEP_N + j];
+}
+void SetRowDir(int depth, int slot, int j, real3 d) {
+    if (depth == 0)
+        rows0[slot * MAXN + j] = d;
+    else
+        rowsd[((depth - 1) * 2 + slot) * DEEP_N + j] = d;
+}
+
+// Cell (i, j) of hemisphere item it divided n x n: its ray's coefficient and a direction in the
+// cell, drawn again (up to 1000 times) while it collides with a neighbour's when check is set.
+bool CellDirection(IN(Item) it, int n, int i, int j, real cos_thresh, bool check, OUT(Ray) child,
+                   OUT(real3) dir) {
+    if (!Spawn(it.r, kAmbient, it.colour, child)) return false;
+    child.adepth = it.r.adepth + 1;
+    real3 ux = it.incident, uy = cross(it.normal, ux);
+    int d = it.r.adepth, cur = i & 1, prev = (i + 1) & 1;
+    real u = Rand(), v = Rand();
+    for (int tries = 0;; ++tries) {
+        real2 xy = SquareToDisk((real(j) + v) / real(n), (real(i) + u) / real(n));
+        real z = sqrt(max(0.0, 1. - dot(xy, xy)));
+        dir = normalize(xy.x * ux + xy.y * uy + z * it.normal);
+        if (!check || tries == 1000) break;
+        bool hit = (j + 1 < n && dot(RowDir(d, cur, j + 1), dir) >= cos_thresh) ||
+                   (i + 1 < n && ((j > 0 && dot(RowDir(d, prev, j - 1), dir) >= cos_thresh) ||
+                                  dot(RowDir(d, prev, j), dir) >= cos_thresh ||
+                                  (j + 1 < n && dot(RowDir(d, prev, j + 1), dir) >= cos_thresh)));
+        if (!hit) break;
+        u = Rand();
+        v = Rand();
+    }
+    return true;
+}
+
+#ifdef DAYFLUX_ASUB
+// -asub: step k of a first-level hemisphere is sub-sample k % ASUB^2 of cell k / ASUB^2, in the
+// cell's ASUB x ASUB sub-cells; all follow their specular paths (what reaches a window, or the
+// sky through glass, directly), and one chosen at random per cell carries the cell's diffuse
+// paths with ASUB^2 times its coefficient. Unbiased; no ambcollision() (the sub-samples
+// stratify the cell instead). Returns true if it pushed the ray.
+bool SubsampleStep(IN(Item) it, int k) {
+    int per = ASUB * ASUB;
+    int cell = k / per, s = k % per;
+    int i = it.n - 1 - cell / it.n, j = it.n - 1 - cell % it.n;
+    if (k == 0) ++hemispheres0;
+    rng = Key(cell_key, uint(cell), 0x85ebca6bu, hemispheres0);  // the same for the cell's steps
+    int chosen = min(per - 1, int(Rand() * real(per)));
+    rng = Key(cell_key, uint(k), 0x9e3779b9u, hemispheres0);
+    int at = PushSlot();  // the sub-sample's ray, spawned in its slot
+    real3 dir;
+    if (!CellDirection(it, it.n * ASUB, i * ASUB + s / ASUB, j * ASUB + s % ASUB, 0.0, false,
+                       stack[at].r, dir)) {
+        Unpush(at);
+        return false;
+    }
+    stack[at].r.coef /= real(per);
+    stack[at].r.dscale = s == chosen ? real(per) : 0.0;
+    stack[at].r.org = it.point;
+    stack[at].r.dir = dir;
+    stack[at].kind = kItemTrace;
+    return true;
+}
+#endif
+
+// The next step of hemisphere item it; returns true if it pushed the cell's ray.
+bool AmbientStep(INOUT(Item) it) {
+    // Cells in RADIANCE's order: k = 0 is (n - 1, n - 1), then j, then i, downward.
+    int k = it.next++;
+#ifdef DAYFLUX_ASUB
+    if (it.r.adepth == 0 && ASUB > 1) return SubsampleStep(it, k);
+#endif
+    int i = it.n - 1 - k / it.n, j = it.n - 1 - k % it.n;
+    int d = it.r.adepth;
+    bool rule = CollisionRule(d, it.n);
+    real spacing = (kPi / 4.) / real(it.n);
+    real cos_thresh = 1. - .5 * spacing * spacing;
+    if (rule && j == it.n - 1)  // a new row: its slot is emptied
+        for (int x = 0; x < it.n; ++x) SetRowDir(d, i & 1, x, real3(0));
+    if (d == 0) {
+        // The cell's own random numbers (and those of the path it starts), so that any task
+        // can replay it.
+        if (k == 0) ++hemispheres0;
+        rng = Key(cell_key, uint(k), 0x9e3779b9u, hemispheres0);
+    }
+    int at = PushSlot();  // the cell's ray, spawned in its slot
+    real3 dir;
+    bool ok = CellDirection(it, it.n, i, j, cos_thresh, rule, stack[at].r, dir);
+    if (rule) SetRowDir(d, i & 1, j, ok ? dir : real3(0));
+    if (!ok) {
+        Unpush(at);
+        return false;
+    }
+    stack[at].r.org = it.point;
+    stack[at].r.dir = dir;
+    stack[at].kind = kItemTrace;
+    return true;
+}

@@ -1,0 +1,470 @@
+// What each material does with a ray that reached it (a fragment: see language.h): RADIANCE's
+// m_light(), m_clip(), m_normal() (plastic, metal, trans, pure or Gaussian specular), m_glass(),
+// m_dielectric(), m_mirror() (with its substitute and the relay of shadow rays toward sources'
+// images), raymixture() (mixfunc), m_bsdf() (Klems data), and rcontrib's -i.
+
+bool hit_front;  // whether the ray being shaded met its surface's front
+
+// gaussamp() for reflection: SPECULAR rays about the mirror direction, their half vectors drawn
+// from the Gaussian of roughness^2 alpha2; one ray (up to 10 tries to leave above the surface)
+// or, with -ss above 1.5, -ss x weight rays sharing the coefficient. (RADIANCE reweights those
+// samples' values afterwards; rcontrib's contributions, taken as the rays arrive, keep the plain
+// share, and so do ours.)
+void PushGaussianReflection(IN(Ray) r, real3 scolor, real alpha2, real3 point, real3 normal) {
+    Ray c;
+    if (!Spawn(r, kSpecular, scolor, c)) return;
+    int target = 1;
+    if (SS > 1.5) {
+        target = int(SS * r.weight + .5);
+        if (c.weight <= LW * real(target)) target = int(c.weight / LW);
+        if (target > 1) {
+            c.coef /= real(target);
+            c.weight /= real(target);
+        } else {
+            target = 1;
+        }
+    }
+    real3 u, v;
+    Tangents(normal, u, v);
+    int taken = 0;
+    DONT_UNROLL for (int trial = 0; taken < target && trial < 10 * target; ++trial) {
+        real phi = 2. * kPi * Rand();
+        real rv1 = Rand();
+        if (SS >= 0. && SS < 1.) rv1 = 1. - SS * rv1;
+        real d = rv1 <= kTiny ? 1. : sqrt(alpha2 * -log(rv1));
+        real3 h = normal + d * (cos(phi) * u + sin(phi) * v);
+        real3 dir = r.dir + (-2. * dot(h, r.dir) / (1. + d * d)) * h;
+        if (dot(dir, normal) <= kTiny) continue;
+        c.org = point;
+        c.dir = normalize(dir);
+        PushTrace(c);
+        ++taken;
+    }
+}
+
+#ifdef DAYFLUX_DIELECTRIC
+// m_dielectric(): Fresnel reflection and refraction at an interface of index n (+ the Hartmann
+// constant / 500 nm); the refracted ray carries the solid angle ratio. Inside, the colour is a
+// transmission per unit length, an extinction that RADIANCE's raycontrib() leaves out of
+// contributions (with a warning, the packer's): only rayorigin()'s weights see it.
+// cos1 = rod > 0, normal faces the ray.
+void ShadeDielectric(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real cos1, real t) {
+    PackedSurface unit = m;  // the pattern alone
+    unit.color = vec4(1, 1, 1, m.color.w);
+    real3 pcol = Colour(unit, r, point, normal, t), ext;
+    for (int k = 0; k < 3; ++k) {  // RADIANCE's mylog()
+        real x = real(m.color[k]) * pcol[k];
+        ext[k] = x < 1e-38 ? 100.0 : x >= 1.0 ? 0.0 : -log(x);
+    }
+    real nratio = m.color.w;
+    Ray inc = r;  // the incident ray: inside, it travelled in the medium
+    inc.t = t;
+    real3 ctrans = real3(0);
+    if (!hit_front) {
+        inc.cext = ext;
+    } else {
+        nratio = 1.0 / nratio;
+        ctrans = ext;
+    }
+    real refl = 1.0;
+    real d2 = 1.0 - nratio * nratio * (1.0 - cos1 * cos1);
+    if (d2 >= kTiny) {  // else total reflection
+        real cos2 = sqrt(d2);
+        real a = (cos1 - nratio * cos2) / (cos1 + nratio * cos2);
+        real b = (1.0 / cos1 - nratio / cos2) / (1.0 / cos1 + nratio / cos2);
+        refl = .5 * (a * a + b * b);
+        Ray c;
+        if (Spawn(inc, kRefracted, real3((1.0 - refl) * nratio * nratio), c)) {
+            c.org = point;
+            c.dir = normalize(nratio * r.dir + (nratio * cos1 - cos2) * normal);
+            c.cext = ctrans;
+            PushTrace(c);
+        }
+    }
+    if ((r.crtype & kShadow) != 0) return;
+    PushChild(inc, kReflected, real3(refl), point, normalize(r.dir + 2.0 * cos1 * normal));
+}
+#endif
+
+#ifdef DAYFLUX_BSDF
+// m_bsdf() for MAT_BSDF with Klems data: the non-diffuse parts of reflection and transmission
+// sampled from the matrices (or, below -st, folded into the diffuse part), the diffuse parts as
+// ambient hemispheres on either side, and the sources through the BSDF itself. A thickness
+// makes the surface a proxy: rays other than scattered ones pass, and transmitted rays leave
+// from that far behind it. normal faces the ray.
+void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t) {
+    int b = m.fore;
+    bool front = hit_front;
+    real3 front_normal = front ? normal : -normal;  // the BSDF's frame: the surface's own side
+    real thick = BsdfThickness(b, r, point, front_normal, t);
+    if (abs(thick) <= kTiny) thick = 0.;
+    if (thick != 0. && ((r.crtype & kShadow) != 0 || (r.crtype & (kSpecular | kAmbient)) == 0 ||
+                        (thick > 0.) != front)) {
+        PushChild(r, kTrans, real3(1), point, r.dir);  // hide the proxy
+        return;
+    }
+    if ((r.crtype & kShadow) != 0) return;
+    real3 pcol = Colour(m, r, point, front_normal, t);  // colour 1: the pattern alone
+    int e = front ? kKlemsFrontReflection : kKlemsBackReflection;
+    real3 rdiff = (KlemsLambertian(b, false, front) +
+                   real3(klems[b + e], klems[b + e + 1], klems[b + e + 2])) *
+                  pcol;
+    real3 tdiff = (KlemsLambertian(b, true, front) + real3(klems[b + kKlemsTransmission],
+                                                           klems[b + kKlemsTransmission + 1],
+                                                           klems[b + kKlemsTransmission + 2])) *
+                  pcol;
+    real3 up = BsdfUp(b, r, point, front_normal, t);
+    if (!KlemsFrame(up, front_normal, r.dir)) {
+        reports |= kReportBsdfFrame;
+        return;
+    }
+    ksr = sqrt(SizeMinMax(b, kview));
+    real3 behind = point - thick * front_normal;
+    // sample_sdf() for reflection, then transmission: a specular ray from the part serving the
+    // ray's side, or (below -st) the total left to the ambient hemisphere on that side.
+    DONT_UNROLL for (int xmit = 0; xmit < 2; ++xmit) {
+        real3 unsampled = real3(0);
+        int q = xmit == 1 ? PartT(b, kview.z > 0.) : PartR(b, kview.z > 0.);
+        if (q >= 0) {
+            real hemi = 0.;
+            if (klems[q + kPartMaxHemi] > kTiny) {
+                real u = Rand(), v = Rand();
+                hemi = max(0., SpecularHemi(b, KJitter(ksr.y, u, v), xmit == 1));
+            }
+            if (hemi <= ST + kTiny) {  // (no pattern on reflection)
+                if (hemi > kTiny) unsampled = hemi * (xmit == 1 ? pcol : real3(1));
+            } else {
+                // -ss above 1.5: -ss x weight samples, stratified in xrand, sharing the value
+                int target = SS > 1.5 ? max(1, int(SS * r.weight + .5)) : 1;
+                DONT_UNROLL for (int n = 0; n < target; ++n) {
+                    real xrand = Rand();
+                    if (target == 1) {
+                        if (SS < 1.) xrand = .5 + SS * (xrand - .5);
+                    } else {
+                        xrand = (real(n) + xrand) / real(target);
+                    }
+                    real u = Rand(), v = Rand();
+                    real3 vsmp = KJitter(ksr.x, u, v), outv;
+                    real pu = Rand(), pv = Rand();
+                    real value = KlemsSample(q, vsmp, xrand, pu, pv, outv);
+                    if (value <= kTiny) break;
+                    if (target > 1) value /= real(target);
+                    Ray c;
+                    if (!Spawn(r, kSpecular, value * (xmit == 1 ? pcol : real3(1)), c)) {
+                        if (n == 0 && target > 1) {  // RADIANCE lowers its target, starts again
+                            int before = target;
+                            target = int(real(target) * c.weight / LW);
+                            if (target == before) break;
+                            n = -1;
+                        }
+                        continue;
+                    }
+                    c.org = xmit == 1 ? behind : point;
+                    c.dir = ToWorld(outv);
+                    PushTrace(c);
+                }
+            }
+        }
+        // The diffuse part and what was not sampled, as an ambient hemisphere on that side
+        // (m_bsdf() moves a proxy's origin along the normal as flipped for a front hit only).
+        real3 origin = xmit == 0 ? point : point + thick * (front ? -front_normal : front_normal);
+        PushHemisphere(r, (xmit == 0 ? rdiff : tdiff) + unsampled, origin,
+                       xmit == 0 ? normal : -normal);
+    }
+    if (NDIRECT == 0) return;
+    // direct(): dir_bsdf(), or dir_brdf() and dir_btdf() apart for a proxy.
+    Item it;
+    it.r = r;
+    it.kind = kItemDirectBsdf;
+    it.normal = normal;
+    it.colour = rdiff;
+    it.spec = tdiff;
+    it.incident = pcol;
+    it.rdiff = up.x;
+    it.tdiff = up.y;
+    it.trans = up.z;
+    it.n = b;
+    it.next = 0;
+    it.end = NSOURCES;
+    it.part = 0;
+    it.turn = Pcg(rng ^ 0x68e31da4u);
+    bool reflect_only = Bright(tdiff) <= kTiny && !HasTransmission(b);
+    it.point = point;
+    it.fresnel = (front ? 1 : 0) | 2 | (reflect_only || thick != 0. ? 0 : 4);
+    PushItem(it);
+    if (thick != 0. && !reflect_only) {
+        it.point = behind;
+        it.fresnel = (front ? 1 : 0) | 4;
+        PushItem(it);
+    }
+}
+#endif
+
+// m_mirror() toward a source's image: a shadow ray aimed at the image that meets its mirror
+// goes on toward the source imaged, whatever the limits (rayorigin()'s verdict is ignored).
+void RelayShadowRay(IN(Ray) r, real3 colour, real3 point, real3 reflected) {
+    Ray c = r;
+    c.depth = r.depth + 1;
+    c.rlvl = r.rlvl + 1;
+    c.crtype = r.crtype | kReflected;
+    c.aimed = sources[r.aimed].next;
+    c.coef = r.coef * colour;
+    c.org = point;
+    c.dir = reflected;
+    c.next_clip = c.clip;
+#ifdef DAYFLUX_DIELECTRIC
+    c.t = 0.;
+#endif
+#ifdef DAYFLUX_INSIDE
+    c.counter = -1;
+#endif
+    PushTrace(c);
+}
+
+// plastic, metal, trans, glass, mirror, dielectric, BSDF: one material's own scattering.
+void ShadeBasic(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real rod, real t) {
+    if (m.kind == kMatBlack || m.kind == kMatGlow || m.kind == kMatLight || m.kind == kMatIllum ||
+        m.kind == kMatAntimatter)  // (a mixfunc's side: not RADIANCE's use of it)
+        return;
+#ifdef DAYFLUX_BSDF
+    if (m.kind == kMatBsdf) {
+        ShadeBsdf(r, m, point, normal, t);
+        return;
+    }
+#endif
+#ifdef DAYFLUX_DIELECTRIC
+    if (m.kind == kMatDielectric) {
+        ShadeDielectric(r, m, point, normal, rod, t);
+        return;
+    }
+#endif
+    real3 c = Colour(m, r, point, normal, t);
+    if (m.kind == kMatMirror) {  // its back is black
+        if (!hit_front) return;
+        real3 reflected = normalize(r.dir + 2. * rod * normal);
+#ifdef DAYFLUX_MIRROR_IMAGES
+        // Shade() set r.from to the object met.
+        if (r.aimed >= 0 && sources[r.aimed].relay >= 0 && sources[r.aimed].object == r.from) {
+            RelayShadowRay(r, c, point, reflected);
+            return;
+        }
+#endif
+        if ((r.crtype & kShadow) != 0) return;  // shadow rays aimed at other sources stop here
+        PushChild(r, kReflected, c, point, reflected);
+        return;
+    }
+    if (m.kind == kMatGlass) {
+        real3 mc = max(c, real3(1e-15));
+        bool hastrans = Max3(c) > 1e-15;
+        real n = m.color.w, pdot = rod;
+        real cos2 = sqrt((1.0 - 1.0 / (n * n)) + pdot * pdot / (n * n));
+        if (hastrans) mc = pow(mc, real3(1.0 / cos2));
+        real r1e = (pdot - n * cos2) / (pdot + n * cos2);
+        r1e *= r1e;
+        real r1m = (1.0 / pdot - n / cos2) / (1.0 / pdot + n / cos2);
+        r1m *= r1m;
+        if (hastrans) {
+            real3 tr = .5 * (1.0 - r1e) * (1.0 - r1e) * mc / (1.0 - r1e * r1e * mc * mc) +
+                       .5 * (1.0 - r1m) * (1.0 - r1m) * mc / (1.0 - r1m * r1m * mc * mc);
+            PushChild(r, kTrans, tr, point, r.dir);
+        }
+        if ((r.crtype & kShadow) != 0) return;  // shadow rays only pass through
+        real3 dd = mc * mc;
+        real3 refl = .5 * r1e * (1.0 + (1.0 - 2.0 * r1e) * dd) / (1.0 - r1e * r1e * dd) +
+                     .5 * r1m * (1.0 + (1.0 - 2.0 * r1m) * dd) / (1.0 - r1m * r1m * dd);
+        PushChild(r, kReflected, refl, point, normalize(r.dir + 2. * pdot * normal));
+        return;
+    }
+    // plastic, metal, trans (m_normal()): pure specular reflection with RADIANCE's Fresnel
+    // estimate raising the specularity at grazing angles, or rough (Gaussian) reflection sampled
+    // or, below -st, folded into the diffuse part; pure specular and diffuse transmission.
+    real spec = m.params.x;
+    bool metal = (int(m.params.w) & kSurfaceMetal) != 0;
+    bool pure = m.alpha2 <= kTiny;
+    real rspec = spec, fest = 0.;
+    real pdot = max(rod, .001);
+    if (pure && rspec >= kFresnelThreshold) {
+        fest = FresnelEstimate(pdot);
+        rspec += fest * (1. - rspec);
+    }
+    real trans = real(m.params.y) * (1. - rspec), tspec = trans * real(m.params.z);
+    real tdiff = trans - tspec;
+    if (tspec > kTiny) PushChild(r, kTrans, c * tspec, point, r.dir);  // shadow rays too
+    if ((r.crtype & kShadow) != 0) return;  // the rest blocks shadow rays
+    real3 sc = real3(0);
+    bool rough_below_threshold = false;
+    if (rspec > kTiny) {
+        sc = real3(rspec);
+        if (metal) sc = fest > kTiny ? fest + c * spec * (1. - fest) : c * rspec;
+        if (pure)
+            PushChild(r, kReflected, sc, point, normalize(r.dir + 2. * pdot * normal));
+        else if (ST >= rspec - kTiny)
+            rough_below_threshold = true;
+        else
+            PushGaussianReflection(r, sc, m.alpha2, point, normal);
+    }
+    real rdiff = 1.0 - trans - rspec;
+    if (pure && rdiff <= kTiny && tdiff <= kTiny) return;
+    PushDirect(r, c, rdiff, tdiff, trans, pure && spec >= kFresnelThreshold, point, normal, sc,
+               pure || rspec <= kTiny ? 0.0 : real(m.alpha2));
+    if (tdiff > kTiny) PushHemisphere(r, c * tdiff, point, -normal);  // the hemisphere behind
+    if (rdiff > kTiny)
+        PushHemisphere(r, c * rdiff + (rough_below_threshold ? sc : real3(0)), point, normal);
+}
+
+// m_clip(): entering antimatter adds its modifiers to the clip set of the rays passed on,
+// leaving removes them. Where it names a material for its inside and the ray went into what is
+// cut, the ray meets the cut's side: returns that material's surface, to be shaded as seen
+// from the other side of this one (flipsurface()); else passes the ray on and returns -1.
+int PassAntimatter(INOUT(Ray) r, IN(PackedSurface) m, real3 point) {
+    uint bits = uint(m.fore);
+    r.next_clip = hit_front ? r.clip | bits : r.clip & ~bits;
+#ifdef DAYFLUX_INSIDE
+    if (m.back >= 0) {
+        int inside = 0;
+        for (int c = 0; c < 16; ++c)
+            if (((m.pattern >> c) & 1) != 0) inside += InsideCount(r.inside, c);
+        if (inside > 0) {
+            hit_front = !hit_front;
+            return m.back;
+        }
+    }
+#endif
+    PushChild(r, kTrans, real3(1), point, r.dir);
+    return -1;
+}
+
+// What a material does with a ray (after Shade's rules for lights, antimatter and -i). A mirror
+// with a substitute material: m_mirror() gives it the rays other than those the direct
+// calculation sends through the mirror toward an image, and ambient and specular rays meeting
+// its front (the light those would find comes through the images). A mixfunc, raymixture():
+// each side shades its share of the ray (a void side lets its share through). GLSL has no
+// recursion, so the sides of mixfuncs of mixfuncs wait on a small stack (MIX_STACK: the host
+// refuses trees deeper than it holds). One call of ShadeBasic, so that the GPU's compiler
+// inlines it once.
+void ShadeMaterial(INOUT(Ray) r, int object, INOUT(PackedSurface) m, real3 point, real3 normal,
+                   real rod, real t) {
+    bool substituted =
+        !(r.aimed >= 0 && sources[r.aimed].relay >= 0 && sources[r.aimed].object == object) &&
+        !((r.crtype & (kAmbient | kSpecular)) != 0 && hit_front);
+    int waiting[MIX_STACK];
+    real waiting_share[MIX_STACK];
+    int nwaiting = 0;
+    real share = 1.;
+    // Each side shades the ray's share: r scaled, then restored for the next.
+    real weight = r.weight;
+    real3 coef = r.coef;
+    uint next_clip = r.next_clip;
+    for (;;) {
+        r.weight = weight * share;
+        r.coef = coef * share;
+        r.next_clip = next_clip;
+        if (m.kind == kMatMirror && (int(m.params.w) & kSurfaceMirrorAlternate) != 0 &&
+            substituted) {
+            if (m.fore < 0) {
+                PushChild(r, kTrans, real3(1), point, r.dir);
+            } else {
+                m = surfaces[m.fore];
+                if (m.kind != kMatAntimatter) continue;  // shaded as the mirror would have been
+                int inside = PassAntimatter(r, m, point);
+                if (inside >= 0) {
+                    next_clip = r.next_clip;
+                    m = surfaces[inside];
+                    continue;
+                }
+            }
+        } else if (m.kind == kMatMix) {
+            SetRayVariables(r, point, normal, t);
+            real c = clamp(real(PatternRGB(m.pattern).x), 0.0, 1.0);
+            for (int side = 1; side >= 0; --side) {  // the foreground is shaded first
+                real fraction = side == 0 ? c : 1. - c;
+                if (fraction <= kTiny) continue;
+                int s = side == 0 ? m.fore : m.back;
+                if (s < 0) {
+                    r.weight = weight * share * fraction;
+                    r.coef = coef * share * fraction;
+                    PushChild(r, kTrans, real3(1), point, r.dir);
+                    continue;
+                }
+                waiting[nwaiting] = s;
+                waiting_share[nwaiting] = share * fraction;
+                ++nwaiting;
+            }
+        } else {
+            ShadeBasic(r, m, point, normal, rod, t);
+        }
+        if (nwaiting == 0) return;
+        --nwaiting;
+        m = surfaces[waiting[nwaiting]];
+        share = waiting_share[nwaiting];
+    }
+}
+
+// A ray reaches a surface (tracked modifier k, material m) or, escaping, a distant source
+// (source >= 0): its contribution if k is tracked, then m_light()'s rules, antimatter, -i, and
+// the material. normal faces the ray afterwards.
+void Shade(INOUT(Ray) r, int object, int k, int source, INOUT(PackedSurface) m, real3 point,
+           real3 geo_normal, real t) {
+    r.from = object;  // the rays it spawns leave this object
+    real rod = -dot(r.dir, geo_normal);
+    hit_front = rod > 0.;
+    real3 normal = rod < 0. ? -geo_normal : geo_normal;
+    rod = abs(rod);
+    // A ray aimed at a source counts only there (trace_contrib()).
+    bool aimed_elsewhere = r.aimed >= 0 && object != sources[r.aimed].object;
+    if (aimed_elsewhere) k = -1;
+    bool light = m.kind == kMatLight || m.kind == kMatIllum;
+    if (light) {
+        // m_light(): an ambient or specular ray reaching a light from the front counts nothing
+        // (direct() samples it); so does a shadow ray aimed at another source, unless this is
+        // an illum it may pass (not in front of an illum or glow it aims at); direct() sends no
+        // shadow ray toward a sample it would reach from behind (open tube ends). An illum that
+        // a ray was not aimed at passes it on to its alternate material.
+        bool shadow = (r.crtype & kShadow) != 0;
+        if ((r.crtype & (kAmbient | kSpecular)) != 0 && !shadow && hit_front) return;
+        if (aimed_elsewhere &&
+            (m.kind != kMatIllum || (hit_front && (int(sources[r.aimed].v.w) & kSourceWeak) != 0)))
+            return;
+        if (shadow && r.aimed >= 0 && !aimed_elsewhere && !hit_front) return;
+        bool pass = m.kind == kMatIllum && (r.aimed < 0 || aimed_elsewhere);
+        if (k >= 0) {
+            bool lit =
+                !pass && hit_front &&
+                !(m.alpha2 > 0. && real(m.alpha2) < 2. * kPi * (1. + dot(XYZ(m.params), r.dir)));
+            Contribute(k, r, point, normal, t, source,
+                       CONTRIBUTIONS == 0 ? real3(1)
+                       : lit              ? Colour(m, r, point, normal, t)
+                                          : real3(0));
+        }
+        if (!pass) return;
+        if (m.fore < 0) {
+            PushChild(r, kTrans, real3(1), point, r.dir);
+            return;
+        }
+        m = surfaces[m.fore];  // rayshade() with the alternate material
+        light = false;
+    } else if (k >= 0) {
+        Contribute(k, r, point, normal, t, source,
+                   CONTRIBUTIONS != 0 ? Colour(m, r, point, normal, t) : real3(1));
+    }
+    if (m.kind == kMatAntimatter) {
+        int inside = PassAntimatter(r, m, point);
+        if (inside < 0) return;
+        m = surfaces[inside];
+    }
+    // -i: primary rays (and rays straight through transparent things before them) find the
+    // first opaque surface and measure irradiance there, as off a Lambertian surface of
+    // reflectance pi (RADIANCE's raytirrad()); light sources stay what they are.
+    if (FIRST_HIT != 0 && (r.crtype & ~(kPrimary | kTrans)) == 0 && !light && m.kind != kMatGlow) {
+        if ((int(m.params.w) & kSurfaceTransparent) != 0) {
+            PushChild(r, kTrans, real3(1), point, r.dir);
+            return;
+        }
+        m.kind = kMatDiffuse;
+        m.color = vec4(kPi, kPi, kPi, 0);
+        m.params = vec4(0);
+        m.alpha2 = 0.;
+        m.pattern = -1;
+    }
+    ShadeMaterial(r, object, m, point, normal, rod, t);
+}

@@ -1,0 +1,227 @@
+// The estimator's rays and their stack (a fragment: see language.h). RADIANCE's ray tree is
+// walked with an explicit stack, since GLSL has no recursion: trace items, ambient hemisphere
+// loops and direct-source loops. What the driver provides is listed in raytrace/core/README.md;
+// the run's options are macros it defines (AB, AD, LW, ...).
+
+// Ray types as RADIANCE's ray.h numbers them; a ray's crtype is the union over its ancestry.
+CONST int kPrimary = 1;
+CONST int kShadow = 2;
+CONST int kReflected = 4;
+CONST int kRefracted = 8;
+CONST int kTrans = 16;
+CONST int kAmbient = 32;
+CONST int kSpecular = 64;
+CONST int kReflectionTypes = kShadow | kReflected | kAmbient | kSpecular;
+
+// Rays deeper than this are dropped: pathological specular loops (-lr 0).
+CONST int kMaxDepth = 200;
+
+struct Ray {
+    real3 org, dir;
+    real3 coef;   // product of the coefficients from the input ray down to this ray
+    real weight;  // RADIANCE's rweight
+    int rlvl;     // reflections so far (for -lr)
+    int crtype;   // union of the ray types of the ancestry
+    int adepth;   // ambient bounces so far
+    int aimed;    // for shadow rays and rays they spawn: the source aimed at (RADIANCE's rsrc)
+    int depth;    // rays above it in the tree
+    int from;     // the object it leaves (-1: none), which it does not meet again where it starts
+    uint clip;    // antimatter bits of the modifiers it passes unseen (RADIANCE's clipset)
+    uint next_clip;  // the set the rays it passes on (not reflections) start with (newcset)
+#ifdef DAYFLUX_ASUB
+    real dscale;  // -asub: what the diffuse paths it starts are multiplied by (1, 0 or ASUB^2)
+#endif
+#ifdef DAYFLUX_DIELECTRIC
+    real3 cext;  // extinction of the medium it travels in (rayorigin() weighs children by it)
+    real t;      // its length, where a dielectric set it
+#endif
+#ifdef DAYFLUX_INSIDE
+    // For antimatter with a material for its inside (m_clip()'s walk up the ray tree): per
+    // counted modifier, the fronts minus the backs of its surfaces that this ray and its
+    // ancestors went through, leaving out reflections; 8 bits each, offset by 128.
+    uvec4 inside;
+    int counter;        // the counter of the surface it met (-1: none), for the rays it passes on
+    int counter_front;  // and whether it met that surface's front
+#endif
+};
+
+CONST int kItemTrace = 0;
+CONST int kItemAmbient = 1;
+CONST int kItemDirect = 2;
+CONST int kItemDirectBsdf = 3;
+struct Item {
+    Ray r;
+    int kind;
+    // kItemAmbient: a hemisphere about normal at point, cells next .. end in RADIANCE's order
+    // (i, j from n - 1 down); kItemDirect: sources next .. end - 1.
+    real3 point, normal, colour;  // colour: the hemisphere's coefficient (already / n^2), or
+                                  // the surface colour for the direct part
+    real rdiff, tdiff, trans;
+    int n, next, end, fresnel;
+    real3 spec, incident;  // kItemDirect: rough specular colour and the ray's direction;
+                           // kItemAmbient: incident holds the hemisphere's (turned) tangent
+    real alpha2;           // kItemDirect: its roughness squared (0: none)
+    int part;              // kItemDirect*: the part of local source `next` sampled next
+    uint turn;             // kItemDirect*: keys the random turn of local sources' squares
+};
+
+// Where a ray ends: a surface (the driver's Intersect fills object, surface, point, normal and
+// t), or a distant source for rays that find none (source >= 0).
+struct Hit {
+    int object, surface, tracked, source;
+    PackedSurface m;
+    real3 point, normal;
+    real t;
+};
+
+Item stack[STACK_SIZE + 1];  // the last: the spare PushSlot() gives where the rest are full
+int top;
+uint dropped;  // items that did not fit, over the driver's run (it reads and clears it)
+uint reports;  // tables.h's kReport* flags, likewise
+
+// The slot of a new item on the stack: its fields are written there, not copied in. Where the
+// stack is full, the spare slot past its end, which is never read: the item is dropped, and
+// counted.
+int PushSlot() {
+    if (top < STACK_SIZE) return top++;
+    ++dropped;
+    reports |= kReportStackFull;
+    return STACK_SIZE;
+}
+// Takes back the slot of an item that came to nothing (its ray died), pushed last.
+void Unpush(int at) {
+    if (at < STACK_SIZE) --top;
+}
+
+// ---- random numbers (random.h): the state of the path being traced
+uint rng;
+uint cell_key;  // the key of the input ray (seed, ray, replica), then of its first-level cell
+real Rand() {
+    rng = Pcg(rng);
+    return UnitInterval(rng);
+}
+
+#ifdef __cplusplus
+double cal_chan[28];  // GLSL: declared by the generated calcomp code
+#endif
+
+// The ray variables $1..$27 (rayinit.cal) for the bins and patterns: direction, normal, point
+// (world), distance, Rdot, scale, identity transform.
+void SetRayVariables(IN(Ray) r, real3 point, real3 normal, real t) {
+    cal_chan[1] = r.dir.x;
+    cal_chan[2] = r.dir.y;
+    cal_chan[3] = r.dir.z;
+    cal_chan[4] = normal.x;
+    cal_chan[5] = normal.y;
+    cal_chan[6] = normal.z;
+    cal_chan[7] = double(point.x) + CENTRE_X;
+    cal_chan[8] = double(point.y) + CENTRE_Y;
+    cal_chan[9] = double(point.z) + CENTRE_Z;
+    cal_chan[10] = t;
+    cal_chan[11] = -dot(r.dir, normal);
+    cal_chan[12] = 1;
+    for (int i = 13; i <= 27; ++i) cal_chan[i] = 0;
+    cal_chan[16] = 1;
+    cal_chan[20] = 1;
+    cal_chan[24] = 1;
+}
+
+// A material's colour at a hit, times its pattern.
+real3 Colour(IN(PackedSurface) m, IN(Ray) r, real3 point, real3 normal, real t) {
+    if (m.pattern < 0) return XYZ(m.color);
+    SetRayVariables(r, point, normal, t);
+    return XYZ(m.color) * real3(PatternRGB(m.pattern));
+}
+
+// Adds a ray's coefficient (times radiance with -V) to the bin tracked modifier k's bin
+// expression gives (source: the distant source it reached, or -1). Negative bins are ignored.
+void Contribute(int k, IN(Ray) r, real3 point, real3 normal, real t, int source, real3 radiance) {
+    SetRayVariables(r, point, normal, t);
+    ivec4 entry = tracked[k];
+    double b = BinOf(k, source);
+    if (b < -0.5) return;
+    int bin = int(floor(b + 0.5));
+    if (bin >= entry[kTrackedBins]) {
+        reports |= kReportBadBin;
+        return;
+    }
+    AddToRecord(entry[kTrackedColumn] + bin, CONTRIBUTIONS != 0 ? r.coef * radiance : r.coef);
+}
+
+#ifdef DAYFLUX_INSIDE
+int InsideCount(uvec4 inside, int counter) {
+    return int((inside[counter >> 2] >> uint(8 * (counter & 3))) & 255u) - 128;
+}
+void InsideAdd(INOUT(uvec4) inside, int counter, int delta) {
+    uint shift = uint(8 * (counter & 3));
+    uint count = uint(clamp(InsideCount(inside, counter) + delta, -128, 127) + 128);
+    inside[counter >> 2] = (inside[counter >> 2] & ~(255u << shift)) | (count << shift);
+}
+#endif
+
+// rayorigin(): the child's coefficient and weight, Russian roulette. False if it dies.
+bool Spawn(IN(Ray) parent, int type, real3 rc, OUT(Ray) child) {
+    real rw = min(1.0, Max3(rc));
+    bool reflected = (type & kReflectionTypes) != 0;
+    child = parent;
+    child.depth = parent.depth + 1;
+    child.rlvl = parent.rlvl + (reflected ? 1 : 0);
+    child.crtype = parent.crtype | type;
+    child.weight = parent.weight * rw;
+    child.coef = parent.coef * rc;
+    child.aimed = reflected ? -1 : parent.aimed;
+    child.clip = reflected ? parent.clip : parent.next_clip;
+    child.next_clip = child.clip;
+#ifdef DAYFLUX_INSIDE
+    if (!reflected && parent.counter >= 0)
+        InsideAdd(child.inside, parent.counter, parent.counter_front != 0 ? 1 : -1);
+    child.counter = -1;
+#endif
+#ifdef DAYFLUX_DIELECTRIC
+    child.t = 0.;
+    real re = min(parent.cext.x, min(parent.cext.y, parent.cext.z)) * parent.t;
+    if (re > 0.1) child.weight = re > 92.0 ? 0.0 : child.weight * exp(-re);
+#endif
+    if (child.weight <= 0.) return false;
+    if ((child.crtype & kShadow) != 0) return true;  // shadow rays are never cut short
+    if (LR <= 0) {
+        if (LR < 0 && child.rlvl > -LR) return false;
+        if (child.weight >= LW) return true;
+        if (Rand() > child.weight / LW) return false;
+        child.coef *= real(LW) / child.weight;
+        child.weight = real(LW);
+        return true;
+    }
+    return child.weight >= LW && child.rlvl <= LR;
+}
+
+void PushItem(IN(Item) it) { stack[PushSlot()] = it; }
+
+void PushTrace(IN(Ray) r) {
+    int at = PushSlot();
+    stack[at].r = r;
+    stack[at].kind = kItemTrace;
+}
+
+// A child ray from org along dir, if rayorigin() lets it live (spawned in its slot).
+void PushChild(IN(Ray) r, int type, real3 coef, real3 org, real3 dir) {
+    int at = PushSlot();
+    if (!Spawn(r, type, coef, stack[at].r)) {
+        Unpush(at);
+        return;
+    }
+    stack[at].r.org = org;
+    stack[at].r.dir = dir;
+    stack[at].kind = kItemTrace;
+}
+
+#ifdef DAYFLUX_ASUB
+// -asub: a first-level sub-sample starts the diffuse paths of its cell (scale ASUB^2) or none
+// (0); false for none.
+bool ScaleForDiffuse(INOUT(Ray) r) {
+    if (r.dscale == 0.0) return false;
+    r.coef *= r.dscale;
+    r.dscale = 1.0;
+    return true;
+}
+#endif

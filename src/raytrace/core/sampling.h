@@ -1,0 +1,73 @@
+// Constants, colour measures and sampling maps shared by both drivers (and by the tests that
+// predict where samples land).
+#ifndef DAYFLUX_CORE_SAMPLING_H
+#define DAYFLUX_CORE_SAMPLING_H
+
+#include "raytrace/core/language.h"
+
+#ifdef __cplusplus
+namespace dayflux::core {
+#endif
+
+CONST real kTiny = 1e-6;  // RADIANCE's FTINY
+CONST real kPi = 3.14159265358979323846;
+CONST real kFresnelThreshold = 0.017999;
+
+inline real Max3(real3 c) { return max(c.x, max(c.y, c.z)); }
+// RADIANCE's bright(): luminance weights of its standard primaries.
+inline real Bright(real3 c) { return dot(c, real3(0.2651058, 0.6701058, 0.0647884)); }
+// RADIANCE's Fresnel estimate for pure specular plastic and metal (normal.c).
+inline real FresnelEstimate(real cosi) { return exp(-5.85 * cosi) - 0.00287989916; }
+
+// Two unit vectors perpendicular to n and to each other.
+inline void Tangents(real3 n, OUT(real3) u, OUT(real3) v) {
+    real3 e = abs(n.x) < 0.6 ? real3(1, 0, 0) : (abs(n.y) < 0.6 ? real3(0, 1, 0) : real3(0, 0, 1));
+    u = normalize(cross(e, n));
+    v = cross(n, u);
+}
+
+// RADIANCE's getperpendicular() with randomize on, as its ambient hemispheres use it: a tangent
+// turned by a random amount about n (r0..r3 uniform in [0, 1)). The turn matters because the
+// sample-collision rule (ambcollision()) is not invariant to it.
+inline real3 RandomTangent(real3 n, real r0, real r1, real r2, real r3) {
+    real3 e = real3(0.5 - r0, 0.5 - r1, 0.5 - r2);
+    int o = min(5, int(r3 * 6.));
+    ivec3 ord = o == 0   ? ivec3(0, 1, 2)
+                : o == 1 ? ivec3(0, 2, 1)
+                : o == 2 ? ivec3(1, 0, 2)
+                : o == 3 ? ivec3(1, 2, 0)
+                : o == 4 ? ivec3(2, 0, 1)
+                         : ivec3(2, 1, 0);
+    int i = 2;
+    while (i > 0 && !(abs(n[ord[i]]) < 0.6)) --i;
+    e[ord[i]] = 1.0;
+    return normalize(cross(e, n));
+}
+
+// Shirley-Chiu: unit square to unit disk, area-preserving (RADIANCE's square2disk()).
+inline real2 SquareToDisk(real sx, real sy) {
+    real a = 2. * sx - 1., b = 2. * sy - 1., r, phi;
+    if (a > -b) {
+        if (a > b) {
+            r = a;
+            phi = kPi / 4. * (b / a);
+        } else {
+            r = b;
+            phi = kPi / 4. * (2. - a / b);
+        }
+    } else {
+        if (a < b) {
+            r = -a;
+            phi = kPi / 4. * (4. + b / a);
+        } else {
+            r = -b;
+            phi = b != 0. ? kPi / 4. * (6. - a / b) : 0.;
+        }
+    }
+    return real2(r * cos(phi), r * sin(phi));
+}
+
+#ifdef __cplusplus
+}  // namespace dayflux::core
+#endif
+#endif  // DAYFLUX_CORE_SAMPLING_H

@@ -1,0 +1,174 @@
+// The walk of RADIANCE's ray tree from one input ray (a fragment: see language.h): items popped
+// from the stack until none is left, a trace item finding what its ray meets (the driver's
+// Intersect) and shading it, hemisphere and direct items taking their next step.
+
+// sourcehit(): a ray that meets no surface reaches the first distant source whose disc holds its
+// direction (a ray aimed at a source can reach only that one), a glow only where no other does.
+bool Escape(IN(Ray) r, OUT(Hit) h) {
+    int glow = -1, chosen = -1;
+    int first = r.aimed >= 0 ? r.aimed : 0, last = r.aimed >= 0 ? r.aimed + 1 : NSOURCES;
+    for (int i = first; i < last; ++i) {
+        // images in mirrors are not met
+        if (int(sources[i].u.w) != kSourceDistant || sources[i].relay >= 0) continue;
+        real c = dot(XYZ(sources[i].dir), r.dir);
+        if (2. * kPi * (1. - c) > real(sources[i].dir.w)) continue;
+        if (sources[i].colour.w > 0.5 && r.aimed < 0) {
+            if (glow < 0) glow = i;
+            continue;
+        }
+        chosen = i;
+        break;
+    }
+    if (chosen < 0) chosen = glow;
+    if (chosen < 0) return false;
+    PackedSource s = sources[chosen];
+    h.object = s.object;
+    h.surface = -1;
+    h.tracked = s.tracked;
+    h.source = chosen;
+    h.m.color = vec4(s.colour.x, s.colour.y, s.colour.z, 0);
+    h.m.params = vec4(0);
+    h.m.alpha2 = 0.;
+    h.m.pattern = s.pattern;
+    h.m.kind = s.kind;
+    h.m.tracked = s.tracked;
+    h.m.fore = -1;
+    h.m.back = -1;
+    h.m.clip = 0u;
+    h.m.counter = -1;
+    h.point = r.dir * 1e30;
+    h.normal = -r.dir;
+    h.t = 1e30;
+    return true;
+}
+
+bool FindHit(IN(Ray) r, OUT(Hit) h) {
+    if (!Intersect(r, h)) return Escape(r, h);
+    h.m = surfaces[h.surface];
+    h.tracked = h.m.tracked;
+    h.source = -1;
+    return true;
+}
+
+// Hemisphere and direct items stay on the stack while they have cells or sources left, under
+// the rays their steps push, which run first.
+void RunStack() {
+    while (top > 0) {
+        int kind = stack[top - 1].kind;
+        if (kind == kItemTrace) {
+            Ray r = stack[--top].r;
+            if (r.depth > kMaxDepth) continue;
+            Hit h;
+            if (!FindHit(r, h)) continue;
+#ifdef DAYFLUX_DIELECTRIC
+            if (Max3(r.cext) > 0.) r.t = h.t;  // its length, for the weights of its children
+#endif
+#ifdef DAYFLUX_INSIDE
+            r.counter = h.m.counter;
+            r.counter_front = dot(r.dir, h.normal) < 0. ? 1 : 0;
+#endif
+            if ((r.clip & h.m.clip) != 0u) {
+                // raycont(): antimatter hides the surface; rcontrib's trace_contrib() still sees
+                // the hit, so a tracked modifier counts its coefficient (no value for -V).
+                if (h.tracked >= 0 && CONTRIBUTIONS == 0 &&
+                    (r.aimed < 0 || h.object == sources[r.aimed].object))
+                    Contribute(h.tracked, r, h.point, h.normal, h.t, h.source, real3(1));
+                r.from = h.object;
+                PushChild(r, kTrans, real3(1), h.point, r.dir);
+                continue;
+            }
+            Shade(r, h.object, h.tracked, h.source, h.m, h.point, h.normal, h.t);
+        } else if (kind == kItemAmbient) {
+            int at = top - 1;
+            bool last = stack[at].next + 1 >= stack[at].end;
+            bool pushed = AmbientStep(stack[at]);
+            if (last) {  // the hemisphere leaves the stack, its last cell's ray takes its place
+                if (pushed) {
+                    stack[at].r = stack[at + 1].r;
+                    stack[at].kind = kItemTrace;
+                }
+                --top;
+            }
+        } else {  // kItemDirect, kItemDirectBsdf
+            int at = top - 1;
+            if (stack[at].next >= stack[at].end) {  // its last step's shadow ray has run
+                --top;
+                continue;
+            }
+            if (!DirectItemStep(stack[at]) && top == at + 1) --top;
+        }
+    }
+}
+
+// Traces input ray `index` (org, dir of unit length) of replica `replica` (-se), adding its
+// contributions through AddToRecord. A sensor's first hemisphere (-I) may be shared between
+// tasks: this one traces its rows of slice `slice` of `slices` (the direct part with slice 0),
+// replaying the directions of the rows before them without tracing them.
+void TraceInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint slices) {
+    top = 0;
+    pushed0 = 0u;
+    hemispheres0 = 0u;
+    cell_key = Key(SEED, index, replica, 0x2545f491u);
+    rng = Key(cell_key, slice, 17u, 5u);
+    Ray r;
+    r.org = org;
+    r.dir = dir;
+    r.coef = real3(1);
+    r.weight = 1.;
+    r.rlvl = 0;
+    r.crtype = kPrimary;
+    r.adepth = 0;
+    r.aimed = -1;
+    r.depth = 0;
+    r.from = -1;
+    r.clip = 0u;
+    r.next_clip = 0u;
+#ifdef DAYFLUX_ASUB
+    r.dscale = 1.0;
+#endif
+#ifdef DAYFLUX_DIELECTRIC
+    r.cext = real3(0);
+    r.t = 0.;
+#endif
+#ifdef DAYFLUX_INSIDE
+    r.inside = uvec4(0x80808080u);
+    r.counter = -1;
+    r.counter_front = 0;
+#endif
+    if (IRRADIANCE == 0) {
+        if (slice == 0u) {
+            PushTrace(r);
+            RunStack();
+        }
+        return;
+    }
+    // -I: a Lambertian surface of reflectance pi at the origin, facing the ray direction, so
+    // that the ambient value is irradiance (RADIANCE offsets it by 1e-4 along the normal).
+    real3 point = org + 1e-4 * dir;
+    real3 lamb = real3(kPi);
+    if (slice == 0u) {
+        PushDirect(r, lamb, 1.0, 0.0, 0.0, false, point, dir, real3(0), 0.0);
+        RunStack();
+    }
+    PushHemisphere(r, lamb, point, dir);
+    if (top == 0) return;
+    // This slice's share of the rows; the rows before it are replayed without tracing.
+    Item h = stack[--top];
+    int rows = h.n, per = (rows + int(slices) - 1) / int(slices);
+    int row_first = int(slice) * per, row_end = min(rows, row_first + per);
+    if (row_first >= row_end) return;
+    int row_steps = h.n;
+#ifdef DAYFLUX_ASUB
+    if (ASUB > 1) row_steps *= ASUB * ASUB;
+#endif
+    for (int k = 0; k < row_first * row_steps; ++k) {
+        Item replay = h;
+        replay.next = k;
+        AmbientStep(replay);
+        top = 0;  // the cell's ray is dropped: replayed, not traced
+    }
+    h.next = row_first * row_steps;
+    h.end = row_end * row_steps;
+    PushItem(h);
+    RunStack();
+}

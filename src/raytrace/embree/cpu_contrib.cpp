@@ -1,0 +1,219 @@
+#include "raytrace/embree/cpu_contrib.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <span>
+
+#include "raytrace/backend.h"
+#include "raytrace/core/random.h"
+#include "raytrace/core/sampling.h"
+#include "raytrace/core/shapes.h"
+#include "raytrace/core/tables.h"
+#include "util/errors.h"
+
+namespace dayflux {
+namespace core {
+
+// The nearest surface a ray meets, for the core (coordinates recentred, as the tables').
+struct CpuHit {
+    int object, surface;
+    real3 point, normal;
+    real t;
+};
+
+// What a thread's estimator shares with the others: the scene, its tables and the run's options,
+// and what they report (the core's kReport* flags, items dropped), for the engine.
+struct CpuScene {
+    const FlatScene &flat;
+    const PackedScene &packed;
+    const Backend &backend;
+    const ContribOptions &options;
+    const std::vector<TrackedModifier> &tracked;
+    const MakeContext &make_context;
+    std::atomic<uint32_t> &reports;
+    std::atomic<uint64_t> &dropped;
+
+    // Embree's nearest hit, its surface in the tables.
+    bool Intersect(real3 org, real3 dir, int from, CpuHit *hit) const {
+        TraceRay tr;
+        for (int k = 0; k < 3; ++k) tr.org[k] = org[k] + packed.centre[k], tr.dir[k] = dir[k];
+        tr.tmax = std::numeric_limits<double>::infinity();
+        tr.from_object = from;
+        TraceHit th;
+        backend.Closest(&tr, &th, 1);
+        if (!th.hit) return false;
+        if (th.shape >= 0) {
+            hit->object = flat.shapes[th.shape].object;
+            hit->surface = packed.shapes[packed.shape_of[th.shape]].surface;
+        } else {
+            hit->object = flat.triangle_object[th.triangle];
+            hit->surface = packed.triangles[th.triangle].surface;
+        }
+        for (int k = 0; k < 3; ++k) {
+            hit->point[k] = th.point[k] - packed.centre[k];
+            hit->normal[k] = th.normal[k];
+        }
+        hit->t = th.t;
+        return true;
+    }
+
+    // Pattern k for the ray variables $1..$27 in channels[1..27] (the calcomp interpreter).
+    real3 PatternRGB(int k, const double *channels) const {
+        double rgb[3];
+        packed.patterns[k]->Evaluate(std::span<const double>(channels + 1, 27), rgb);
+        return real3(rgb[0], rgb[1], rgb[2]);
+    }
+};
+
+// A thread's bins: the tracked modifiers' bin expressions in the calcomp contexts they are
+// evaluated in (each thread has its own, since evaluation caches values).
+class CpuBins {
+  public:
+    explicit CpuBins(const CpuScene &s) : source_bins_(s.packed.sources.size()) {
+        for (size_t k = 0; k < s.tracked.size(); ++k) {
+            const int of = s.tracked[k].context_of;
+            if (of < 0) {
+                own_contexts_.push_back(s.make_context(static_cast<int>(k)));
+                contexts_.push_back(own_contexts_.back().get());
+            } else {
+                contexts_.push_back(contexts_[of]);
+            }
+            bins_.push_back(
+                contexts_.back()->Compile(s.tracked[k].bin_expression, FileLoc{"-b", 0}));
+        }
+    }
+
+    // Tracked modifier k's bin value for the ray variables in channels[1..27]. A ray reaching
+    // a distant source (source >= 0) has variables that depend on its direction only, and
+    // shadow rays with -dj 0 (sun coefficients) reach each source in one direction, so a
+    // source's last value is remembered with the direction and modifier it was for.
+    double Value(int k, int source, const double *channels) {
+        SourceBin *memo = source >= 0 ? &source_bins_[source] : nullptr;
+        if (memo && memo->tracked == k && memo->dir[0] == channels[1] &&
+            memo->dir[1] == channels[2] && memo->dir[2] == channels[3])
+            return memo->value;
+        const cal::ChannelView view(std::span<const double>(channels + 1, 27));
+        const double value = bins_[k].Evaluate(*contexts_[k], &view);
+        if (memo) *memo = SourceBin{{channels[1], channels[2], channels[3]}, k, value};
+        return value;
+    }
+
+  private:
+    std::vector<std::unique_ptr<cal::Context>> own_contexts_;
+    std::vector<cal::Context *> contexts_;  // per tracked modifier, maybe shared
+    std::vector<cal::Expression> bins_;
+    struct SourceBin {
+        double dir[3];
+        int tracked = -1;
+        double value = 0;
+    };
+    std::vector<SourceBin> source_bins_;
+};
+
+class CpuEstimator {
+  public:
+    virtual ~CpuEstimator() = default;
+    // Adds the contributions of input ray `index` (replica `replica`) to record.
+    virtual void Trace(const double org[3], const double dir[3], uint64_t index, int replica,
+                       double *record) = 0;
+};
+
+// The estimator compiled three times: for scenes with none of the core's features (daylight,
+// view and sun matrices through glass: the common case), with -asub alone, and with all of them.
+#define DAYFLUX_ESTIMATOR PlainEstimator
+#include "raytrace/embree/cpu_estimator.inl"
+#undef DAYFLUX_ESTIMATOR
+
+#define DAYFLUX_ASUB 1
+#define DAYFLUX_ESTIMATOR SubsampledEstimator
+#include "raytrace/embree/cpu_estimator.inl"
+#undef DAYFLUX_ESTIMATOR
+
+#define DAYFLUX_BSDF 1
+#define DAYFLUX_DIELECTRIC 1
+#define DAYFLUX_LOCAL_SOURCES 1
+#define DAYFLUX_MIRROR_IMAGES 1
+#define DAYFLUX_INSIDE 1
+#define DAYFLUX_ESTIMATOR FullEstimator
+#include "raytrace/embree/cpu_estimator.inl"
+#undef DAYFLUX_ESTIMATOR
+
+}  // namespace core
+
+namespace {
+
+class CpuContribEngine : public ContribEngine {
+  public:
+    CpuContribEngine(const FlatScene &flat, std::vector<TrackedModifier> tracked,
+                     std::unique_ptr<SceneMaterials> table, PackedScene packed,
+                     const ContribOptions &options, const MakeContext &make_context)
+        : tracked_(std::move(tracked)),
+          table_(std::move(table)),
+          packed_(std::move(packed)),
+          options_(options),
+          make_context_(make_context),
+          backend_(CreateEmbreeBackend()),
+          scene_{flat, packed_, *backend_, options_, tracked_, make_context_, reports_, dropped_} {
+        if (packed_.mix_depth > 63)
+            ErrorExit("mixfuncs nested more than 63 deep (" + packed_.mix_deepest + ")");
+        backend_->Commit(flat);
+    }
+
+    std::string Label() const override { return backend_->Name(); }
+    int Columns() const override { return packed_.columns; }
+    // Small batches: one sensor ray can cost millions of rays.
+    size_t BatchRays() const override { return 2; }
+
+    void Trace(const double *rays, size_t n, uint64_t first_index, int replica,
+               double *records) override {
+        const size_t record = 3 * static_cast<size_t>(packed_.columns);
+        tbb::parallel_for(size_t(0), n, [&](size_t i) {
+            const double *r = rays + 6 * i;
+            if (r[3] == 0 && r[4] == 0 && r[5] == 0) return;  // counts, contributes nothing
+            std::unique_ptr<core::CpuEstimator> &e = estimators_.local();
+            if (!e) e = MakeEstimator();
+            e->Trace(r, r + 3, first_index + i, replica, records + i * record);
+        });
+        WarnCoreReports(reports_.exchange(0), dropped_.exchange(0));
+    }
+
+  private:
+    // The estimator with only the features the scene needs.
+    std::unique_ptr<core::CpuEstimator> MakeEstimator() const {
+        const PackedScene &p = packed_;
+        if (p.bsdf || p.dielectric || p.local_sources || p.mirror_images || p.inside)
+            return std::make_unique<core::FullEstimator>(scene_);
+        if (options_.ambient_subsamples > 1)
+            return std::make_unique<core::SubsampledEstimator>(scene_);
+        return std::make_unique<core::PlainEstimator>(scene_);
+    }
+
+    std::vector<TrackedModifier> tracked_;
+    std::unique_ptr<SceneMaterials> table_;
+    PackedScene packed_;
+    ContribOptions options_;
+    MakeContext make_context_;
+    std::unique_ptr<Backend> backend_;
+    std::atomic<uint32_t> reports_{0};
+    std::atomic<uint64_t> dropped_{0};
+    core::CpuScene scene_;
+    tbb::enumerable_thread_specific<std::unique_ptr<core::CpuEstimator>> estimators_;
+};
+
+}  // namespace
+
+std::unique_ptr<ContribEngine> CreateCpuContribEngine(const FlatScene &scene,
+                                                      std::vector<TrackedModifier> tracked,
+                                                      std::unique_ptr<SceneMaterials> table,
+                                                      PackedScene packed,
+                                                      const ContribOptions &options,
+                                                      const MakeContext &make_context) {
+    return std::make_unique<CpuContribEngine>(scene, std::move(tracked), std::move(table),
+                                              std::move(packed), options, make_context);
+}
+
+}  // namespace dayflux

@@ -1,0 +1,127 @@
+// One thread's estimator on the CPU, the class DAYFLUX_ESTIMATOR: the core's state (its
+// fragments, included in this class's body, so that their globals are this object's members)
+// and what the CPU driver gives the core. cpu_contrib.cpp includes this once per set of the
+// core's features (DAYFLUX_ASUB, DAYFLUX_BSDF, ...) it compiles, as the GPU compiles a shader per
+// scene: a ray then carries no field its scene never uses.
+class DAYFLUX_ESTIMATOR final : public CpuEstimator {
+  public:
+    explicit DAYFLUX_ESTIMATOR(const CpuScene &s)
+        : scene_(s),
+          options_(s.options),
+          surfaces(s.packed.surfaces.data()),
+          sources(s.packed.sources.data()),
+          relays(s.packed.relays.data()),
+          klems(s.packed.klems.data()),
+          tracked(s.packed.tracked.data()),
+          nsources_(static_cast<int>(s.packed.sources.size())),
+          ndirect_(s.packed.ndirect),
+          seed_(static_cast<uint>(s.options.seed ^ (s.options.seed >> 32))),
+          centre_(s.packed.centre[0], s.packed.centre[1], s.packed.centre[2]),
+          bins_(s) {
+        dropped = 0;
+        reports = 0;
+    }
+
+    void Trace(const double org[3], const double dir[3], uint64_t index, int replica,
+               double *record) override {
+        record_ = record;
+        const real3 d = normalize(real3(dir[0], dir[1], dir[2]));
+        TraceInput(real3(org[0], org[1], org[2]) - centre_, d, static_cast<uint>(index),
+                   static_cast<uint>(replica), 0u, 1u);
+        if (reports != 0u) scene_.reports.fetch_or(reports), reports = 0;
+        if (dropped != 0u) scene_.dropped.fetch_add(dropped), dropped = 0;
+    }
+
+  private:
+    // ---- the core, its options as the macros it reads
+#define AB (options_.ambient_bounces)
+#define AD (options_.ambient_divisions)
+#define LW (options_.limit_weight)
+#define LR (options_.limit_reflections)
+#define IRRADIANCE (options_.irradiance ? 1 : 0)
+#define FIRST_HIT (options_.first_hit_irradiance ? 1 : 0)
+#define CONTRIBUTIONS (options_.contributions ? 1 : 0)
+#define NSOURCES nsources_
+#define NDIRECT ndirect_
+#define DJ (options_.source_jitter)
+#define SEED seed_
+#define ST (options_.specular_threshold)
+#define SS (options_.specular_jitter)
+#define DS (options_.source_size_ratio)
+#define ASUB (options_.ambient_subsamples)
+#define CENTRE_X (centre_.x)
+#define CENTRE_Y (centre_.y)
+#define CENTRE_Z (centre_.z)
+// Sizes: larger than the GPU's, where memory is cheap (-ss up to 100 at -ab 10, -ad up to 16M,
+// mixfuncs 63 deep).
+#define STACK_SIZE 4096
+#define MAXN 4096
+#define DEEP_N 256
+#define DEEP_LEVELS 16
+#define MIX_STACK 64
+    // The core's fragments in this order (GLSL declares before use; C++ keeps the same order).
+    // clang-format off
+#include "raytrace/core/rays.inl"
+#include "raytrace/core/hemisphere.inl"
+#include "raytrace/core/klems.inl"
+#include "raytrace/core/bsdf.inl"
+#include "raytrace/core/direct.inl"
+#include "raytrace/core/materials.inl"
+#include "raytrace/core/walk.inl"
+    // clang-format on
+#undef AB
+#undef AD
+#undef LW
+#undef LR
+#undef IRRADIANCE
+#undef FIRST_HIT
+#undef CONTRIBUTIONS
+#undef NSOURCES
+#undef NDIRECT
+#undef DJ
+#undef SEED
+#undef ST
+#undef SS
+#undef DS
+#undef ASUB
+#undef CENTRE_X
+#undef CENTRE_Y
+#undef CENTRE_Z
+#undef STACK_SIZE
+#undef MAXN
+#undef DEEP_N
+#undef DEEP_LEVELS
+#undef MIX_STACK
+
+    // ---- what the core asks of its driver (raytrace/core/README.md)
+    bool Intersect(const Ray &r, Hit &h) const {
+        CpuHit hit;
+        if (!scene_.Intersect(r.org, r.dir, r.from, &hit)) return false;
+        h.object = hit.object;
+        h.surface = hit.surface;
+        h.point = hit.point;
+        h.normal = hit.normal;
+        h.t = hit.t;
+        return true;
+    }
+    double BinOf(int k, int source) { return bins_.Value(k, source, cal_chan); }
+    real3 PatternRGB(int k) const { return scene_.PatternRGB(k, cal_chan); }
+    void AddToRecord(int column, real3 v) {
+        double *at = record_ + 3 * static_cast<size_t>(column);
+        at[0] += v.x, at[1] += v.y, at[2] += v.z;
+    }
+
+    // ---- the run, as the core's macros read it
+    const CpuScene &scene_;
+    const ContribOptions &options_;
+    const PackedSurface *surfaces;
+    const PackedSource *sources;
+    const vec4 *relays;
+    const float *klems;
+    const ivec4 *tracked;
+    int nsources_, ndirect_;
+    uint seed_;
+    real3 centre_;
+    double *record_ = nullptr;
+    CpuBins bins_;
+};

@@ -1,0 +1,88 @@
+#include "raytrace/engine.h"
+
+#include <algorithm>
+#include <atomic>
+#include <vector>
+
+#include "raytrace/core/tables.h"
+#include "raytrace/embree/cpu_contrib.h"
+#include "raytrace/materials.h"
+#include "raytrace/packing.h"
+#include "util/errors.h"
+#ifdef DAYFLUX_HAVE_GPU_CONTRIB
+#include "raytrace/vulkan/raytracing.h"
+#include "raytrace/vulkan/vulkan_contrib.h"
+#endif
+
+namespace dayflux {
+
+std::unique_ptr<ContribEngine> CreateContribEngine(const FlatScene &scene,
+                                                   const ContribOptions &options,
+                                                   const std::vector<TrackedModifier> &tracked,
+                                                   const MakeContext &make_context,
+                                                   const EngineOptions &engine) {
+    if (engine.backend != "embree" && engine.backend != "vulkan")
+        ErrorExit("unknown backend '" + engine.backend + "' (embree or vulkan)");
+    auto table = std::make_unique<SceneMaterials>(scene, tracked);
+    PackedScene packed = PackScene(scene, *table, tracked, options);
+    if (engine.backend == "vulkan") {
+#ifdef DAYFLUX_HAVE_GPU_CONTRIB
+        std::string why = UnsupportedOnGpu(packed, options);
+        if (why.empty()) {
+            std::unique_ptr<ContribEngine> gpu = CreateVulkanContribEngine(
+                scene, packed, options, tracked, make_context, engine, &why);
+            if (gpu) return gpu;
+        }
+        Warning("the Vulkan backend cannot take this run (" + why + "); using Embree");
+#else
+        Warning("this build has no Vulkan backend; using Embree");
+#endif
+    }
+    return CreateCpuContribEngine(scene, tracked, std::move(table), std::move(packed), options,
+                                  make_context);
+}
+
+std::string DescribeGpuDevices() {
+#ifdef DAYFLUX_HAVE_GPU_CONTRIB
+    std::string why, text;
+    for (const std::string &line : vk::GpuDevice::Describe(&why)) text += line + "\n";
+    return text.empty() ? why + "\n" : text;
+#else
+    return "this build has no Vulkan backend\n";
+#endif
+}
+
+void TraceReplicas(ContribEngine &engine, const double *rays, size_t n, uint64_t first_index,
+                   int replicas, double *sums, double *variances) {
+    const size_t len = n * 3 * static_cast<size_t>(engine.Columns());
+    if (replicas <= 1) {
+        engine.Trace(rays, n, first_index, 0, sums);
+        return;
+    }
+    std::vector<double> one(len), mean(len, 0.0), squares(len, 0.0);
+    for (int k = 0; k < replicas; ++k) {
+        std::fill(one.begin(), one.end(), 0.0);
+        engine.Trace(rays, n, first_index, k, one.data());
+        for (size_t j = 0; j < len; ++j) mean[j] += one[j], squares[j] += one[j] * one[j];
+    }
+    for (size_t j = 0; j < len; ++j) {
+        const double m = mean[j] / replicas;
+        sums[j] += m;
+        // the variance of the mean of the replicas
+        if (variances)
+            variances[j] +=
+                std::max(0.0, (squares[j] - replicas * m * m) / (replicas - 1) / replicas);
+    }
+}
+
+void WarnCoreReports(uint32_t reports, uint64_t dropped) {
+    static std::atomic<uint32_t> said{0};
+    const uint32_t fresh = reports & ~said.fetch_or(reports);
+    if (fresh & core::kReportBadBin) Warning("bad bin number (ignored)");
+    if (fresh & core::kReportBsdfFrame) Warning("BSDF: illegal orientation vector");
+    if (fresh & core::kReportStackFull)
+        Warning("the estimator's ray stack overflowed; " + std::to_string(dropped) +
+                " rays were dropped (results are low)");
+}
+
+}  // namespace dayflux

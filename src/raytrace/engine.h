@@ -1,0 +1,79 @@
+// One interface for the programs that trace contribution coefficients: an engine runs the
+// estimator core (raytrace/core) on a backend, the CPU with Embree or a Vulkan GPU, created from
+// the run's options. Where the GPU cannot take a run (no device, or what its core does not
+// trace), that is decided before anything is compiled or uploaded, one line says why, and the
+// CPU takes it.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cal/calcomp.h"
+#include "raytrace/contrib.h"
+#include "scene/flatten.h"
+
+namespace dayflux {
+
+// How a GPU finds hits: ray queries where the device has them (auto), ray queries, or a walk of
+// our own BVH (raytrace/bvh.h; NVIDIA's H100 and H200 have no ray queries).
+enum class GpuTraversal { kAuto, kRayQuery, kBvh };
+
+struct EngineOptions {
+    std::string backend = "embree";  // "embree" or "vulkan"
+    // Vulkan devices: a comma-separated list of indices or parts of names ("" chooses: every
+    // discrete GPU, else an integrated one; lavapipe only when named).
+    std::string device;
+    GpuTraversal traversal = GpuTraversal::kAuto;
+    // The GPU's per-task accumulators in float instead of double (half the memory: a sensor's
+    // first hemisphere is split between tasks, so their sums are short; records are summed in
+    // double on the host).
+    bool float_accumulators = false;
+};
+
+class ContribEngine {
+  public:
+    virtual ~ContribEngine() = default;
+    // What traces: "Embree 3.13.5", "vulkan: NVIDIA H100 80GB HBM3".
+    virtual std::string Label() const = 0;
+    // Columns of a record: all tracked modifiers' bins.
+    virtual int Columns() const = 0;
+    // Input rays per Trace call that keep the engine busy without holding much memory.
+    virtual size_t BatchRays() const = 0;
+    // Traces n input rays (origin and direction, 6 doubles each; a zero direction contributes
+    // nothing) and adds each one's contributions to its record (Columns() x 3 doubles) in
+    // records. first_index keys the random numbers, as does replica (-se): with the same seed,
+    // every engine draws the same numbers for the same record, ray and bounce. Safe to call
+    // from several threads at once.
+    virtual void Trace(const double *rays, size_t n, uint64_t first_index, int replica,
+                       double *records) = 0;
+};
+
+// make_context(k) gives a calcomp context with every -e/-f and tracked modifier k's -p applied,
+// for each k with a context of its own (TrackedModifier::context_of).
+using MakeContext = std::function<std::unique_ptr<cal::Context>(int)>;
+
+// The engine options.backend names (the CPU where the GPU cannot take the run, with one line on
+// stderr saying why). Bad input (unknown materials, ...) is reported as UserError.
+std::unique_ptr<ContribEngine> CreateContribEngine(const FlatScene &scene,
+                                                   const ContribOptions &options,
+                                                   const std::vector<TrackedModifier> &tracked,
+                                                   const MakeContext &make_context,
+                                                   const EngineOptions &engine);
+
+// The Vulkan devices this build sees, one line each (their index, name, type, ray queries or
+// not), or why there are none.
+std::string DescribeGpuDevices();
+
+// -se: every input ray traced as `replicas` independent replicas (each with -ad / replicas, set
+// by the caller); sums gets each ray's mean record added, variances (when not null) the
+// variance of that mean, estimated from the replicas' spread.
+void TraceReplicas(ContribEngine &engine, const double *rays, size_t n, uint64_t first_index,
+                   int replicas, double *sums, double *variances);
+
+// Warnings about what the core reported (tables' kReport* flags), each said once per process.
+void WarnCoreReports(uint32_t reports, uint64_t dropped);
+
+}  // namespace dayflux

@@ -1,0 +1,213 @@
+#include "raytrace/vulkan/contrib_shader.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <random>
+
+#include "cal/glsl.h"
+#include "raytrace/vulkan/raytracing.h"
+#include "shaders/embedded.h"
+#include "util/errors.h"
+
+namespace dayflux {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// GLSL of the tracked modifiers' bins: one function per distinct bin expression within each
+// calcomp context (-M may name thousands of modifiers sharing one; modifiers given different -p
+// parameters have contexts of their own, each's definitions under a prefix of its own), and
+// EvalBin(j), which runs function j. Sets bin_function per modifier.
+std::string BinGlsl(const std::vector<TrackedModifier> &tracked, const MakeContext &make_context,
+                    std::vector<int> *bin_function) {
+    struct BinContext {
+        std::unique_ptr<cal::Context> cx;
+        std::vector<cal::Expression> bins;
+        std::vector<cal::GlslEntry> entries;
+        std::map<std::string, int> function_of;  // expression -> global bin function index
+    };
+    std::vector<BinContext> contexts;
+    std::vector<int> context_of(tracked.size());
+    int nfunctions = 0;
+    for (size_t k = 0; k < tracked.size(); ++k) {
+        const TrackedModifier &t = tracked[k];
+        if (t.context_of < 0) {
+            context_of[k] = static_cast<int>(contexts.size());
+            contexts.push_back({make_context(static_cast<int>(k)), {}, {}, {}});
+            contexts.back().bins.reserve(tracked.size());  // entries point into it
+        } else {
+            context_of[k] = context_of[t.context_of];
+        }
+        BinContext &c = contexts[context_of[k]];
+        auto [it, added] = c.function_of.emplace(t.bin_expression, nfunctions);
+        if (added) {
+            c.bins.push_back(c.cx->Compile(t.bin_expression, FileLoc{"-b", 0}));
+            c.entries.push_back({"cal_bin" + std::to_string(nfunctions), &c.bins.back()});
+            ++nfunctions;
+        }
+        bin_function->push_back(it->second);
+    }
+    std::string glsl;
+    for (size_t g = 0; g < contexts.size(); ++g) {
+        cal::GlslOptions go;
+        go.prefix = g == 0 ? go.prefix : "cal_c" + std::to_string(g) + "_d";
+        go.preamble = g == 0;
+        glsl += cal::GenerateGlsl(*contexts[g].cx, contexts[g].entries, go);
+    }
+    glsl += "double EvalBin(int j) {\n";
+    for (int j = 0; j < nfunctions; ++j)
+        glsl +=
+            "    if (j == " + std::to_string(j) + ") return cal_bin" + std::to_string(j) + "();\n";
+    return glsl + "    return -1.0LF;\n}\n";
+}
+
+// GLSL of the patterns the tables name, and PatternRGB(k), which runs pattern k.
+std::string PatternGlsl(const std::vector<const PatternFunction *> &patterns) {
+    std::string glsl;
+    for (size_t k = 0; k < patterns.size(); ++k)
+        glsl += patterns[k]->Glsl("pat" + std::to_string(k));
+    glsl += "vec3 PatternRGB(int k) {\n";
+    for (size_t k = 0; k < patterns.size(); ++k)
+        glsl += "    if (k == " + std::to_string(k) + ") return vec3(pat" + std::to_string(k) +
+                "());\n";
+    return glsl + "    return vec3(1);\n}\n";
+}
+
+// The run's macros: its options, read from the tasks buffer (shaders/common.h), so that runs
+// that differ only in them share one compiled shader; its sizes; the features its scene needs.
+std::string Macros(const PackedScene &packed, const ContribOptions &options, bool float_accum) {
+    std::string src;
+    const auto define = [&](const char *name, const std::string &value) {
+        src += std::string("#define ") + name + " " + value + "\n";
+    };
+    static const char *const kOptions[][2] = {{"AB", "ab"},
+                                              {"AD", "ad"},
+                                              {"LW", "lw"},
+                                              {"LR", "lr"},
+                                              {"IRRADIANCE", "irradiance"},
+                                              {"FIRST_HIT", "first_hit"},
+                                              {"CONTRIBUTIONS", "contributions"},
+                                              {"NSOURCES", "nsources"},
+                                              {"NDIRECT", "ndirect"},
+                                              {"DJ", "dj"},
+                                              {"SEED", "seed"},
+                                              {"TMIN", "tmin"},
+                                              {"ST", "st"},
+                                              {"SS", "ss"},
+                                              {"DS", "ds"},
+                                              {"NCOLS", "ncols"},
+                                              {"CENTRE_X", "centre_x"},
+                                              {"CENTRE_Y", "centre_y"},
+                                              {"CENTRE_Z", "centre_z"}};
+    for (const auto &o : kOptions) define(o[0], std::string("tasks.") + o[1]);
+    define("MAXN", std::to_string(kGpuMaxRows));
+    define("DEEP_N", "16");
+    define("DEEP_LEVELS", "12");
+    define("MIX_STACK", std::to_string(kGpuMixStack));
+    define("LOCAL_SIZE", std::to_string(kGpuLocalSize));
+    define("STACK_SIZE", std::to_string(kGpuStackSize));
+    define("ACCUM_T", float_accum ? "float" : "double");
+    if (options.ambient_subsamples > 1) {
+        define("DAYFLUX_ASUB", "1");
+        define("ASUB", std::to_string(options.ambient_subsamples));
+    }
+    if (packed.bsdf) define("DAYFLUX_BSDF", "1");
+    if (packed.dielectric) define("DAYFLUX_DIELECTRIC", "1");
+    if (packed.mirror_images) define("DAYFLUX_MIRROR_IMAGES", "1");
+    if (packed.local_sources) define("DAYFLUX_LOCAL_SOURCES", "1");
+    if (packed.inside) define("DAYFLUX_INSIDE", "1");
+    return src;
+}
+
+// The includer for the core's files, embedded at build time (shaders/embedded.h).
+std::string IncludedFile(const std::string &name) {
+    for (const EmbeddedFile &f : kShaderIncludes)
+        if (name == f.name) return f.text;
+    CHECK(false);  // contrib.comp includes only the embedded files
+    return "";
+}
+
+// SPIR-V cached on disk by the source's hash (and the embedded files'), so that a second run
+// does not compile again.
+fs::path CachePath(const std::string &source) {
+    size_t key = std::hash<std::string>{}(source);
+    for (const EmbeddedFile &f : kShaderIncludes)
+        key = key * 1000003u ^ std::hash<std::string>{}(f.text);
+    char name[32];
+    std::snprintf(name, sizeof name, "contrib-%016zx.spv", key);
+    if (const char *x = std::getenv("XDG_CACHE_HOME"); x && *x)
+        return fs::path(x) / "dayflux" / name;
+    if (const char *h = std::getenv("HOME"); h && *h)
+        return fs::path(h) / ".cache" / "dayflux" / name;
+    return {};
+}
+
+std::vector<uint32_t> ReadSpirv(const fs::path &path) {
+    std::ifstream in(path, std::ios::binary);
+    std::vector<uint32_t> spirv;
+    uint32_t word;
+    while (in.read(reinterpret_cast<char *>(&word), sizeof word)) spirv.push_back(word);
+    if (spirv.size() > 5 && spirv[0] == 0x07230203u) return spirv;  // SPIR-V magic
+    return {};
+}
+
+// Best effort: a read-only home only costs the next run a compile. A temporary of its own,
+// renamed into place: readers never see a partial file.
+void WriteSpirv(const fs::path &path, const std::vector<uint32_t> &spirv) {
+    std::error_code ec;
+    fs::create_directories(path.parent_path(), ec);
+    const fs::path temp = path.string() + ".tmp" + std::to_string(getpid()) + "-" +
+                          std::to_string(std::random_device{}());
+    std::ofstream out(temp, std::ios::binary);
+    out.write(reinterpret_cast<const char *>(spirv.data()),
+              static_cast<std::streamsize>(spirv.size() * sizeof(uint32_t)));
+    out.close();
+    if (out) fs::rename(temp, path, ec);
+    if (ec) fs::remove(temp, ec);
+}
+
+}  // namespace
+
+bool MakeContribShader(const PackedScene &packed, const ContribOptions &options,
+                       const std::vector<TrackedModifier> &tracked, const MakeContext &make_context,
+                       bool float_accumulators, ContribShader *shader, std::string *why) {
+    std::string bins, patterns;
+    try {
+        bins = BinGlsl(tracked, make_context, &shader->bin_function);
+    } catch (const UserError &e) {
+        *why = std::string("a bin expression GLSL cannot express: ") + e.what();
+        return false;
+    }
+    try {
+        patterns = PatternGlsl(packed.patterns);
+    } catch (const UserError &e) {
+        *why = std::string("a pattern GLSL cannot express: ") + e.what();
+        return false;
+    }
+    shader->source = Macros(packed, options, float_accumulators) +
+                     "#include \"shaders/common.h\"\n" + bins + patterns + kShaderContrib;
+    return true;
+}
+
+std::vector<uint32_t> CompileContribShader(const ContribShader &shader, bool ray_queries) {
+    // ([[dont_unroll]] keeps the BSDF's small loops, so its code is not copied.)
+    const std::string source =
+        std::string("#version 460\n#extension GL_EXT_control_flow_attributes : enable\n") +
+        (ray_queries ? "#extension GL_EXT_ray_query : require\n" : "#define DAYFLUX_BVH 1\n") +
+        shader.source;
+    const fs::path cache = CachePath(source);
+    if (!cache.empty())
+        if (std::vector<uint32_t> spirv = ReadSpirv(cache); !spirv.empty()) return spirv;
+    std::vector<uint32_t> spirv = vk::GpuDevice::CompileGlsl(source, "contrib.comp", IncludedFile);
+    if (!cache.empty()) WriteSpirv(cache, spirv);
+    return spirv;
+}
+
+}  // namespace dayflux

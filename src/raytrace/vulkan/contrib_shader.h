@@ -1,0 +1,37 @@
+// The GPU driver's compute shader for one run: src/shaders/contrib.comp and the estimator core it
+// includes (embedded in the program at build time, found by a shaderc includer), after the
+// run's macros, the tracked modifiers' bin expressions and the scene's patterns generated from
+// calcomp (cal/glsl.h). Compiled SPIR-V is cached on disk by its source.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "raytrace/engine.h"
+#include "raytrace/packing.h"
+
+namespace dayflux {
+
+// Invocations per work group, and the shader's sizes: its ray stack, and the rows of the first
+// hemisphere that keep RADIANCE's collision rule (-ad up to 65536; beyond, none).
+constexpr int kGpuLocalSize = 64;
+constexpr int kGpuStackSize = 64;
+constexpr int kGpuMaxRows = 256;
+
+struct ContribShader {
+    std::string source;  // without the #version line and extensions, which depend on the device
+    // Per tracked modifier, its bin function (one per distinct expression and context), for
+    // PackedScene::tracked's third entry.
+    std::vector<int> bin_function;
+};
+
+// The shader's source for a run; false, with why, where GLSL cannot express a bin or a pattern.
+bool MakeContribShader(const PackedScene &packed, const ContribOptions &options,
+                       const std::vector<TrackedModifier> &tracked, const MakeContext &make_context,
+                       bool float_accumulators, ContribShader *shader, std::string *why);
+
+// SPIR-V for devices with ray queries or without (our BVH walk), from the cache if it is there.
+std::vector<uint32_t> CompileContribShader(const ContribShader &shader, bool ray_queries);
+
+}  // namespace dayflux

@@ -1,0 +1,342 @@
+#include "rcontrib/options.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <set>
+#include <tuple>
+
+#include "util/errors.h"
+#include "util/raypath.h"
+#include "util/strings.h"
+
+namespace dayflux {
+
+namespace {
+
+[[noreturn]] void Usage(const char *prog) {
+    ErrorExit(std::string("Usage: ") + prog +
+              " [-n nprocs][-V][-c count][-fo][-r][-e expr][-f source][-o ospec][-p "
+              "p1=V1,p2=V2][-b binv][-bn N]"
+              " {-m mod | -M file} [rtrace options] [-seed N][-asub N][-backend name][-device "
+              "name][-progress] octree   (or: " +
+              prog + " -devices)");
+}
+
+// Applies "a=1,b=2" (separators , : ;) to a context, as RADIANCE's set_eparams().
+void ApplyParams(cal::Context &cx, const std::string &params) {
+    std::string p = params;
+    for (char &c : p)
+        if (c == ',' || c == ':' || c == ';') c = ';';
+    if (!p.empty()) cx.Load(p, FileLoc{"-p", 0});
+}
+
+// RADIANCE's boolean options: -x toggles, -x+ -x1 -xy -xt set, anything else clears.
+bool Flag(const std::string &a, bool current) {
+    if (a.size() == 2) return !current;
+    return a[2] == '+' || a[2] == '1' || a[2] == 'y' || a[2] == 't';
+}
+
+GpuTraversal Traversal(const std::string &option, const std::string &t) {
+    if (t == "auto") return GpuTraversal::kAuto;
+    if (t == "rayquery") return GpuTraversal::kRayQuery;
+    if (t == "bvh") return GpuTraversal::kBvh;
+    ErrorExit(option + " " + t + ": auto, rayquery or bvh");
+}
+
+std::string Environment(const char *name) {
+    const char *v = std::getenv(name);
+    return v ? v : "";
+}
+
+// The arguments with @file ones replaced by the file's words.
+std::vector<std::string> Expanded(int argc, char **argv) {
+    std::vector<std::string> expanded;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a.size() > 1 && a[0] == '@') {
+            std::ifstream f(a.substr(1));
+            if (!f) ErrorExit("cannot open option file '" + a.substr(1) + "'");
+            for (std::string w; f >> w;) expanded.push_back(w);
+        } else {
+            expanded.push_back(a);
+        }
+    }
+    return expanded;
+}
+
+// The options in order, one group of them per function, each saying whether it took `a`.
+class Parser {
+  public:
+    Parser(std::vector<std::string> args, RcontribOptions *o) : args_(std::move(args)), o_(*o) {
+        o_.engine.device = Environment("DAYFLUX_VULKAN_DEVICE");
+        if (const std::string t = Environment("DAYFLUX_GPU_TRAVERSAL"); !t.empty())
+            o_.engine.traversal = Traversal("DAYFLUX_GPU_TRAVERSAL=", t);
+    }
+
+    // Parses the options; returns the index of the first scene argument.
+    size_t Run(const char *prog, std::vector<std::string> *args_for_header) {
+        for (; i_ < args_.size(); ++i_) {
+            const std::string a = args_[i_];
+            if (a.empty() || a[0] != '-' || a.size() == 1) break;
+            const size_t start = i_;
+            if (!Modifiers(a) && !Formats(a) && !Records(a) && !Tracing(a) && !Ours(a)) {
+                std::fprintf(stderr, "%s: unknown option '%s'\n", prog, a.c_str());
+                Usage(prog);
+            }
+            for (size_t k = start; k <= i_; ++k) args_for_header->push_back(args_[k]);
+        }
+        // -backend, else vulkan where -device names one, else DAYFLUX_BACKEND, else embree.
+        const std::string env_backend = Environment("DAYFLUX_BACKEND");
+        o_.engine.backend = !backend_.empty()      ? backend_
+                            : device_named_        ? "vulkan"
+                            : !env_backend.empty() ? env_backend
+                                                   : "embree";
+        return i_;
+    }
+
+  private:
+    std::string Value(const std::string &opt) {
+        if (i_ + 1 >= args_.size()) ErrorExit(opt + ": missing argument");
+        return args_[++i_];
+    }
+    double Number(const std::string &opt) {
+        double v;
+        const std::string w = Value(opt);
+        if (!ParseNumber(w, &v)) ErrorExit(opt + ": bad number '" + w + "'");
+        return v;
+    }
+    int Integer(const std::string &opt) { return static_cast<int>(Number(opt)); }
+
+    // addmodifier(): -bn is evaluated now, with what is defined so far (the value remembered for
+    // the modifiers after it, since -M may name thousands); a name may be tracked once.
+    void AddModifier(const std::string &name) {
+        if (!names_.insert(name).second) ErrorExit("duplicate modifier '" + name + "'");
+        auto [it, added] = bin_counts_.emplace(std::make_tuple(o_.cal.size(), params_, bn_), 0);
+        if (added) {
+            auto cx = MakeCalContext(o_, params_);
+            const double n = cx->Compile(bn_, FileLoc{"-bn", 0}).Evaluate(*cx);
+            it->second = static_cast<int>(n + .5);
+            if (it->second < 1)
+                ErrorExit("-bn " + bn_ + ": bin count " + std::to_string(it->second) +
+                          " is below 1");
+        }
+        ModifierSpec m;
+        m.tracked.name = name;
+        m.tracked.bin_expression = binv_;
+        m.tracked.nbins = it->second;
+        m.params = params_;
+        o_.modifiers.push_back(m);
+    }
+
+    // -m -M -b -bn -p -e -f: the tracked modifiers and their calcomp definitions.
+    bool Modifiers(const std::string &a) {
+        if (a == "-m") {
+            AddModifier(Value(a));
+        } else if (a == "-M") {
+            const std::string file = Value(a);
+            std::ifstream f(FindOnRaypath(file));
+            if (!f) ErrorExit("-M: cannot open modifier file '" + file + "'");
+            for (std::string w; f >> w;) AddModifier(w);
+        } else if (a == "-b") {
+            binv_ = Value(a);
+        } else if (a == "-bn") {
+            bn_ = Value(a);
+        } else if (a == "-p") {
+            params_ = Value(a);
+        } else if (a == "-e") {
+            o_.cal.push_back({false, Value(a)});
+        } else if (a == "-f") {
+            o_.cal.push_back({true, Value(a)});
+        } else {
+            return false;
+        }
+        return true;
+    }
+
+    // -f[adf][adfc] (input and output formats), -fo, -h.
+    bool Formats(const std::string &a) {
+        if (a.rfind("-fo", 0) == 0) {
+            o_.force_open = Flag(a.substr(0, 1) + a.substr(2), o_.force_open);
+        } else if (a[1] == 'f' && a.size() >= 3) {
+            const auto format = [&](char c, bool output) {
+                switch (c) {
+                    case 'a':
+                        return DataFormat::Ascii;
+                    case 'f':
+                        return DataFormat::Float;
+                    case 'd':
+                        return DataFormat::Double;
+                    case 'c':
+                        if (output) return DataFormat::RGBE;
+                        [[fallthrough]];
+                    default:
+                        ErrorExit("bad format option '" + a + "'");
+                }
+            };
+            o_.in = format(a[2], false);
+            o_.out = a.size() > 3 ? format(a[3], true) : o_.in;
+        } else if (a.rfind("-h", 0) == 0) {
+            o_.header = Flag(a, o_.header);
+        } else {
+            return false;
+        }
+        return true;
+    }
+
+    // -o -c -x -y -n -r -t -w: where records go, how many rays make one, progress.
+    bool Records(const std::string &a) {
+        if (a == "-o") {
+            o_.ospec = Value(a);
+        } else if (a.rfind("-w", 0) == 0) {
+            // warnings on or off: ours are few and always shown
+        } else if (a.rfind("-r", 0) == 0 && a.size() <= 3) {
+            o_.recover = Flag(a, o_.recover);
+        } else if (a == "-c") {
+            o_.accumulate = Integer(a);
+        } else if (a == "-x") {
+            o_.xres = Integer(a);
+        } else if (a == "-y") {
+            o_.yres = Integer(a);
+        } else if (a == "-n") {
+            o_.threads = Integer(a);
+        } else if (a == "-t") {
+            o_.report_seconds = Number(a);
+        } else {
+            return false;
+        }
+        return true;
+    }
+
+    // rtrace's options that rcontrib takes, and those it forces.
+    bool Tracing(const std::string &a) {
+        ContribOptions &c = o_.contrib;
+        if (a == "-ab") {
+            c.ambient_bounces = Integer(a);
+        } else if (a == "-ad") {
+            c.ambient_divisions = Integer(a);
+        } else if (a == "-lw") {
+            c.limit_weight = Number(a);
+        } else if (a == "-lr") {
+            c.limit_reflections = Integer(a);
+        } else if (a == "-st") {
+            c.specular_threshold = Number(a);
+        } else if (a == "-ss") {
+            c.specular_jitter = Number(a);
+        } else if (a == "-dj") {
+            c.source_jitter = Number(a);
+        } else if (a == "-ds") {
+            c.source_size_ratio = Number(a);
+        } else if (a == "-dr") {
+            c.direct_relays = Integer(a);
+        } else if (a.rfind("-V", 0) == 0) {
+            c.contributions = Flag(a, c.contributions);
+        } else if (a.rfind("-I", 0) == 0) {
+            c.irradiance = Flag(a, c.irradiance);
+        } else if (a.rfind("-i", 0) == 0) {
+            c.first_hit_irradiance = Flag(a, c.first_hit_irradiance);
+        } else if (a.rfind("-u", 0) == 0 || a.rfind("-bv", 0) == 0) {
+            // random/back-face flags: our sampling is always repeatable for a given -seed
+        } else if (a == "-aa" || a == "-as" || a == "-dt" || a == "-ar" || a == "-aw" ||
+                   a == "-dc" || a == "-dp") {
+            // forced by rcontrib (-aa 0 -as 0 -dt 0, making -dc moot), or the pretest of
+            // virtual sources (-dp), which we do not need (docs/compat.md)
+            Value(a);
+        } else if (a == "-av") {
+            Value(a), Value(a), Value(a);
+        } else {
+            return false;
+        }
+        return true;
+    }
+
+    // Ours: -seed -asub -backend -device -gpu_traversal -gpu_accum -se -progress.
+    bool Ours(const std::string &a) {
+        if (a == "-asub") {
+            // N x N samples in each cell of the first ambient hemisphere, one of them
+            // continuing its diffuse paths (docs/compat.md).
+            o_.contrib.ambient_subsamples = Integer(a);
+            if (o_.contrib.ambient_subsamples < 1) ErrorExit("-asub: a whole number of 1 or more");
+        } else if (a == "-seed") {
+            o_.contrib.seed = static_cast<uint64_t>(Number(a));
+        } else if (a == "-backend") {
+            backend_ = Value(a);
+        } else if (a == "-gpu_accum") {
+            // The GPU's per-task accumulators: double (the default) or float.
+            const std::string t = Value(a);
+            if (t != "float" && t != "double") ErrorExit("-gpu_accum " + t + ": float or double");
+            o_.engine.float_accumulators = t == "float";
+        } else if (a == "-gpu_traversal") {
+            o_.engine.traversal = Traversal(a, Value(a));
+        } else if (a == "-device") {
+            // The Vulkan device(s), by name or index; it implies -backend vulkan and is the
+            // way to run on lavapipe.
+            o_.engine.device = Value(a);
+            device_named_ = true;
+        } else if (a == "-se") {
+            o_.stderr_file = Value(a);
+        } else if (a.rfind("-progress", 0) == 0) {
+            o_.progress = Flag(a.substr(0, 2) + a.substr(9), o_.progress);
+        } else {
+            return false;
+        }
+        return true;
+    }
+
+    std::vector<std::string> args_;
+    size_t i_ = 0;
+    RcontribOptions &o_;
+    std::string binv_ = "0", bn_ = "1", params_;
+    std::map<std::tuple<size_t, std::string, std::string>, int> bin_counts_;
+    std::set<std::string> names_;
+    std::string backend_;
+    bool device_named_ = false;
+};
+
+}  // namespace
+
+RcontribOptions ParseRcontribOptions(int argc, char **argv,
+                                     std::vector<std::string> *args_for_header) {
+    RcontribOptions o;
+    const std::vector<std::string> args = Expanded(argc, argv);
+    Parser parser(args, &o);
+    for (size_t i = parser.Run(argv[0], args_for_header); i < args.size(); ++i)
+        o.scene.push_back(args[i]);
+    if (o.scene.empty()) Usage(argv[0]);
+    if (o.modifiers.empty()) ErrorExit("no modifiers given (-m or -M)");
+    if (o.accumulate < 0) ErrorExit("-c must not be negative");
+    int col = 0;
+    for (ModifierSpec &m : o.modifiers) m.tracked.first_column = col, col += m.tracked.nbins;
+    if (!o.stderr_file.empty())
+        o.contrib.ambient_divisions = std::max(1, o.contrib.ambient_divisions / kReplicas);
+    return o;
+}
+
+std::unique_ptr<cal::Context> MakeCalContext(const RcontribOptions &o, const std::string &params) {
+    auto cx = std::make_unique<cal::Context>();
+    cx->LoadRayInit();
+    for (const CalCommand &c : o.cal) {
+        if (c.file)
+            cx->LoadFile(FindOnRaypath(c.text));
+        else
+            cx->Load(c.text, FileLoc{"-e", 0});
+    }
+    ApplyParams(*cx, params);
+    return cx;
+}
+
+std::vector<TrackedModifier> TrackedModifiers(const RcontribOptions &o) {
+    std::vector<TrackedModifier> tracked;
+    std::map<std::string, int> first_with_params;
+    for (const ModifierSpec &m : o.modifiers) {
+        tracked.push_back(m.tracked);
+        const int k = static_cast<int>(tracked.size()) - 1;
+        const int first = first_with_params.emplace(m.params, k).first->second;
+        if (first != k) tracked.back().context_of = first;
+    }
+    return tracked;
+}
+
+}  // namespace dayflux

@@ -1,0 +1,64 @@
+// rcontrib's command line, read as RADIANCE's rcontrib reads it, and ours beside it: -backend,
+// -device, -gpu_traversal and -gpu_accum (the engine), -seed, -asub, -se (standard errors) and
+// -progress. Options it does not know are errors, as in RADIANCE; options that rcontrib forces
+// (-aa 0 -as 0 -dt 0) are accepted and ignored.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cal/calcomp.h"
+#include "matrix/formats.h"
+#include "raytrace/contrib.h"
+#include "raytrace/engine.h"
+
+namespace dayflux {
+
+struct CalCommand {
+    bool file;  // -f file, else -e expression
+    std::string text;
+};
+
+struct ModifierSpec {
+    TrackedModifier tracked;
+    std::string params;  // -p in force
+};
+
+struct RcontribOptions {
+    ContribOptions contrib;
+    std::vector<CalCommand> cal;
+    std::vector<ModifierSpec> modifiers;
+    DataFormat in = DataFormat::Ascii, out = DataFormat::Ascii;
+    bool header = true;
+    int accumulate = 1;  // -c
+    int xres = 0, yres = 0;
+    int threads = 0;
+    double report_seconds = 0;  // -t: RADIANCE's progress report every so many seconds
+    std::string stderr_file;    // -se (ours): standard errors of the entries, as a matrix
+    bool progress = false;      // -progress: a progress line with the time left (ours)
+    std::string ospec;          // -o: empty for the standard output
+    bool force_open = false;    // -fo: overwrite existing output files
+    bool recover = false;       // -r: continue the records of existing output files
+    EngineOptions engine;       // -backend, -device, -gpu_traversal, -gpu_accum
+    std::vector<std::string> scene;
+};
+
+// -se: every input ray is traced as this many independent replicas with -ad / replicas each;
+// their mean is the result and their spread gives its standard error.
+constexpr int kReplicas = 8;
+
+// The options (after expanding @file arguments); the arguments that go into output headers are
+// appended to args_for_header. The environment's DAYFLUX_BACKEND, DAYFLUX_VULKAN_DEVICE and
+// DAYFLUX_GPU_TRAVERSAL are defaults for -backend, -device and -gpu_traversal (ours, for
+// pipelines that cannot add options to a command: docs/compat.md).
+RcontribOptions ParseRcontribOptions(int argc, char **argv,
+                                     std::vector<std::string> *args_for_header);
+
+// A calcomp context with rayinit.cal, every -e and -f in order, and -p parameters params.
+std::unique_ptr<cal::Context> MakeCalContext(const RcontribOptions &o, const std::string &params);
+
+// The tracked modifiers, each evaluated in the context of the first with the same -p.
+std::vector<TrackedModifier> TrackedModifiers(const RcontribOptions &o);
+
+}  // namespace dayflux

@@ -1,0 +1,254 @@
+#include "rcontrib/outputs.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "matrix/header.h"
+#include "matrix/rgbe.h"
+#include "matrix/writer.h"
+#include "util/errors.h"
+#include "util/strings.h"
+
+namespace dayflux {
+
+namespace fs = std::filesystem;
+
+// One output: the standard output or a file (command) that -o names, with the columns (bins)
+// that go there in order.
+struct RcontribOutputs::Stream {
+    std::string name;
+    std::string modifier;
+    int bin = 0;
+    int flags = 0;
+    bool standard_error = false;  // the -se output
+    std::vector<int> columns;
+    std::unique_ptr<OutputFile> file;
+    size_t prefix_bytes = 0;  // -r: the existing file's header (and resolution line)
+};
+
+std::string OutputName(const std::string &spec, const std::string &mod, int bin, int *flags) {
+    size_t mpos = std::string::npos, bpos = std::string::npos;
+    for (size_t i = 0; i < spec.size(); ++i) {
+        if (spec[i] != '%') continue;
+        do ++i;
+        while (i < spec.size() && std::isdigit(static_cast<unsigned char>(spec[i])));
+        const char c = i < spec.size() ? spec[i] : '\0';
+        if (c == '%') continue;
+        if (c == 's' && mpos == std::string::npos)
+            mpos = i;
+        else if (std::strchr("dioxX", c) && c && bpos == std::string::npos)
+            bpos = i;
+        else
+            ErrorExit("bad output format '" + spec + "'");
+    }
+    *flags =
+        (mpos != std::string::npos ? kByModifier : 0) | (bpos != std::string::npos ? kByBin : 0);
+    // The spec was checked above: only digits between % and the conversion.
+    std::vector<char> buf(spec.size() + mod.size() + 64);
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wformat-nonliteral"
+#pragma GCC diagnostic ignored "-Wformat-security"
+    if (*flags == (kByModifier | kByBin) && mpos < bpos)
+        std::snprintf(buf.data(), buf.size(), spec.c_str(), mod.c_str(), bin);
+    else if (*flags == (kByModifier | kByBin))
+        std::snprintf(buf.data(), buf.size(), spec.c_str(), bin, mod.c_str());
+    else if (*flags == kByModifier)
+        std::snprintf(buf.data(), buf.size(), spec.c_str(), mod.c_str());
+    else if (*flags == kByBin)
+        std::snprintf(buf.data(), buf.size(), spec.c_str(), bin);
+    else if (*flags == 0)
+        std::snprintf(buf.data(), buf.size(), "%s", spec.c_str());
+#pragma GCC diagnostic pop
+    return buf.data();
+}
+
+namespace {
+
+size_t RecordBytes(const RcontribOptions &o, size_t columns) {
+    return o.out == DataFormat::RGBE ? 4 * columns
+                                     : (o.out == DataFormat::Float ? 12 : 24) * columns;
+}
+
+// Copies the first `bytes` of file `name` to out, in pieces (a recovered output may be large).
+void CopyPrefix(const std::string &name, size_t bytes, OutputFile *out) {
+    std::ifstream f(name, std::ios::binary);
+    std::vector<char> piece(size_t(1) << 22);
+    while (bytes > 0) {
+        const size_t n = std::min(bytes, piece.size());
+        if (!f.read(piece.data(), static_cast<std::streamsize>(n)))
+            ErrorExit("cannot read '" + name + "' to recover it");
+        out->Write(piece.data(), n);
+        bytes -= n;
+    }
+}
+
+// A file per modifier (-o %s with a sun per modifier) can mean thousands open at once: up to
+// the hard limit, where RADIANCE stops at the soft one (1024 on Debian).
+void AllowOpenFiles(size_t n) {
+    struct rlimit files;
+    if (getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur < files.rlim_max &&
+        n + 64 > files.rlim_cur) {
+        files.rlim_cur = files.rlim_max;
+        setrlimit(RLIMIT_NOFILE, &files);
+    }
+}
+
+}  // namespace
+
+RcontribOutputs::RcontribOutputs(const RcontribOptions &o, int ncols,
+                                 std::vector<std::string> header_args,
+                                 const std::string &octree_header, const std::string &label)
+    : o_(o) {
+    // In the order RADIANCE opens them: by modifier, then bin.
+    if (o.ospec.empty()) {
+        streams_.emplace_back().name = "-";
+        for (int c = 0; c < ncols; ++c) streams_[0].columns.push_back(c);
+    } else {
+        std::map<std::string, size_t> named;
+        for (const ModifierSpec &m : o.modifiers)
+            for (int b = 0; b < m.tracked.nbins; ++b) {
+                int flags = 0;
+                const std::string name = OutputName(o.ospec, m.tracked.name, b, &flags);
+                auto [it, added] = named.emplace(name, streams_.size());
+                if (added) {
+                    Stream &s = streams_.emplace_back();
+                    s.name = name, s.modifier = m.tracked.name, s.bin = b, s.flags = flags;
+                }
+                streams_[it->second].columns.push_back(m.tracked.first_column + b);
+            }
+        AllowOpenFiles(streams_.size());
+    }
+    if (!o.stderr_file.empty()) {
+        Stream &se = streams_.emplace_back();
+        se.name = o.stderr_file;
+        se.standard_error = true;
+        for (int c = 0; c < ncols; ++c) se.columns.push_back(c);
+    }
+    // -r: the complete records every output already has, kept (header and all) in front of
+    // the rest.
+    recovered_ = o.recover ? RecoverableRecords() : 0;
+    for (Stream &s : streams_) Open(s, header_args, octree_header, label);
+}
+
+RcontribOutputs::~RcontribOutputs() = default;
+
+void RcontribOutputs::Open(Stream &s, const std::vector<std::string> &header_args,
+                           const std::string &octree_header, const std::string &label) {
+    const RcontribOptions &o = o_;
+    if (!o.recover && s.name != "-" && s.name[0] != '!' && !o.force_open && fs::exists(s.name))
+        ErrorExit("cannot open '" + s.name + "' for writing: file exists (use -fo+)");
+    s.file = std::make_unique<OutputFile>(s.name);
+    const int reclen = static_cast<int>(s.columns.size());
+    if (recovered_ > 0) {
+        CopyPrefix(s.name, s.prefix_bytes + recovered_ * RecordBytes(o, s.columns.size()),
+                   s.file.get());
+        return;
+    }
+    if (o.header) {
+        std::vector<std::string> args = header_args;
+        std::vector<char *> av;
+        for (std::string &a : args) av.push_back(a.data());
+        std::string h = HeaderStart(static_cast<int>(av.size()), av.data());
+        h.insert(h.find('\n') + 1, octree_header);
+        h += "SOFTWARE= dayflux rcontrib-gpu (" + label + ")\n" + DateLines() + "NCOMP=3\n";
+        if (s.name != "-" && ((s.flags & kByModifier) || reclen == 1))
+            h += "MODIFIER=" + s.modifier + "\n";
+        if (s.flags & kByBin) h += "BIN=" + std::to_string(s.bin) + "\n";
+        if (o.yres > 0) h += "NROWS=" + std::to_string(o.yres * std::max(o.xres, 1)) + "\n";
+        if (o.xres <= 0 || reclen > 1) h += "NCOLS=" + std::to_string(reclen) + "\n";
+        if (o.out == DataFormat::Float || o.out == DataFormat::Double)
+            h += NativeBigEndian() ? "BigEndian=1\n" : "BigEndian=0\n";
+        h += FormatLine(o.out) + "\n";
+        s.file->Write(h);
+    }
+    if (reclen == 1 && o.xres > 0 && o.yres > 0) s.file->Write(ResolutionLine(o.xres, o.yres));
+}
+
+// recover_output(): the number of complete records in every output (0 if there is nothing to
+// recover), after checking that they are files of the format asked for. Sets prefix_bytes.
+long RcontribOutputs::RecoverableRecords() {
+    const RcontribOptions &o = o_;
+    if (o.out == DataFormat::Ascii) ErrorExit("cannot recover ASCII output");
+    if (o.accumulate <= 0) ErrorExit("cannot recover with -c 0 (one record of all rays)");
+    long last = -1;
+    for (Stream &s : streams_) {
+        if (s.name == "-") ErrorExit("cannot recover from stdout");
+        if (s.name[0] == '!') ErrorExit("cannot recover from command");
+        std::error_code ec;
+        const auto size = fs::file_size(s.name, ec);
+        if (ec || size == 0) {
+            if (ec) Warning("missing recover file '" + s.name + "'");
+            Warning("no previous data to recover");
+            return 0;
+        }
+        std::ifstream f(s.name, std::ios::binary);
+        std::string head(std::min<uintmax_t>(size, 1 << 16), '\0');
+        f.read(head.data(), static_cast<std::streamsize>(head.size()));
+        size_t body = 0;
+        if (o.header) {
+            const size_t end = head.find("\n\n");
+            if (head.rfind("#?RADIANCE", 0) != 0 || end == std::string::npos ||
+                head.substr(0, end + 1).find(FormatLine(o.out)) == std::string::npos)
+                ErrorExit("format mismatch for '" + s.name + "'");
+            body = end + 2;
+        }
+        if (s.columns.size() == 1 && o.xres > 0 && o.yres > 0) {
+            const size_t eol = head.find('\n', body);
+            if (eol == std::string::npos ||
+                head.substr(body, eol + 1 - body) != ResolutionLine(o.xres, o.yres))
+                ErrorExit("resolution mismatch for '" + s.name + "'");
+            body = eol + 1;
+        }
+        s.prefix_bytes = body;
+        const long n = static_cast<long>((size - body) / RecordBytes(o, s.columns.size()));
+        if (last < 0 || n < last) last = n;
+    }
+    if (last == 0) Warning("no previous data to recover");
+    return std::max(last, 0L);
+}
+
+void RcontribOutputs::Write(const std::vector<double> &values,
+                            const std::vector<double> &standard_errors) {
+    for (Stream &s : streams_) {
+        const std::vector<double> &v = s.standard_error ? standard_errors : values;
+        text_.clear();
+        if (o_.out == DataFormat::Ascii) {
+            for (int c : s.columns)
+                for (int k = 0; k < 3; ++k) {
+                    AppendScientific(&text_, v[3 * c + k], 6);
+                    text_ += '\t';
+                }
+            text_ += '\n';
+        } else if (o_.out == DataFormat::RGBE) {
+            // RGBE as rcontrib writes it: one flat 4-byte colour per entry, so a one-column
+            // output with -x and -y is a picture.
+            for (int c : s.columns) {
+                const Colr colr = ToColr(v[3 * c], v[3 * c + 1], v[3 * c + 2]);
+                text_.append(reinterpret_cast<const char *>(colr.data()), 4);
+            }
+        } else {
+            part_.clear();
+            for (int c : s.columns) part_.insert(part_.end(), &v[3 * c], &v[3 * c + 3]);
+            RowFormatter(o_.out, static_cast<int>(s.columns.size()), 3)
+                .Append(part_.data(), &text_);
+        }
+        s.file->Write(text_);
+    }
+}
+
+void RcontribOutputs::Flush() {
+    for (Stream &s : streams_) std::fflush(s.file->Stream());
+}
+
+void RcontribOutputs::Commit() {
+    for (Stream &s : streams_) s.file->Commit();
+}
+
+}  // namespace dayflux

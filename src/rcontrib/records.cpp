@@ -1,0 +1,217 @@
+#include "rcontrib/records.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "matrix/reader.h"
+#include "rcontrib/progress.h"
+#include "util/errors.h"
+#include "util/files.h"
+#include "util/pipeline.h"
+
+namespace dayflux {
+
+namespace {
+
+// A block of input rays traced together. It holds the pieces (segments) of the records it
+// touches, so -c 0 or -c 10000 still keeps every thread busy.
+struct Segment {
+    size_t first = 0, count = 0;  // rays of the block
+    bool ends_record = false;
+    double scale = 1;  // 1/-c, applied when the record ends
+};
+struct Block {
+    std::vector<double> rays;  // 6 per ray; a zero direction is a flush, not traced
+    uint64_t first_ray = 0;
+    std::vector<Segment> segments;
+    std::vector<std::vector<double>> sums;  // per segment
+    std::vector<std::vector<double>> vars;  // per segment, with -se: variance of the sums
+    bool flush = false;                     // a zero ray: flush the outputs after
+};
+
+// Reads input rays into blocks of at most `block_rays`, ending records after -c rays, after -y
+// records, or (partial) at the end of input.
+class RayReader {
+  public:
+    RayReader(const RcontribOptions &o, size_t block_rays)
+        : o_(o), block_rays_(block_rays), in_(InputSource::Open("-"), Spec(o.in)) {
+        wanted_ = o.yres > 0 ? static_cast<long>(o.yres) * std::max(o.xres, 1) : -1;
+    }
+    long Wanted() const { return wanted_; }
+
+    // Skips the rays of `records` records (-r).
+    void Skip(long records) {
+        const long skip = records * std::max(o_.accumulate, 1);
+        double ray[6];
+        for (long k = 0; k < skip; ++k)
+            if (!in_.ReadRow(ray)) ErrorExit("unexpected EOF on input");
+        next_ray_ = static_cast<uint64_t>(skip);
+        ended_ = records;
+    }
+
+    std::unique_ptr<Block> Next() {
+        if (done_) return nullptr;
+        auto b = std::make_unique<Block>();
+        b->first_ray = next_ray_;
+        double ray[6];
+        while (b->rays.size() / 6 < block_rays_) {
+            if (wanted_ >= 0 && ended_ >= wanted_) {
+                done_ = true;
+                break;
+            }
+            if (!in_.ReadRow(ray)) {
+                EndOfInput(b.get());
+                done_ = true;
+                break;
+            }
+            const bool zero = ray[3] == 0 && ray[4] == 0 && ray[5] == 0;
+            if (zero && o_.accumulate <= 0) {
+                if (!warned_dummy_) Warning("dummy ray(s) ignored during accumulation");
+                warned_dummy_ = true;
+                continue;
+            }
+            AddRay(b.get(), ray);
+            b->flush = b->flush || zero;
+            if (o_.accumulate > 0 && in_record_ == o_.accumulate)
+                EndRecord(b.get(), o_.accumulate > 1 ? 1.0 / o_.accumulate : 1);
+        }
+        if (b->segments.empty()) return nullptr;
+        next_ray_ += b->rays.size() / 6;
+        return b;
+    }
+
+  private:
+    static ReadSpec Spec(DataFormat format) {
+        ReadSpec rs;
+        rs.header = false;
+        rs.format = format;
+        rs.ncols = 1;
+        rs.ncomp = 6;
+        return rs;
+    }
+    void AddRay(Block *b, const double *ray) {
+        const size_t n = b->rays.size() / 6;
+        b->rays.insert(b->rays.end(), ray, ray + 6);
+        if (b->segments.empty() || b->segments.back().ends_record)
+            b->segments.push_back(Segment{n, 0, false, 1});
+        ++b->segments.back().count;
+        ++in_record_;
+    }
+    void EndRecord(Block *b, double scale) {
+        if (b->segments.empty() || b->segments.back().ends_record)
+            b->segments.push_back(Segment{b->rays.size() / 6, 0, false, 1});
+        b->segments.back().ends_record = true;
+        b->segments.back().scale = scale;
+        in_record_ = 0;
+        ++ended_;
+    }
+    void EndOfInput(Block *b) {
+        if (o_.accumulate <= 0) {
+            EndRecord(b, 1);  // -c 0: one record of every ray
+        } else if (in_record_ > 0) {
+            Warning("partial accumulation in final record");
+            EndRecord(b, o_.accumulate > 1 ? 1.0 / static_cast<double>(in_record_) : 1);
+        }
+    }
+
+    const RcontribOptions &o_;
+    const size_t block_rays_;
+    MatrixReader in_;
+    long wanted_;
+    uint64_t next_ray_ = 0;
+    long ended_ = 0;      // records ended
+    long in_record_ = 0;  // rays in the record being read
+    bool done_ = false, warned_dummy_ = false;
+};
+
+// The block traced (per replica with -se), then summed per segment.
+void TraceBlock(ContribEngine &engine, int replicas, Block &b) {
+    const size_t n = 3 * static_cast<size_t>(engine.Columns()), nrays = b.rays.size() / 6;
+    const bool replicate = replicas > 1;
+    std::vector<double> sums(nrays * n, 0.0), vars(replicate ? nrays * n : 0, 0.0);
+    TraceReplicas(engine, b.rays.data(), nrays, b.first_ray, replicas, sums.data(),
+                  replicate ? vars.data() : nullptr);
+    b.sums.resize(b.segments.size());
+    b.vars.resize(replicate ? b.segments.size() : 0);
+    for (size_t i = 0; i < b.segments.size(); ++i) {
+        const Segment &seg = b.segments[i];
+        b.sums[i].assign(n, 0.0);
+        if (replicate) b.vars[i].assign(n, 0.0);
+        for (size_t ray = seg.first; ray < seg.first + seg.count; ++ray)
+            for (size_t j = 0; j < n; ++j) {
+                b.sums[i][j] += sums[ray * n + j];
+                if (replicate) b.vars[i][j] += vars[ray * n + j];
+            }
+    }
+}
+
+// Sums segments into records and writes each as it ends, in order.
+class RecordWriter {
+  public:
+    RecordWriter(RcontribOutputs &outputs, int ncols, bool replicate, long written,
+                 ProgressReport &progress)
+        : outputs_(outputs),
+          replicate_(replicate),
+          written_(written),
+          progress_(progress),
+          pending_(3 * static_cast<size_t>(ncols), 0.0),
+          pending_var_(pending_.size(), 0.0),
+          standard_error_(pending_.size(), 0.0) {}
+    long Written() const { return written_; }
+
+    void Consume(const Block &b) {
+        for (size_t i = 0; i < b.segments.size(); ++i) {
+            for (size_t k = 0; k < pending_.size(); ++k) pending_[k] += b.sums[i][k];
+            if (replicate_)
+                for (size_t k = 0; k < pending_.size(); ++k) pending_var_[k] += b.vars[i][k];
+            if (b.segments[i].ends_record) EndRecord(b.segments[i].scale);
+        }
+        if (b.flush) outputs_.Flush();
+    }
+
+  private:
+    void EndRecord(double scale) {
+        if (scale != 1)
+            for (double &v : pending_) v *= scale;
+        for (size_t k = 0; k < pending_.size(); ++k)
+            standard_error_[k] = std::sqrt(pending_var_[k]) * scale;
+        outputs_.Write(pending_, standard_error_);
+        std::fill(pending_.begin(), pending_.end(), 0.0);
+        std::fill(pending_var_.begin(), pending_var_.end(), 0.0);
+        progress_.Update(++written_);
+    }
+
+    RcontribOutputs &outputs_;
+    const bool replicate_;
+    long written_;
+    ProgressReport &progress_;
+    std::vector<double> pending_, pending_var_, standard_error_;
+};
+
+}  // namespace
+
+void TraceRecords(const RcontribOptions &o, ContribEngine &engine, RcontribOutputs &outputs) {
+    RayReader reader(o, engine.BatchRays());
+    const long wanted = reader.Wanted(), recovered = outputs.Recovered();
+    if (recovered > 0) {
+        if (wanted >= 0 && recovered >= wanted) {
+            Warning("output appears to be complete");
+            return;
+        }
+        reader.Skip(recovered);
+    }
+    const bool replicate = !o.stderr_file.empty();
+    ProgressReport progress(o.report_seconds, o.progress, wanted);
+    RecordWriter writer(outputs, engine.Columns(), replicate, recovered, progress);
+    OrderedPipeline<Block>([&] { return reader.Next(); },
+                           [&](Block &b) { TraceBlock(engine, replicate ? kReplicas : 1, b); },
+                           [&](Block &b) { writer.Consume(b); });
+    if (wanted > 0 && writer.Written() < wanted)
+        ErrorExit("unexpected end of input: " + std::to_string(writer.Written()) + " of " +
+                  std::to_string(wanted) + " records");
+}
+
+}  // namespace dayflux

@@ -1,0 +1,19 @@
+// rcontrib's loop over its input: rays (origin and direction) read from the standard input in
+// the -f format, traced in blocks on the engine (blocks in parallel on the CPU), summed into
+// records of -c rays (or, partial, at the end of input; -c 0: one record of every ray), written
+// in input order. A zero direction counts as a ray that contributes nothing and flushes the
+// outputs (a caller feeding rays through a pipe gets results so far).
+#pragma once
+
+#include "raytrace/engine.h"
+#include "rcontrib/options.h"
+#include "rcontrib/outputs.h"
+
+namespace dayflux {
+
+// Traces every record to outputs, after skipping those it already holds (-r: as many input rays,
+// times -c, are skipped, and the rest keep their random numbers, so a recovered run ends as an
+// uninterrupted one would have). Errors where the input ends before -y records.
+void TraceRecords(const RcontribOptions &o, ContribEngine &engine, RcontribOutputs &outputs);
+
+}  // namespace dayflux
