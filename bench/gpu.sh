@@ -78,7 +78,7 @@ for model in $MODELS; do
     dir=$tmp/$model
     mkdir -p "$dir"
     python3 "$root/examples/reference-office/make_office.py" --offices "$offices" \
-        --out "$dir/model" > /dev/null
+        --out "$dir/model" > /dev/null 2>> "$OUT/office.log"
     awk -v s="$stride" '(NR - 1) % s == 0' "$dir/model/sensors.pts" > "$dir/sensors.pts"
     sensors=$(wc -l < "$dir/sensors.pts")
     # V: the window's glass a glow receiver; DC: the example's sky (and ground) glow.

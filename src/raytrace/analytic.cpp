@@ -7,9 +7,7 @@
 
 namespace dayflux {
 
-namespace {
-
-int CoreKind(AnalyticShape::Kind kind) {
+int CoreShapeKind(AnalyticShape::Kind kind) {
     switch (kind) {
         case AnalyticShape::kSphere:
             return core::kShapeSphere;
@@ -21,6 +19,8 @@ int CoreKind(AnalyticShape::Kind kind) {
             return core::kShapeRing;
     }
 }
+
+namespace {
 
 // The shape's ends (or centre and normal), recentred by offset; a ring's normal stays.
 void Ends(const AnalyticShape &s, const double offset[3], core::real3 *p0, core::real3 *p1) {
@@ -37,7 +37,7 @@ double IntersectShape(const AnalyticShape &s, const double offset[3], const doub
     if (s.kind == AnalyticShape::kSource) return -1;
     core::real3 p0, p1;
     Ends(s, offset, &p0, &p1);
-    return core::IntersectShape(CoreKind(s.kind), p0, s.r0, p1, s.r1,
+    return core::IntersectShape(CoreShapeKind(s.kind), p0, s.r0, p1, s.r1,
                                 core::real3(org[0], org[1], org[2]),
                                 core::real3(dir[0], dir[1], dir[2]), tmin, tmax);
 }
@@ -47,7 +47,7 @@ void ShapeNormal(const AnalyticShape &s, const double offset[3], const double p[
     core::real3 p0, p1, n(0);
     if (s.kind != AnalyticShape::kSource) {
         Ends(s, offset, &p0, &p1);
-        n = core::ShapeNormal(CoreKind(s.kind), s.inward, p0, s.r0, p1, s.r1,
+        n = core::ShapeNormal(CoreShapeKind(s.kind), s.inward, p0, s.r0, p1, s.r1,
                               core::real3(p[0], p[1], p[2]));
     }
     for (int k = 0; k < 3; ++k) normal[k] = n[k];

@@ -7,6 +7,9 @@
 
 namespace dayflux {
 
+// The estimator core's kind of shape (core/tables.h's kShape*; a source is none of them).
+int CoreShapeKind(AnalyticShape::Kind kind);
+
 // The nearest t in (tmin, tmax) where the ray org + t dir (dir of unit length) meets the shape,
 // or a negative number. offset is subtracted from the shape's coordinates first (a backend's
 // recentring).

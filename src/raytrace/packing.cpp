@@ -110,8 +110,9 @@ int MixNesting(const Material &m) {
 // Packs the tables one at a time, remembering what it has packed.
 class Packer {
   public:
-    Packer(const FlatScene &scene, const SceneMaterials &table, PackedScene *out)
-        : scene_(scene), table_(table), p_(*out) {}
+    Packer(const FlatScene &scene, const SceneMaterials &table, double source_jitter,
+           PackedScene *out)
+        : scene_(scene), table_(table), source_jitter_(source_jitter), p_(*out) {}
 
     int Pattern(const PatternFunction *f) {
         if (!f) return -1;
@@ -261,10 +262,7 @@ class Packer {
             g.p1 = sh.kind == AnalyticShape::kRing
                        ? Vec4(sh.p1[0], sh.p1[1], sh.p1[2], sh.r1)
                        : Vec4(sh.p1[0] - c[0], sh.p1[1] - c[1], sh.p1[2] - c[2], sh.r1);
-            g.kind = sh.kind == AnalyticShape::kSphere     ? core::kShapeSphere
-                     : sh.kind == AnalyticShape::kCone     ? core::kShapeCone
-                     : sh.kind == AnalyticShape::kCylinder ? core::kShapeCylinder
-                                                           : core::kShapeRing;
+            g.kind = CoreShapeKind(sh.kind);
             g.inward = sh.inward ? 1 : 0;
             g.surface = Surface(table_.OfObject(sh.object), table_.TrackedOfObject(sh.object),
                                 table_.ClipMaskOfObject(sh.object));
@@ -337,8 +335,17 @@ class Packer {
             g.norm = Vec4(n[0], n[1], n[2], m.spot_size);
             const double *aim = s.relay >= 0 ? s.spot_aim : m.spot_aim.data();
             g.spot = Vec4(aim[0], aim[1], aim[2], m.spot_flen);
-        } else if (s.weak) {
-            g.v.w = core::kSourceWeak;
+        } else {
+            if (s.weak) g.v.w = core::kSourceWeak;
+            // An image's spread: nextssamp() moves a sample at most dj (1.13 dj with the disc's
+            // trim) along each half side, so 1.2 dj (|u| + |v|) bounds the angle it turns.
+            const double spread =
+                1.2 * source_jitter_ *
+                    (std::sqrt(s.u[0] * s.u[0] + s.u[1] * s.u[1] + s.u[2] * s.u[2]) +
+                     std::sqrt(s.v[0] * s.v[0] + s.v[1] * s.v[1] + s.v[2] * s.v[2])) +
+                1e-6;
+            // (-2: wider than a right angle, no cone)
+            g.w = spread < M_PI / 2 ? Vec4(std::cos(spread), std::sin(spread), 0) : Vec4(-2, 0, 0);
         }
         g.object = s.object;
         g.tracked = table_.TrackedOfObject(s.emitter);
@@ -351,6 +358,7 @@ class Packer {
 
     const FlatScene &scene_;
     const SceneMaterials &table_;
+    const double source_jitter_;  // -dj
     PackedScene &p_;
     std::map<const BsdfInfo *, int> klems_of_;
     std::map<std::tuple<const Material *, int, uint64_t>, int> surface_of_;
@@ -412,7 +420,7 @@ PackedScene PackScene(const FlatScene &scene, const SceneMaterials &table,
         p.columns = std::max(p.columns, t.first_column + t.nbins);
         p.tracked.push_back(core::ivec4(t.first_column, t.nbins, 0, 0));
     }
-    Packer packer(scene, table, &p);
+    Packer packer(scene, table, options.source_jitter, &p);
     packer.Centre();
     packer.Triangles();
     packer.Shapes();

@@ -235,11 +235,26 @@ bool RelayMeets(int relay, real3 org, real3 dir) {
 }
 #endif
 
+// Whether distant image s may be seen through its mirror from point: its direction, widened by
+// how far -dj moves a sample (s.w: that angle's cosine and sine), within the cone about the
+// mirror's centre that the mirror's disc fills. Images of many suns in a mirror are mostly
+// outside it, and cost no sample then.
+bool InMirrorsCone(IN(PackedSource) s, real3 point) {
+    if (int(s.u.w) != kSourceDistant || s.w.x < -1.5) return true;
+    vec4 disc = relays[3 * s.relay + 1];
+    real3 c = XYZ(disc) - point;
+    real d2 = dot(c, c);
+    if (d2 <= real(disc.w)) return true;  // within the disc's radius of its centre
+    real sine = sqrt(real(disc.w) / d2), cosine = sqrt(1. - sine * sine);
+    return dot(XYZ(s.dir), c) >= sqrt(d2) * (cosine * real(s.w.x) - sine * real(s.w.y));
+}
+
 // A sample of source i for a direct item: its direction and solid angle (0: none). An image is
 // sampled only from in front of its mirror, and only through it.
 bool SourceSample(IN(Item) it, int i, IN(PackedSource) s, OUT(real3) dir, OUT(real) omega) {
 #ifdef DAYFLUX_MIRROR_IMAGES
-    if (s.relay >= 0 && dot(XYZ(relays[3 * s.relay]), it.point) <= real(relays[3 * s.relay].w))
+    if (s.relay >= 0 && (dot(XYZ(relays[3 * s.relay]), it.point) <= real(relays[3 * s.relay].w) ||
+                         !InMirrorsCone(s, it.point)))
         return false;
 #endif
     bool found = false;
@@ -350,32 +365,35 @@ void PushDirect(Ray r, real3 colour, real rdiff, real tdiff, real trans, bool fr
     stack[at].turn = Pcg(rng ^ 0x68e31da4u);
 }
 
-// The next step of direct item it: a shadow ray toward part it.part of source it.next (pushed
-// above the item, which stays for the rest of the sources and parts). Returns false after the
-// last.
+// The next steps of direct item it, up to the first that pushes a shadow ray (above the item,
+// which stays for the rest of the sources and parts; a source it.next, part it.part, at a time).
+// Returns false after the last.
 bool DirectItemStep(INOUT(Item) it) {
-    int i = it.next, nparts = 1;
+    int before = top;
+    DONT_UNROLL while (it.next < it.end && top == before) {
+        int i = it.next, nparts = 1;
 #ifdef DAYFLUX_LOCAL_SOURCES
-    if (int(sources[i].u.w) != kSourceDistant && sources[i].colour.w < 0.5) {
-        real3 unused;
-        real unused_omega;
-        nparts =
-            LocalSample(sources[i], i, it.point, it.r.weight, it.turn, -1, unused, unused_omega);
-    }
+        if (int(sources[i].u.w) != kSourceDistant && sources[i].colour.w < 0.5) {
+            real3 unused;
+            real unused_omega;
+            nparts = LocalSample(sources[i], i, it.point, it.r.weight, it.turn, -1, unused,
+                                 unused_omega);
+        }
 #endif
-    if (nparts > 0) {
+        if (nparts > 0) {
 #ifdef DAYFLUX_BSDF
-        if (it.kind == kItemDirectBsdf)
-            DirectStepBsdf(it, i);
-        else
+            if (it.kind == kItemDirectBsdf)
+                DirectStepBsdf(it, i);
+            else
 #endif
-            DirectStep(it, i);
-    }
-    if (it.part + 1 < nparts) {
-        ++it.part;
-    } else {
-        it.part = 0;
-        it.next = i + 1;
+                DirectStep(it, i);
+        }
+        if (it.part + 1 < nparts) {
+            ++it.part;
+        } else {
+            it.part = 0;
+            it.next = i + 1;
+        }
     }
     return it.next < it.end;
 }

@@ -98,7 +98,8 @@ struct PackedSource {
     vec4 colour;  // rgb radiance of its material; w: 1 for glow (found only by escaping rays)
     vec4 u;       // distant: half side of the square -dj jitters over; local: ss[SU]; w: shape
     vec4 v;       // distant: the other half side; local: ss[SV]; w: flags
-    vec4 w;       // local: ss[SW]; w: a cylinder's radius
+    vec4 w;       // local: ss[SW]; w: a cylinder's radius. Distant: the cosine and sine of the
+                  // angle -dj turns a sample by at most (an image's cone, InMirrorsCone())
     vec4 norm;    // a flat source's normal or a cylinder's axis; w: spot cone (0: not a spot)
     vec4 spot;    // a spotlight's axis; w: its focus distance
     int object;   // scene object (an image's: its mirror)
