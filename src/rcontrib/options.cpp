@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "util/errors.h"
+#include "util/options.h"
 #include "util/raypath.h"
 #include "util/strings.h"
 
@@ -51,22 +52,6 @@ std::string Environment(const char *name) {
     return v ? v : "";
 }
 
-// The arguments with @file ones replaced by the file's words.
-std::vector<std::string> Expanded(int argc, char **argv) {
-    std::vector<std::string> expanded;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a.size() > 1 && a[0] == '@') {
-            std::ifstream f(a.substr(1));
-            if (!f) ErrorExit("cannot open option file '" + a.substr(1) + "'");
-            for (std::string w; f >> w;) expanded.push_back(w);
-        } else {
-            expanded.push_back(a);
-        }
-    }
-    return expanded;
-}
-
 // The options in order, one group of them per function, each saying whether it took `a`.
 class Parser {
   public:
@@ -88,6 +73,9 @@ class Parser {
             }
             for (size_t k = start; k <= i_; ++k) args_for_header->push_back(args_[k]);
         }
+        // RADIANCE applies -o to the modifiers after it, so one after the last is silently lost.
+        if (ospec_after_last_modifier_)
+            Warning("-o " + ospec_ + " after the last modifier has no effect (put it before -m)");
         // -backend, else vulkan where -device names one, else DAYFLUX_BACKEND, else embree.
         const std::string env_backend = Environment("DAYFLUX_BACKEND");
         o_.engine.backend = !backend_.empty()      ? backend_
@@ -128,6 +116,8 @@ class Parser {
         m.tracked.bin_expression = binv_;
         m.tracked.nbins = it->second;
         m.params = params_;
+        m.output = ospec_;
+        ospec_after_last_modifier_ = false;
         o_.modifiers.push_back(m);
     }
 
@@ -189,7 +179,8 @@ class Parser {
     // -o -c -x -y -n -r -t -w: where records go, how many rays make one, progress.
     bool Records(const std::string &a) {
         if (a == "-o") {
-            o_.ospec = Value(a);
+            ospec_ = Value(a);  // for the modifiers after it, as in RADIANCE
+            ospec_after_last_modifier_ = true;
         } else if (a.rfind("-w", 0) == 0) {
             // warnings on or off: ours are few and always shown
         } else if (a.rfind("-r", 0) == 0 && a.size() <= 3) {
@@ -288,7 +279,8 @@ class Parser {
     std::vector<std::string> args_;
     size_t i_ = 0;
     RcontribOptions &o_;
-    std::string binv_ = "0", bn_ = "1", params_;
+    std::string binv_ = "0", bn_ = "1", params_, ospec_;
+    bool ospec_after_last_modifier_ = false;
     std::map<std::tuple<size_t, std::string, std::string>, int> bin_counts_;
     std::set<std::string> names_;
     std::string backend_;
@@ -299,12 +291,19 @@ class Parser {
 
 RcontribOptions ParseRcontribOptions(int argc, char **argv,
                                      std::vector<std::string> *args_for_header) {
+    std::vector<std::string> args(argv, argv + argc);
+    return ParseRcontribOptions(args, args_for_header);
+}
+
+RcontribOptions ParseRcontribOptions(const std::vector<std::string> &args,
+                                     std::vector<std::string> *args_for_header) {
     RcontribOptions o;
-    const std::vector<std::string> args = Expanded(argc, argv);
-    Parser parser(args, &o);
-    for (size_t i = parser.Run(argv[0], args_for_header); i < args.size(); ++i)
-        o.scene.push_back(args[i]);
-    if (o.scene.empty()) Usage(argv[0]);
+    const std::vector<std::string> expanded = ExpandOptionFiles(args);
+    const char *prog = args.empty() ? "rcontrib-gpu" : args[0].c_str();
+    Parser parser(expanded, &o);
+    for (size_t i = parser.Run(prog, args_for_header); i < expanded.size(); ++i)
+        o.scene.push_back(expanded[i]);
+    if (o.scene.empty()) Usage(prog);
     if (o.modifiers.empty()) ErrorExit("no modifiers given (-m or -M)");
     if (o.accumulate < 0) ErrorExit("-c must not be negative");
     int col = 0;

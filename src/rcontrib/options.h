@@ -23,6 +23,7 @@ struct CalCommand {
 struct ModifierSpec {
     TrackedModifier tracked;
     std::string params;  // -p in force
+    std::string output;  // -o in force: empty for the standard output
 };
 
 struct RcontribOptions {
@@ -37,7 +38,6 @@ struct RcontribOptions {
     double report_seconds = 0;  // -t: RADIANCE's progress report every so many seconds
     std::string stderr_file;    // -se (ours): standard errors of the entries, as a matrix
     bool progress = false;      // -progress: a progress line with the time left (ours)
-    std::string ospec;          // -o: empty for the standard output
     bool force_open = false;    // -fo: overwrite existing output files
     bool recover = false;       // -r: continue the records of existing output files
     EngineOptions engine;       // -backend, -device, -gpu_traversal, -gpu_accum
@@ -53,6 +53,9 @@ constexpr int kReplicas = 8;
 // DAYFLUX_GPU_TRAVERSAL are defaults for -backend, -device and -gpu_traversal (ours, for
 // pipelines that cannot add options to a command: docs/compat.md).
 RcontribOptions ParseRcontribOptions(int argc, char **argv,
+                                     std::vector<std::string> *args_for_header);
+// The same for a program's arguments as strings (args[0]: its name), as rfluxmtx-gpu builds them.
+RcontribOptions ParseRcontribOptions(const std::vector<std::string> &args,
                                      std::vector<std::string> *args_for_header);
 
 // A calcomp context with rayinit.cal, every -e and -f in order, and -p parameters params.

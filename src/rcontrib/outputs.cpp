@@ -106,25 +106,22 @@ RcontribOutputs::RcontribOutputs(const RcontribOptions &o, int ncols,
                                  std::vector<std::string> header_args,
                                  const std::string &octree_header, const std::string &label)
     : o_(o) {
-    // In the order RADIANCE opens them: by modifier, then bin.
-    if (o.ospec.empty()) {
-        streams_.emplace_back().name = "-";
-        for (int c = 0; c < ncols; ++c) streams_[0].columns.push_back(c);
-    } else {
-        std::map<std::string, size_t> named;
-        for (const ModifierSpec &m : o.modifiers)
-            for (int b = 0; b < m.tracked.nbins; ++b) {
-                int flags = 0;
-                const std::string name = OutputName(o.ospec, m.tracked.name, b, &flags);
-                auto [it, added] = named.emplace(name, streams_.size());
-                if (added) {
-                    Stream &s = streams_.emplace_back();
-                    s.name = name, s.modifier = m.tracked.name, s.bin = b, s.flags = flags;
-                }
-                streams_[it->second].columns.push_back(m.tracked.first_column + b);
+    // In the order RADIANCE opens them: by modifier, then bin; the modifiers without -o go to
+    // the standard output together.
+    std::map<std::string, size_t> named;
+    for (const ModifierSpec &m : o.modifiers)
+        for (int b = 0; b < m.tracked.nbins; ++b) {
+            int flags = 0;
+            const std::string name =
+                m.output.empty() ? "-" : OutputName(m.output, m.tracked.name, b, &flags);
+            auto [it, added] = named.emplace(name, streams_.size());
+            if (added) {
+                Stream &s = streams_.emplace_back();
+                s.name = name, s.modifier = m.tracked.name, s.bin = b, s.flags = flags;
             }
-        AllowOpenFiles(streams_.size());
-    }
+            streams_[it->second].columns.push_back(m.tracked.first_column + b);
+        }
+    AllowOpenFiles(streams_.size());
     if (!o.stderr_file.empty()) {
         Stream &se = streams_.emplace_back();
         se.name = o.stderr_file;

@@ -36,8 +36,12 @@ struct Block {
 // records, or (partial) at the end of input.
 class RayReader {
   public:
-    RayReader(const RcontribOptions &o, size_t block_rays)
-        : o_(o), block_rays_(block_rays), in_(InputSource::Open("-"), Spec(o.in)) {
+    RayReader(const RcontribOptions &o, size_t block_rays, RaySource rays)
+        : o_(o), block_rays_(block_rays), rays_(std::move(rays)) {
+        if (!rays_) {
+            auto in = std::make_shared<MatrixReader>(InputSource::Open("-"), Spec(o.in));
+            rays_ = [in](double ray[6]) { return in->ReadRow(ray); };
+        }
         wanted_ = o.yres > 0 ? static_cast<long>(o.yres) * std::max(o.xres, 1) : -1;
     }
     long Wanted() const { return wanted_; }
@@ -47,7 +51,7 @@ class RayReader {
         const long skip = records * std::max(o_.accumulate, 1);
         double ray[6];
         for (long k = 0; k < skip; ++k)
-            if (!in_.ReadRow(ray)) ErrorExit("unexpected EOF on input");
+            if (!rays_(ray)) ErrorExit("unexpected EOF on input");
         next_ray_ = static_cast<uint64_t>(skip);
         ended_ = records;
     }
@@ -62,7 +66,7 @@ class RayReader {
                 done_ = true;
                 break;
             }
-            if (!in_.ReadRow(ray)) {
+            if (!rays_(ray)) {
                 EndOfInput(b.get());
                 done_ = true;
                 break;
@@ -119,7 +123,7 @@ class RayReader {
 
     const RcontribOptions &o_;
     const size_t block_rays_;
-    MatrixReader in_;
+    RaySource rays_;
     long wanted_;
     uint64_t next_ray_ = 0;
     long ended_ = 0;      // records ended
@@ -193,8 +197,9 @@ class RecordWriter {
 
 }  // namespace
 
-void TraceRecords(const RcontribOptions &o, ContribEngine &engine, RcontribOutputs &outputs) {
-    RayReader reader(o, engine.BatchRays());
+void TraceRecords(const RcontribOptions &o, ContribEngine &engine, RcontribOutputs &outputs,
+                  RaySource rays) {
+    RayReader reader(o, engine.BatchRays(), std::move(rays));
     const long wanted = reader.Wanted(), recovered = outputs.Recovered();
     if (recovered > 0) {
         if (wanted >= 0 && recovered >= wanted) {

@@ -5,6 +5,8 @@
 // outputs (a caller feeding rays through a pipe gets results so far).
 #pragma once
 
+#include <functional>
+
 #include "raytrace/engine.h"
 #include "rcontrib/options.h"
 #include "rcontrib/outputs.h"
@@ -14,6 +16,10 @@ namespace dayflux {
 // Traces every record to outputs, after skipping those it already holds (-r: as many input rays,
 // times -c, are skipped, and the rest keep their random numbers, so a recovered run ends as an
 // uninterrupted one would have). Errors where the input ends before -y records.
-void TraceRecords(const RcontribOptions &o, ContribEngine &engine, RcontribOutputs &outputs);
+// rays: where the input rays come from (origin and direction into ray; false at the end of
+// input); by default the standard input in the -f format.
+using RaySource = std::function<bool(double ray[6])>;
+void TraceRecords(const RcontribOptions &o, ContribEngine &engine, RcontribOutputs &outputs,
+                  RaySource rays = nullptr);
 
 }  // namespace dayflux

@@ -31,14 +31,6 @@ bool Word(InputSource &in, std::string *w) {
     return true;
 }
 
-std::vector<std::string> SplitWords(const std::string &s) {
-    std::vector<std::string> words;
-    std::istringstream ss(s);
-    std::string w;
-    while (ss >> w) words.push_back(w);
-    return words;
-}
-
 }  // namespace
 
 void SceneReader::ReadFile(const std::string &path) {

@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -111,6 +112,16 @@ size_t InputSource::Read(void *dst, size_t n) {
         done += take;
     }
     return done;
+}
+
+std::string InputSource::ReadAll() {
+    std::string all;
+    while (pos_ < end_ || Fill()) {
+        all.append(buf_.data() + pos_, end_ - pos_);
+        line_ += static_cast<int>(std::count(buf_.data() + pos_, buf_.data() + end_, '\n'));
+        pos_ = end_;
+    }
+    return all;
 }
 
 bool InputSource::ReadLine(std::string *line) {

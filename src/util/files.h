@@ -54,6 +54,8 @@ class InputSource {
     // Skips white space and returns the next white-space separated word, or false at the end.
     // The view stays valid until the next call on this source.
     bool NextWord(std::string_view *word);
+    // The rest of the input (for small text files read whole).
+    std::string ReadAll();
     // True when nothing but white space is left.
     bool OnlySpaceLeft();
     bool AtEnd() { return Peek() < 0; }

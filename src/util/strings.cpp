@@ -128,4 +128,26 @@ char *FormatGeneral(char *buf, double value, int precision) {
     return buf + n;
 }
 
+std::vector<std::string> Split(std::string_view s, char separator) {
+    std::vector<std::string> fields;
+    for (size_t start = 0;;) {
+        const size_t end = s.find(separator, start);
+        fields.emplace_back(s.substr(start, end == std::string_view::npos ? s.npos : end - start));
+        if (end == std::string_view::npos) return fields;
+        start = end + 1;
+    }
+}
+
+std::vector<std::string> SplitWords(std::string_view s) {
+    std::vector<std::string> words;
+    size_t at = 0;
+    for (;;) {
+        while (at < s.size() && std::isspace(static_cast<unsigned char>(s[at]))) ++at;
+        if (at == s.size()) return words;
+        const size_t start = at;
+        while (at < s.size() && !std::isspace(static_cast<unsigned char>(s[at]))) ++at;
+        words.emplace_back(s.substr(start, at - start));
+    }
+}
+
 }  // namespace dayflux

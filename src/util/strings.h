@@ -4,6 +4,7 @@
 #include <charconv>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace dayflux {
 
@@ -12,6 +13,11 @@ bool ParseNumber(std::string_view word, double *value);
 // Parses straight to float, rounding once as scanf("%f") does.
 bool ParseNumber(std::string_view word, float *value);
 bool ParseInt(std::string_view word, int *value);
+
+// The fields between separators (n separators give n + 1 fields, empty ones kept).
+std::vector<std::string> Split(std::string_view s, char separator);
+// The white-space separated words.
+std::vector<std::string> SplitWords(std::string_view s);
 
 // RADIANCE's isflt(): true if the word is a decimal number (used to gather option factors).
 bool IsFloatWord(std::string_view word);

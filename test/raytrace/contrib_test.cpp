@@ -977,6 +977,28 @@ TEST(RcontribGpu, DielectricAsRadiance) {
     EXPECT_NEAR(sky[0], 2.85626, 4 * std::sqrt(0.0025 * 0.0025 + 0.00095 * 0.00095));
 }
 
+// -o applies to the modifiers after it, as in RADIANCE: each modifier's columns go where the -o
+// before it says (the standard output where none does), and an -o after the last is warned about.
+// (The ray looks straight up at the sky of radiance 1.)
+TEST(RcontribGpu, OutputSpecAppliesToTheModifiersAfterIt) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "s.rad", std::string(kSky) +
+                                        "void glow groundglow 0 0 4 1 1 1 0\n"
+                                        "groundglow source ground 0 0 4 0 0 -1 180\n");
+    WriteFile(tmp.path() / "rays", "0 0 0 0 0 1\n");
+    CommandResult r = RunCommand(
+        "rcontrib-gpu -h -ab 0 -m groundglow -o sky.txt -m skyglow s.rad < rays", tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.out, "0.000000e+00\t0.000000e+00\t0.000000e+00\t\n");
+    EXPECT_EQ(ReadFile(tmp.path() / "sky.txt").substr(0, 12), "1.000000e+00");
+    r = RunCommand("rcontrib-gpu -h -ab 0 -m skyglow -o late.txt s.rad < rays", tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("-o late.txt after the last modifier has no effect"), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(std::filesystem::exists(tmp.path() / "late.txt"));
+    EXPECT_EQ(r.out.substr(0, 12), "1.000000e+00");
+}
+
 // -r: an output cut short (4 records and part of a fifth) is completed from the input ray after
 // the last whole record, and ends byte for byte as the uninterrupted run (random numbers are
 // keyed by the input ray); what rcontrib cannot recover is refused as it refuses it.
@@ -990,8 +1012,8 @@ TEST(RcontribGpu, RecoverContinuesAnInterruptedRun) {
     WriteFile(tmp.path() / "pts.txt", pts.str());
     const auto run = [](const std::string &options) {
         return "rcontrib-gpu -seed 3 -faf -c 2 -I+ -ab 2 -ad 256 -f tregenza.cal -b tbin "
-               "-bn Ntbins -m skyglow " +
-               options + " s.rad < pts.txt";
+               "-bn Ntbins " +
+               options + " -m skyglow s.rad < pts.txt";
     };
     ASSERT_EQ(RunCommand(run("-o full_%s.fmx"), tmp.path()).status, 0);
     const std::string full = ReadFile(tmp.path() / "full_skyglow.fmx");

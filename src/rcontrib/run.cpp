@@ -1,0 +1,49 @@
+#include "rcontrib/run.h"
+
+#include <tbb/global_control.h>
+
+#include <memory>
+
+#include "raytrace/engine.h"
+#include "rcontrib/outputs.h"
+#include "scene/flatten.h"
+#include "scene/octree.h"
+#include "scene/reader.h"
+
+namespace dayflux {
+
+namespace {
+
+// The scene files and octrees, in order, flattened; the octrees' headers in *octree_header.
+FlatScene ReadScene(const std::vector<std::string> &files, std::string *octree_header) {
+    Scene scene;
+    SceneReader reader(&scene);
+    for (const std::string &s : files) {
+        if (IsOctreeFile(s))
+            *octree_header += ReadOctree(s, &scene).header;
+        else
+            reader.ReadFile(s);
+    }
+    return Flatten(std::move(scene));
+}
+
+}  // namespace
+
+void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &header_args,
+                 const std::string &header_lines, RaySource rays) {
+    std::unique_ptr<tbb::global_control> threads;
+    if (o.threads > 0)
+        threads = std::make_unique<tbb::global_control>(
+            tbb::global_control::max_allowed_parallelism, o.threads);
+    std::string header;
+    const FlatScene flat = ReadScene(o.scene, &header);
+    header += header_lines;
+    const std::unique_ptr<ContribEngine> engine = CreateContribEngine(
+        flat, o.contrib, TrackedModifiers(o),
+        [&o](int k) { return MakeCalContext(o, o.modifiers[k].params); }, o.engine);
+    RcontribOutputs outputs(o, engine->Columns(), header_args, header, engine->Label());
+    TraceRecords(o, *engine, outputs, std::move(rays));
+    outputs.Commit();
+}
+
+}  // namespace dayflux

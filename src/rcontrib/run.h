@@ -1,0 +1,19 @@
+// An rcontrib run from its options: the scene read (files and octrees, in order), the engine
+// created, every record traced to the outputs, which are committed at the end. rcontrib-gpu and
+// rfluxmtx-gpu share it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "rcontrib/options.h"
+#include "rcontrib/records.h"
+
+namespace dayflux {
+
+// header_args: the command line for the outputs' headers; header_lines: lines put before it
+// (after any octree's); rays: the input rays (by default the standard input, in the -f format).
+void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &header_args,
+                 const std::string &header_lines = "", RaySource rays = nullptr);
+
+}  // namespace dayflux
