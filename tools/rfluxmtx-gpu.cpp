@@ -34,9 +34,15 @@ std::vector<std::string> SceneArguments(const RfluxmtxCommand &cmd) {
     return scene;
 }
 
-std::string Joined(const std::vector<std::string> &words) {
+// The words as one line; with quote_specials, a word with shell specials in single quotes (as
+// rfluxmtx -v shows the rcontrib command).
+std::string Joined(const std::vector<std::string> &words, bool quote_specials = false) {
     std::string line;
-    for (const std::string &w : words) line += (line.empty() ? "" : " ") + w;
+    for (const std::string &w : words) {
+        const bool quote =
+            quote_specials && w.find_first_of(" \t\"'$*?()[]{}|&;<>!`\\") != std::string::npos;
+        line += (line.empty() ? "" : " ") + (quote ? "'" + w + "'" : w);
+    }
     return line;
 }
 
@@ -61,10 +67,15 @@ int Main(int argc, char **argv) {
     std::vector<std::string> header_args = {"rcontrib-gpu"};
     const RcontribOptions o = ParseRcontribOptions(rcontrib, &header_args);
     if (cmd.verbose) {
-        std::fprintf(stderr, "%s\n", Joined(header_args).c_str());
-        if (sampler)
-            std::fprintf(stderr, "%s: sampling %d directions (%zu elements)\n", argv[0],
-                         sampler->Bins(), sender->surfaces.size());
+        // rfluxmtx's words: it "opens a pipe to" rcontrib when it samples, else "runs" it.
+        std::fprintf(stderr, "%s: %s: %s\n", argv[0], sampler ? "opening pipe to" : "running",
+                     Joined(header_args, true).c_str());
+        if (sampler) {
+            const size_t elements = sender->surfaces.size();
+            std::fprintf(
+                stderr, "%s: sampling %d directions%s\n", argv[0], sampler->Bins(),
+                elements > 1 ? (" (" + std::to_string(elements) + " elements)").c_str() : "");
+        }
     }
     RunRcontrib(o, header_args, Joined(args) + "\n", std::move(rays));
     return 0;

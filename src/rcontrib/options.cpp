@@ -228,6 +228,10 @@ class Parser {
             c.irradiance = Flag(a, c.irradiance);
         } else if (a.rfind("-i", 0) == 0) {
             c.first_hit_irradiance = Flag(a, c.first_hit_irradiance);
+        } else if (a.rfind("-ld", 0) == 0) {
+            // vwrays -d gives -ld- unless the view clips behind (-va): rays as long as their
+            // direction vectors, which the engines do not limit yet (docs/compat.md).
+            if (Flag(a, false)) ErrorExit(a + ": rays limited to their length are not supported");
         } else if (a.rfind("-u", 0) == 0 || a.rfind("-bv", 0) == 0) {
             // random/back-face flags: our sampling is always repeatable for a given -seed
         } else if (a == "-aa" || a == "-as" || a == "-dt" || a == "-ar" || a == "-aw" ||

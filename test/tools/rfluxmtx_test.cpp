@@ -193,6 +193,41 @@ TEST(Rfluxmtx, PassThroughIsRcontrib) {
     EXPECT_GT(flux.out.size(), 4 * 145 * 3 * 2u);
 }
 
+// The tutorial's view-matrix pictures: vwrays' float rays (here made by hand, 4 x 3 pixels of 2
+// rays each) through pass-through mode with -ffc, vwrays -d's -x -y -ld-, and -o: a picture per
+// Klems bin with its resolution.
+TEST(Rfluxmtx, ViewMatrixPictures) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "window.rad",
+              "void glow Glazing 0 0 4 1 1 1 0\n#@rfluxmtx h=kf u=Z\n"
+              "Glazing polygon w 0 0 12  -1 1 0  1 1 0  1 1 2  -1 1 2\n");
+    std::string rays;
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 4; ++x)
+            for (int k = 0; k < 2; ++k) {
+                const float ray[6] = {0, 0, 1, (x - 1.5f) / 4, 1, (1 - y) / 4.f};
+                rays.append(reinterpret_cast<const char *>(ray), sizeof ray);
+            }
+    WriteFile(tmp.path() / "rays", rays);
+    const CommandResult r = RunCommand(
+        "rfluxmtx-gpu -v -ffc -x 4 -y 3 -ld- -o pic%03d.hdr -ab 1 -ad 16 -c 2 - window.rad < rays",
+        tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("running: rcontrib-gpu -fo+ -o pic%03d.hdr -ab 1 -ad 16 -x 4 -y 3 -ld- "
+                         "-ffc -c 2 -f klems_full.cal -p RHS=+1 -bn Nkbins -b "
+                         "'kbin(0,-1,0,0,0,1)' -m Glazing"),
+              std::string::npos)
+        << r.err;
+    for (int bin : {0, 144}) {
+        char name[16];
+        std::snprintf(name, sizeof name, "pic%03d.hdr", bin);
+        const std::string pic = ReadFile(tmp.path() / name);
+        EXPECT_NE(pic.find("FORMAT=32-bit_rle_rgbe\n\n-Y 3 +X 4\n"), std::string::npos) << name;
+        EXPECT_NE(pic.find("BIN=" + std::to_string(bin) + "\n"), std::string::npos) << name;
+    }
+    EXPECT_FALSE(std::filesystem::exists(tmp.path() / "pic145.hdr"));
+}
+
 // o= sends a receiver's columns to its own file (and nothing to the standard output).
 TEST(Rfluxmtx, ReceiversWriteTheirOwnOutputs) {
     TempDir tmp;

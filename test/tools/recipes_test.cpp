@@ -1,0 +1,199 @@
+// The recipes people run (shared/spec/workflows.md sections 1-3: the LBNL tutorial's two-, three-
+// and five-phase scripts, honeybee's annual daylight), run word for word through dayflux's folder
+// of RADIANCE names on the tutorial room, against RADIANCE 5.4's outputs of the same command lines
+// (test/data/recipes). Each is within RADIANCE's own noise: its relative RMS difference from the
+// reference, over the entries and over the rows' sums, is at most 1.3 times that between two
+// independent runs (the larger of RADIANCE against itself with -u+ and ours with two seeds, since
+// RADIANCE's rfluxmtx samples its sender the same way every run).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "matrix/matrices.h"
+#include "test_util.h"
+
+namespace dayflux::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path RadianceNames() { return BinDir() / ".." / "lib" / "dayflux" / "radiance" / "bin"; }
+
+// Runs a command with RADIANCE's names first on PATH.
+CommandResult RunAsRadiance(const std::string &command, const fs::path &dir) {
+    return RunCommand("PATH='" + RadianceNames().string() + "':\"$PATH\"; " + command, dir);
+}
+
+// The tutorial room, its points and RADIANCE's octrees of it, with the recipes' folders.
+void CopyRoom(const fs::path &to) {
+    const fs::path room = DataDir() / "scene" / "models" / "room";
+    fs::copy(room, to, fs::copy_options::recursive);
+    fs::copy(DataDir() / "recipes" / "octrees", to / "octrees", fs::copy_options::recursive);
+    fs::copy_file(DataDir() / "rcontrib" / "points.txt", to / "points.txt");
+    for (const char *d :
+         {"matrices/dc", "matrices/dcd", "matrices/vmtx", "matrices/dmtx", "matrices/vmtxd",
+          "matrices/dmtxd", "matrices/tmtx", "skyVectors", "results/dc", "results/3ph"})
+        fs::create_directories(to / d);
+    fs::copy_file(DataDir() / "bsdf" / "clear.xml", to / "matrices" / "tmtx" / "clear.xml");
+}
+
+// sqrt(sum (a - b)^2) / sqrt(sum b^2) over every value, and over the rows' sums per component.
+struct Differences {
+    double entries = NAN, rowsums = NAN;
+};
+Differences Compare(const Matrix &a, const Matrix &b) {
+    Differences d;
+    if (a.rows != b.rows || a.cols != b.cols || a.ncomp != b.ncomp) return d;
+    double e2 = 0, b2 = 0, r2 = 0, rb2 = 0;
+    for (int r = 0; r < a.rows; ++r)
+        for (int k = 0; k < a.ncomp; ++k) {
+            double sa = 0, sb = 0;
+            for (int c = 0; c < a.cols; ++c) {
+                const double x = a.at(r, c, k), y = b.at(r, c, k);
+                e2 += (x - y) * (x - y), b2 += y * y, sa += x, sb += y;
+            }
+            r2 += (sa - sb) * (sa - sb), rb2 += sb * sb;
+        }
+    d.entries = std::sqrt(e2 / b2);
+    d.rowsums = std::sqrt(r2 / rb2);
+    return d;
+}
+
+Matrix Reference(const std::string &name) {
+    return LoadMatrix("!xzcat '" + (DataDir() / "recipes" / (name + ".fmx.xz")).string() + "'");
+}
+
+struct Recipe {
+    const char *name;
+    const char *command;  // as the recipe has it
+    const char *output;
+    const char *reference;  // test/data/recipes/<reference>.fmx.xz
+    Differences noise;      // between two independent runs
+};
+
+class Recipes : public testing::TestWithParam<Recipe> {};
+
+TEST_P(Recipes, AgreeWithRadianceWithinItsNoise) {
+    const Recipe &recipe = GetParam();
+    TempDir tmp;
+    CopyRoom(tmp.path() / "room");
+    const CommandResult r = RunAsRadiance(recipe.command, tmp.path() / "room");
+    ASSERT_EQ(r.status, 0) << recipe.command << "\n" << r.err;
+    const Matrix ours = LoadMatrix((tmp.path() / "room" / recipe.output).string());
+    const Differences d = Compare(ours, Reference(recipe.reference));
+    EXPECT_LE(d.entries, 1.3 * recipe.noise.entries) << recipe.command;
+    EXPECT_LE(d.rowsums, 1.3 * recipe.noise.rowsums) << recipe.command;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Rfluxmtx, Recipes,
+    testing::Values(
+        // 1. Two-phase: daylight coefficients, their direct part on the black room (DDS).
+        Recipe{"TwoPhaseDaylightCoefficients",
+               "rfluxmtx -I+ -y 100 -lw 0.0001 -ab 5 -ad 10000 -n 16 - skyDomes/skyglow.rad -i "
+               "octrees/roomDC.oct < points.txt > matrices/dc/illum.mtx",
+               "matrices/dc/illum.mtx",
+               "dc",
+               {0.1065, 0.0160}},
+        Recipe{"TwoPhaseDirectDaylightCoefficients",
+               "rfluxmtx -I+ -y 100 -lw 0.0001 -ab 1 -ad 10000 -n 16 - skyDomes/skyglow.rad -i "
+               "octrees/roomDCBlack.oct < points.txt > matrices/dcd/illum.mtx",
+               "matrices/dcd/illum.mtx",
+               "dcd",
+               {0.0666, 0.0068}},
+        // honeybee's annual daylight recipe (its matrix, before rmtxop).
+        Recipe{"HoneybeeAnnualDaylight",
+               "rfluxmtx -aa 0.0 -I -c 1 -faf -ab 2 -ad 5000 -lw 2e-05 -y 100 - "
+               "skyDomes/skyglow.rad -i octrees/roomDC.oct < points.txt > results.fmx",
+               "results.fmx",
+               "hb",
+               {0.1065, 0.0112}},
+        // 2. Three-phase: view and daylight matrices.
+        Recipe{"ThreePhaseView",
+               "rfluxmtx -v -I+ -ab 4 -ad 5000 -lw 0.0002 -n 16 -y 100 - objects/GlazingVmtx.rad "
+               "-i octrees/room3ph.oct < points.txt > matrices/vmtx/v.mtx",
+               "matrices/vmtx/v.mtx",
+               "v",
+               {0.1880, 0.0220}},
+        Recipe{"ThreePhaseDaylight",
+               "rfluxmtx -v -ff -ab 4 -ad 1000 -lw 0.001 -c 1000 -n 16 objects/GlazingVmtx.rad "
+               "skyDomes/skyglow.rad -i octrees/room3ph.oct > matrices/dmtx/daylight.dmx",
+               "matrices/dmtx/daylight.dmx",
+               "d",
+               {0.0295, 0.0121}},
+        // 3. Five-phase: the direct-only view and daylight matrices on the black room.
+        Recipe{"FivePhaseDirectView",
+               "rfluxmtx -v -I+ -ab 1 -ad 5000 -lw 0.0002 -n 16 -y 100 - objects/GlazingVmtx.rad "
+               "-i octrees/room3phDirect.oct < points.txt > matrices/vmtxd/v.mtx",
+               "matrices/vmtxd/v.mtx",
+               "vd",
+               {0.1021, 0.0090}},
+        Recipe{"FivePhaseDirectDaylight",
+               "rfluxmtx -v -ff -ab 0 -ad 1000 -lw 0.001 -c 1000 -n 16 objects/GlazingVmtx.rad "
+               "skyDomes/skyglow.rad -i octrees/room3phDirect.oct > matrices/dmtxd/daylight.dmx",
+               "matrices/dmtxd/daylight.dmx",
+               "dd",
+               {0.0274, 0.0140}}),
+    [](const testing::TestParamInfo<Recipe> &info) { return std::string(info.param.name); });
+
+// The annual steps after the matrices, word for word: a year's illuminance from the two-phase
+// DC and from V T D, against the same steps on RADIANCE's matrices (relative RMS difference of
+// the hourly illuminances at most 1.3 times that between two independent runs: 0.038 and 0.045).
+TEST(Recipes, AnnualIlluminanceAgreesWithRadianceWithinItsNoise) {
+    TempDir tmp;
+    const fs::path room = tmp.path() / "room";
+    CopyRoom(room);
+    fs::copy_file(DataDir() / "sky" / "nyc.wea", room / "NYC.wea");
+    const char *steps[] = {
+        "rfluxmtx -I+ -y 100 -lw 0.0001 -ab 5 -ad 10000 -n 16 - skyDomes/skyglow.rad -i "
+        "octrees/roomDC.oct < points.txt > matrices/dc/illum.mtx",
+        "rfluxmtx -v -I+ -ab 4 -ad 5000 -lw 0.0002 -n 16 -y 100 - objects/GlazingVmtx.rad -i "
+        "octrees/room3ph.oct < points.txt > matrices/vmtx/v.mtx",
+        "rfluxmtx -v -ff -ab 4 -ad 1000 -lw 0.001 -c 1000 -n 16 objects/GlazingVmtx.rad "
+        "skyDomes/skyglow.rad -i octrees/room3ph.oct > matrices/dmtx/daylight.dmx",
+        "gendaymtx -m 1 NYC.wea > skyVectors/NYC.smx",
+        "dctimestep matrices/dc/illum.mtx skyVectors/NYC.smx | rmtxop -fa -t -c 47.4 119.9 11.6 "
+        "- > results/dc/annualR.ill",
+        "dctimestep matrices/vmtx/v.mtx matrices/tmtx/clear.xml matrices/dmtx/daylight.dmx "
+        "skyVectors/NYC.smx | rmtxop -fa -t -c 47.4 119.9 11.6 - > results/3ph/3phAnnual.ill",
+        // The same steps on RADIANCE's matrices.
+        "dctimestep '!xzcat ref/dc.fmx.xz' skyVectors/NYC.smx | rmtxop -fa -t -c 47.4 119.9 "
+        "11.6 - > ref_dc.ill",
+        "dctimestep '!xzcat ref/v.fmx.xz' matrices/tmtx/clear.xml '!xzcat ref/d.fmx.xz' "
+        "skyVectors/NYC.smx | rmtxop -fa -t -c 47.4 119.9 11.6 - > ref_3ph.ill"};
+    fs::copy(DataDir() / "recipes", room / "ref", fs::copy_options::recursive);
+    for (const char *step : steps) {
+        const CommandResult r = RunAsRadiance(step, room);
+        ASSERT_EQ(r.status, 0) << step << "\n" << r.err;
+    }
+    const Matrix dc = LoadMatrix((room / "results/dc/annualR.ill").string());
+    const Matrix three = LoadMatrix((room / "results/3ph/3phAnnual.ill").string());
+    ASSERT_EQ(dc.cols, 100);
+    ASSERT_GT(dc.rows, 10);  // one row per hour of the weather file
+    EXPECT_LE(Compare(dc, LoadMatrix((room / "ref_dc.ill").string())).entries, 1.3 * 0.038);
+    EXPECT_LE(Compare(three, LoadMatrix((room / "ref_3ph.ill").string())).entries, 1.3 * 0.045);
+}
+
+// The folder of RADIANCE names runs ours under them, hands what dayflux lacks to RADIANCE's
+// program of that name further along PATH (saying so), and otherwise says what is missing.
+TEST(RadianceNames, RunOursAndReportTheRest) {
+    TempDir tmp;
+    CommandResult r = RunAsRadiance("rcontrib -devices >/dev/null && rfluxmtx 2>&1", tmp.path());
+    EXPECT_NE(r.out.find("rfluxmtx: Usage: rfluxmtx"), std::string::npos) << r.out << r.err;
+    r = RunAsRadiance("oconv scene.rad", tmp.path());
+    EXPECT_EQ(r.status, 127);
+    EXPECT_NE(r.err.find("oconv: not implemented by dayflux"), std::string::npos) << r.err;
+    fs::create_directories(tmp.path() / "radiance");
+    WriteFile(tmp.path() / "radiance" / "oconv", "#!/bin/sh\necho RADIANCE oconv \"$@\"\n");
+    fs::permissions(tmp.path() / "radiance" / "oconv", fs::perms::owner_all);
+    r = RunAsRadiance("PATH=\"$PATH:" + (tmp.path() / "radiance").string() + "\" oconv a.rad",
+                      tmp.path());
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.out, "RADIANCE oconv a.rad\n");
+    EXPECT_NE(r.err.find("oconv: not in dayflux; running RADIANCE's"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace dayflux::test
