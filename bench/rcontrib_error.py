@@ -49,7 +49,8 @@ def plot(csv_path, svg_path):
     X = lambda t: m + (math.log10(max(t, 0.01)) - lt0) / (lt1 - lt0) * (w - 2 * m)
     Y = lambda e: h - m - (math.log10(e) - le0) / (le1 - le0) * (h - 2 * m)
     colours = {'dayflux': '#1b7837', 'dayflux-vulkan': '#e08214', 'radiance': '#762a83',
-               'dayflux-asub2': '#5aae61', 'dayflux-asub3': '#2166ac'}
+               'dayflux-asub2': '#5aae61', 'dayflux-asub3': '#2166ac',
+               'dayflux-embree': '#1b7837'}
     marks = {'V': 'circle', 'DC': 'rect', 'Cds': 'diamond'}
     out = ['<svg xmlns="http://www.w3.org/2000/svg" width="%d" height="%d" font-family="sans-serif" font-size="12">' % (w, h),
            '<rect width="100%" height="100%" fill="white"/>',
