@@ -220,43 +220,6 @@ bool MakeSurface(FluxSurface *s) {
     return true;
 }
 
-// Reads one file (or command's output) of a sender or receiver, calling `object` for each
-// object with its modifier, type, name and location, after the annotations before it.
-class FluxReader {
-  public:
-    using Object = std::function<void(const std::string &mod, const std::string &type,
-                                      const std::string &name, const FileLoc &loc, Words &words)>;
-    FluxReader(Object object, Annotations *params) : object_(std::move(object)), params_(*params) {}
-
-    void Read(const std::string &spec, int depth) {
-        if (depth > 32) ErrorExit("'" + spec + "': !commands nested too deep");
-        const std::unique_ptr<InputSource> in = InputSource::Open(spec);
-        std::string text = in->ReadAll();
-        if (!in->Close()) ErrorExit("error loading '" + spec + "'");
-        Words words(std::move(text), in->Name());
-        std::string mod, type, obj;
-        const auto annotation = [&](const std::string &a, int line) {
-            params_.push_back({a, FileLoc{in->Name(), line}});
-        };
-        const auto command = [&](const std::string &c, int) { Read("!" + c, depth + 1); };
-        while (words.Next(&mod, annotation, command)) {
-            const FileLoc loc = words.Loc();
-            if (!words.Next(&type) || !words.Next(&obj))
-                ErrorExit(&loc, "unexpected end of file in object of '" + mod + "'");
-            if (type == "alias") {
-                std::string skipped;
-                if (!words.Next(&skipped)) ErrorExit(&loc, "unexpected end of file in alias");
-                continue;
-            }
-            object_(mod, type, obj, loc, words);
-        }
-    }
-
-  private:
-    Object object_;
-    Annotations &params_;
-};
-
 // The arguments of an object: strings, integers (skipped) and reals.
 std::vector<double> RealArguments(Words &words, const FileLoc &loc, const std::string &name) {
     std::string w;
@@ -289,6 +252,49 @@ bool SurfaceType(const std::string &type, FluxSurface::Type *t) {
     return true;
 }
 
+// Reads one file (or command's output) of a sender or receiver, calling `surface` for each
+// polygon, ring and source with its modifier, after the annotations before it (other objects
+// are skipped).
+class FluxReader {
+  public:
+    using Surface = std::function<void(const std::string &mod, FluxSurface &s)>;
+    FluxReader(Surface surface, Annotations *params)
+        : surface_(std::move(surface)), params_(*params) {}
+
+    void Read(const std::string &spec, int depth) {
+        if (depth > 32) ErrorExit("'" + spec + "': !commands nested too deep");
+        const std::unique_ptr<InputSource> in = InputSource::Open(spec);
+        std::string text = in->ReadAll();
+        if (!in->Close()) ErrorExit("error loading '" + spec + "'");
+        Words words(std::move(text), in->Name());
+        std::string mod, type, obj;
+        const auto annotation = [&](const std::string &a, int line) {
+            params_.push_back({a, FileLoc{in->Name(), line}});
+        };
+        const auto command = [&](const std::string &c, int) { Read("!" + c, depth + 1); };
+        while (words.Next(&mod, annotation, command)) {
+            const FileLoc loc = words.Loc();
+            if (!words.Next(&type) || !words.Next(&obj))
+                ErrorExit(&loc, "unexpected end of file in object of '" + mod + "'");
+            if (type == "alias") {
+                std::string skipped;
+                if (!words.Next(&skipped)) ErrorExit(&loc, "unexpected end of file in alias");
+                continue;
+            }
+            FluxSurface s;
+            s.args = RealArguments(words, loc, obj);
+            if (!SurfaceType(type, &s.type)) continue;
+            s.name = obj;
+            s.loc = loc;
+            surface_(mod, s);
+        }
+    }
+
+  private:
+    Surface surface_;
+    Annotations &params_;
+};
+
 }  // namespace
 
 void FluxGroup::Normal(double n[3]) const {
@@ -320,13 +326,9 @@ std::vector<FluxGroup> ReadReceivers(const std::string &path) {
     Annotations params;
     bool sources = false;
     FluxReader reader(
-        [&](const std::string &mod, const std::string &type, const std::string &name,
-            const FileLoc &loc, Words &words) {
-            FluxSurface s;
-            const std::vector<double> args = RealArguments(words, loc, name);
-            if (!SurfaceType(type, &s.type)) return;
+        [&](const std::string &mod, FluxSurface &s) {
             if (!groups.empty() && (s.type == FluxSurface::kSource) != sources)
-                ErrorExit(&loc, "cannot mix source and non-source receivers ('" + name + "')");
+                ErrorExit(&s.loc, "cannot mix source and non-source receivers ('" + s.name + "')");
             sources = s.type == FluxSurface::kSource;
             if (groups.empty() || mod != groups.back().modifier) {
                 // h= carries over from one receiver to the next, as in rfluxmtx.
@@ -334,14 +336,11 @@ std::vector<FluxGroup> ReadReceivers(const std::string &path) {
                 g.has_basis = groups.empty() ? false : groups.back().has_basis;
                 if (!groups.empty()) g.basis = groups.back().basis;
                 g.modifier = mod;
-                g.loc = loc;
+                g.loc = s.loc;
                 ApplyAnnotations(params, &g);
                 params.clear();
                 groups.push_back(g);
             }
-            s.name = name;
-            s.args = args;
-            s.loc = loc;
             if (MakeSurface(&s)) groups.back().surfaces.push_back(s);
         },
         &params);
@@ -365,25 +364,18 @@ FluxGroup ReadSender(const std::string &path) {
     Annotations params;
     bool warned = false;
     FluxReader reader(
-        [&](const std::string &mod, const std::string &type, const std::string &name,
-            const FileLoc &loc, Words &words) {
-            FluxSurface s;
-            const std::vector<double> args = RealArguments(words, loc, name);
-            if (!SurfaceType(type, &s.type)) return;
+        [&](const std::string &mod, FluxSurface &s) {
             if (s.type == FluxSurface::kSource)
-                ErrorExit(&loc, "cannot use source '" + name + "' as a sender");
+                ErrorExit(&s.loc, "cannot use source '" + s.name + "' as a sender");
             if (g.modifier.empty()) {
                 g.modifier = mod;
-                g.loc = loc;
+                g.loc = s.loc;
             } else if (mod != g.modifier && !warned) {
-                Warning(&loc, "multiple modifiers in sender");
+                Warning(&s.loc, "multiple modifiers in sender");
                 warned = true;
             }
             ApplyAnnotations(params, &g);
             params.clear();
-            s.name = name;
-            s.args = args;
-            s.loc = loc;
             if (MakeSurface(&s)) g.surfaces.push_back(s);
         },
         &params);

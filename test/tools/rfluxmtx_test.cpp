@@ -132,7 +132,8 @@ INSTANTIATE_TEST_SUITE_P(
 // Tregenza sky receiver, the diorama around them; its reference was traced with -c 10000, ours
 // with -c 100). The rcontrib command is RADIANCE's, word for word; the rows (each a sender bin)
 // agree: their relative errors average to zero within 4 of their standard errors, and scatter
-// as 100 samples a bin should.
+// as 100 samples a bin should. (At RADIANCE's -c 10000, 7 minutes on 2 cores, ours passes
+// RADIANCE's own check, `radcompare -max .4 -rms .05 -rel 1e-4`, checked with its radcompare.)
 TEST(Rfluxmtx, MirrorAgreesWithRadiance) {
     TempDir tmp;
     const auto scene = DataDir() / "rfluxmtx" / "mirror";
