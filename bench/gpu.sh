@@ -86,9 +86,9 @@ for model in $MODELS; do
         "$dir/model/materials.rad" > "$dir/vmaterials.rad"
     for case in V DC Cds; do
         case $case in
-            V) args="$V_ARGS vmaterials.rad model/office.rad" ;;
-            DC) args="$DC_ARGS model/materials.rad model/office.rad model/sky.rad" ;;
-            Cds) args="$CDS_ARGS model/materials.rad model/office.rad model/suns.rad" ;;
+            V) args="$V_ARGS vmaterials.rad model/office.rad model/glass.rad" ;;
+            DC) args="$DC_ARGS model/materials.rad model/office.rad model/glass.rad model/sky.rad" ;;
+            Cds) args="$CDS_ARGS model/materials.rad model/office.rad model/glass.rad model/suns.rad" ;;
         esac
         for p in "${programs[@]}"; do
             name=${p%%|*}

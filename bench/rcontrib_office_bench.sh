@@ -34,9 +34,9 @@ sensors=$(wc -l < "$tmp/sensors.pts")
 sed 's/^void glass glass_mat .*$/void glow glass_mat 0 0 4 1 1 1 0/' "$tmp/model/materials.rad" \
     > "$tmp/vmaterials.rad"
 grep -q "glow glass_mat" "$tmp/vmaterials.rad" || { echo "no glass_mat in the model" >&2; exit 1; }
-V_SCENE="vmaterials.rad model/office.rad"
+V_SCENE="vmaterials.rad model/office.rad model/glass.rad"
 V_BINS="-f klems_full.cal -b kbin(0,1,0,0,0,1) -bn Nkbins -m glass_mat"
-CDS_SCENE="model/materials.rad model/office.rad model/suns.rad"
+CDS_SCENE="model/materials.rad model/office.rad model/glass.rad model/suns.rad"
 CDS_ARGS="-I+ -ab 0 -dc 1 -dt 0 -dj 0 -faf -e MF:6 -f reinhart.cal -b rbin -bn Nrbins -m solar"
 export RAYPATH=.:$root/lib
 timed() {  # output command... ; prints wall seconds

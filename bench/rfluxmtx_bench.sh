@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
-# Issue 21's benchmark: rfluxmtx-gpu against RADIANCE's rfluxmtx on the tutorial room's three-phase
-# matrices, the recipe's command lines (shared/spec/workflows.md section 2) with float output:
+# Issue 21's benchmark: rfluxmtx-gpu against RADIANCE's rfluxmtx on the three-phase matrices of the
+# tutorial room (MODEL=room) or the reference office (MODEL=office: examples/reference-office's
+# make_office.py, its window.rad and skydome.rad, its 1425 sensors, the scene as .rad files, which
+# rfluxmtx puts through oconv), the recipe's command lines (shared/spec/workflows.md section 2) with
+# float output; for the room:
 #   D   rfluxmtx -v -ff -ab 4 -ad 1000 -lw 0.001 -c C objects/GlazingVmtx.rad skyDomes/skyglow.rad
 #       -i room3ph.oct, for each C in CS; error against the mean of REF_RUNS of ours at -c REF_C
 #       (other seeds, so other sender samples)
@@ -10,14 +13,15 @@
 # Error: relative RMS over all entries. Times: wall seconds of one run; ours with all cores (and
 # -seed 1), RADIANCE with -n nproc. The octree is RADIANCE's (test/data/recipes/octrees).
 # usage: bench/rfluxmtx_bench.sh
-# environment: CS ("100 1000"), REF_C (10000), ADS ("1000 5000"), REF_AD (50000), REF_LW (1e-6),
-#   REF_RUNS (2),
-#   DEVICES ("": none; e.g. "0" or "llvmpipe"), CASES ("D V"), RFLUXMTX (the build's
-#   rfluxmtx-gpu), RADIANCE_BIN (/opt/radiance/bin; RADIANCE=0 skips it), RADIANCE_LIB
+# environment: MODEL (room), CS ("100 1000"), REF_C (10000), ADS ("1000 5000"), REF_AD (50000),
+#   REF_LW (1e-6), REF_RUNS (2), DEVICES ("": none; e.g. "0" or "llvmpipe"), CASES ("D V"),
+#   RFLUXMTX (the build's rfluxmtx-gpu), RADIANCE_BIN (/opt/radiance/bin; RADIANCE=0 skips it), RADIANCE_LIB
 #   (RADIANCE_BIN/../lib: its .cal files)
-# writes bench/results/rfluxmtx.csv and .svg
+# writes bench/results/rfluxmtx.csv and .svg (MODEL=office: rfluxmtx_office.csv and .svg)
 set -euo pipefail
-source "$(dirname "$0")/rcontrib_common.sh" rfluxmtx "case,program,setting,wall_s,rel_rms"
+MODEL=${MODEL:-room}
+name=rfluxmtx$([ "$MODEL" = room ] || echo "_$MODEL")
+source "$(dirname "$0")/rcontrib_common.sh" "$name" "case,program,setting,wall_s,rel_rms"
 RFLUXMTX=${RFLUXMTX:-$root/build/bin/rfluxmtx-gpu}
 RADIANCE_LIB=${RADIANCE_LIB:-$RADIANCE_BIN/../lib}
 CS=${CS:-"100 1000"}
@@ -29,11 +33,20 @@ REF_RUNS=${REF_RUNS:-2}
 DEVICES=${DEVICES:-}
 CASES=${CASES:-"D V"}
 
-cp -r "$ROOM"/. "$tmp/"
-cp "$PTS" "$tmp/points.txt"
-cp -r "$root/test/data/recipes/octrees" "$tmp/octrees"
-D_ARGS="-ab 4 -ad 1000 -lw 0.001 objects/GlazingVmtx.rad skyDomes/skyglow.rad -i octrees/room3ph.oct"
-V_ARGS="-I+ -ab 4 -y 100 - objects/GlazingVmtx.rad -i octrees/room3ph.oct"
+case $MODEL in
+    room)
+        cp -r "$ROOM"/. "$tmp/"
+        cp "$PTS" "$tmp/points.txt"
+        cp -r "$root/test/data/recipes/octrees" "$tmp/octrees"
+        window=objects/GlazingVmtx.rad sky=skyDomes/skyglow.rad scene="-i octrees/room3ph.oct" ;;
+    office)
+        python3 "$root/examples/reference-office/make_office.py" --out "$tmp/model" >&2
+        cp "$tmp/model/sensors.pts" "$tmp/points.txt"
+        window=model/window.rad sky=model/skydome.rad scene="model/materials.rad model/office.rad" ;;
+    *) echo "MODEL must be room or office" >&2; exit 1 ;;
+esac
+D_ARGS="-ab 4 -ad 1000 -lw 0.001 $window $sky $scene"
+V_ARGS="-I+ -ab 4 -y $(wc -l < "$tmp/points.txt") - $window $scene"
 timed() {  # output command... ; prints wall seconds
     (cd "$tmp" && /usr/bin/time -f "%e" -o "$tmp/time" "${@:2}" < "$tmp/points.txt" > "$1")
     cat "$tmp/time"
@@ -89,4 +102,4 @@ if [[ " $CASES " == *" V "* ]]; then
         fi
     done
 fi
-python3 "$here/rcontrib_error.py" --plot "$csv" "$here/results/rfluxmtx.svg"
+python3 "$here/rcontrib_error.py" --plot "$csv" "$here/results/$name.svg"

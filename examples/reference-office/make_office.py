@@ -1,6 +1,9 @@
 #!/usr/bin/env python3
 """Writes the reference office as RADIANCE input: materials, geometry, sky, sensors and suns.
 
+The glass is in glass.rad of its own, so that the three-phase methods can leave it out and use
+window.rad (the same panes as an rfluxmtx window) and skydome.rad instead.
+
 One or more copies of a south-facing side-lit office (3.6 m wide, 8.2 m deep, 2.8 m high) stand
 side by side behind a 0.2 m facade; every value and its source is in README.md here. x points
 east, y north (into the room), z up; the glass faces south (-y).
@@ -68,6 +71,13 @@ def main():
     ]
     geo = ["# Reference office geometry, written by make_office.py\n"]
     blinds = ["# Exterior blinds of the reference office, written by make_office.py\n"]
+    glass = ["# The glazing of the reference office, written by make_office.py\n"]
+    window = [
+        "# The window for rfluxmtx (V and D of the three-phase method), written by make_office.py:\n",
+        "# the scene's glass left out, Klems full bins with up along +z\n",
+        "void glow window_glow 0 0 4 1 1 1 0\n",
+        "#@rfluxmtx h=kf u=Z\n",
+    ]
     pitch = W + T  # offices side by side, each with its own partition walls
     x_win0 = (W - a.window_width) / 2
     for k in range(a.offices):
@@ -95,8 +105,11 @@ def main():
         polygon(geo, "mullion_mat", n + "_head", [(wx0, -T, wz1), (wx1, -T, wz1), (wx1, 0, wz1), (wx0, 0, wz1)])
         polygon(geo, "mullion_mat", n + "_jamb_w", [(wx0, -T, wz0), (wx0, -T, wz1), (wx0, 0, wz1), (wx0, 0, wz0)])
         polygon(geo, "mullion_mat", n + "_jamb_e", [(wx1, -T, wz0), (wx1, 0, wz0), (wx1, 0, wz1), (wx1, -T, wz1)])
-        polygon(geo, "glass_mat", n + "_glass",
-                [(wx0, -T / 2, wz0), (wx1, -T / 2, wz0), (wx1, -T / 2, wz1), (wx0, -T / 2, wz1)])
+        pane = [(wx0, -T / 2, wz0), (wx1, -T / 2, wz0), (wx1, -T / 2, wz1), (wx0, -T / 2, wz1)]
+        polygon(glass, "glass_mat", n + "_glass", pane)
+        # The same pane as the three-phase methods' window: facing the room, so that rfluxmtx's
+        # receiver takes rays from inside (V) and its sender shoots from the back, outwards (D).
+        polygon(window, "window_glow", n + "_window", pane[::-1])
         if k + 1 < a.offices:  # the partition between this office and the next
             box_faces(geo, "wall_mat", f"{n}_partition", x1, x1 + T, 0, D, 0, H)
         if a.blinds:
@@ -131,6 +144,16 @@ def main():
         "void glow skyglow 0 0 4 1 1 1 0\n",
         "skyglow source sky 0 0 4 0 0 1 360\n",
     ]
+    # The same sky and ground for rfluxmtx (D), as in the LBNL tutorial's skyglow.rad.
+    skydome = [
+        "# Ground and sky for rfluxmtx, written by make_office.py: ground one bin, sky Reinhart MF:1\n",
+        "#@rfluxmtx u=+Y h=u\n",
+        "void glow groundglow 0 0 4 1 1 1 0\n",
+        "groundglow source ground 0 0 4 0 0 -1 180\n",
+        "#@rfluxmtx u=+Y h=r1\n",
+        "void glow skyglow 0 0 4 1 1 1 0\n",
+        "skyglow source skydome 0 0 4 0 0 1 180\n",
+    ]
     # Suns at the centres of the Reinhart MF:6 patches (RADIANCE's reinsrc.cal with x1 = x2 = .5),
     # for the direct-sun coefficients of ASE; bins come from reinhart.cal, so the order is free.
     suns = ["void light solar 0 0 3 1e6 1e6 1e6\n"]
@@ -161,7 +184,10 @@ def main():
 
     write("materials.rad", mat)
     write("office.rad", geo)
+    write("glass.rad", glass)
+    write("window.rad", window)
     write("blinds.rad", blinds)
+    write("skydome.rad", skydome)
     write("sky.rad", sky)
     write("suns.rad", suns)
     write("sensors.pts", pts)

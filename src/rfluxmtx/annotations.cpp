@@ -6,6 +6,7 @@
 #include <functional>
 #include <memory>
 
+#include "scene/reader.h"
 #include "util/files.h"
 #include "util/strings.h"
 
@@ -252,16 +253,56 @@ bool SurfaceType(const std::string &type, FluxSurface::Type *t) {
     return true;
 }
 
+// The surface as xform puts it out: moved, turned, scaled or mirrored (a mirrored polygon's
+// vertices reversed and a ring's normal negated, so that its front stays its front).
+void TransformSurface(const Transform &xf, FluxSurface *s) {
+    std::vector<double> &a = s->args;
+    const bool mirrors = xf.Mirrors();
+    switch (s->type) {
+        case FluxSurface::kPolygon:
+            if (a.size() % 3) return;  // MakeSurface() reports it
+            for (size_t k = 0; k < a.size(); k += 3) {
+                const double p[3] = {a[k], a[k + 1], a[k + 2]};
+                xf.Apply(p, &a[k]);
+            }
+            if (mirrors)
+                for (size_t i = 0, j = a.size() / 3 - 1; i < j; ++i, --j)
+                    std::swap_ranges(&a[3 * i], &a[3 * i + 3], &a[3 * j]);
+            break;
+        case FluxSurface::kRing: {
+            if (a.size() != 8) return;
+            const double c[3] = {a[0], a[1], a[2]}, n[3] = {a[3], a[4], a[5]};
+            xf.Apply(c, &a[0]);
+            xf.ApplyDirection(n, &a[3]);
+            if (mirrors)
+                for (int k = 3; k < 6; ++k) a[k] = -a[k];
+            a[6] *= xf.scale, a[7] *= xf.scale;
+            break;
+        }
+        case FluxSurface::kSource: {
+            if (a.size() != 4) return;
+            const double d[3] = {a[0], a[1], a[2]};
+            xf.ApplyDirection(d, &a[0]);
+            break;
+        }
+    }
+}
+
 // Reads one file (or command's output) of a sender or receiver, calling `surface` for each
 // polygon, ring and source with its modifier, after the annotations before it (other objects
-// are skipped).
+// are skipped). "!xform" lines are done in-process, as SceneReader does them; other commands
+// go to the shell.
 class FluxReader {
   public:
     using Surface = std::function<void(const std::string &mod, FluxSurface &s)>;
     FluxReader(Surface surface, Annotations *params)
         : surface_(std::move(surface)), params_(*params) {}
 
-    void Read(const std::string &spec, int depth) {
+    void Read(const std::string &spec, int depth) { Read(spec, depth, XformCommand{}); }
+
+  private:
+    // `outer`: the xform commands around this file, composed (its files unused).
+    void Read(const std::string &spec, int depth, const XformCommand &outer) {
         if (depth > 32) ErrorExit("'" + spec + "': !commands nested too deep");
         const std::unique_ptr<InputSource> in = InputSource::Open(spec);
         std::string text = in->ReadAll();
@@ -271,7 +312,15 @@ class FluxReader {
         const auto annotation = [&](const std::string &a, int line) {
             params_.push_back({a, FileLoc{in->Name(), line}});
         };
-        const auto command = [&](const std::string &c, int) { Read("!" + c, depth + 1); };
+        const auto command = [&](const std::string &c, int line) {
+            XformCommand xform;
+            if (!ParseXformCommand(c, FileLoc{in->Name(), line}, &xform))
+                return Read("!" + c, depth + 1, outer);
+            xform.xf = xform.xf.Then(outer.xf);
+            if (xform.modifier.empty()) xform.modifier = outer.modifier;
+            xform.name_prefix = outer.name_prefix + xform.name_prefix;
+            for (const std::string &f : xform.files) Read(f, depth + 1, xform);
+        };
         while (words.Next(&mod, annotation, command)) {
             const FileLoc loc = words.Loc();
             if (!words.Next(&type) || !words.Next(&obj))
@@ -284,13 +333,13 @@ class FluxReader {
             FluxSurface s;
             s.args = RealArguments(words, loc, obj);
             if (!SurfaceType(type, &s.type)) continue;
-            s.name = obj;
+            if (!outer.xf.identity) TransformSurface(outer.xf, &s);
+            s.name = outer.name_prefix + obj;
             s.loc = loc;
-            surface_(mod, s);
+            surface_(outer.modifier.empty() ? mod : outer.modifier, s);
         }
     }
 
-  private:
     Surface surface_;
     Annotations &params_;
 };

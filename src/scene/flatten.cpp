@@ -11,12 +11,6 @@ namespace dayflux {
 
 namespace {
 
-double Determinant(const Transform &t) {
-    const auto &m = t.m;
-    return m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
-           m[2] * (m[4] * m[9] - m[5] * m[8]);
-}
-
 Vec3 Point(const Transform &t, const double *p) {
     Vec3 out;
     t.Apply(p, out.data());
@@ -89,7 +83,7 @@ class Flattener {
                     InstanceTransform(p).Then(xf), depth + 1);
             } else if (t == "mesh") {
                 const Transform mxf = InstanceTransform(p).Then(xf);
-                const bool flip = !mxf.identity && Determinant(mxf) < 0;
+                const bool flip = mxf.Mirrors();
                 for (const MeshTriangle &mt : ReadMesh(FindOnRaypath(p.sargs[0]), &out_->scene)) {
                     const uint32_t base = static_cast<uint32_t>(out_->vertices.size());
                     for (const Vec3 &v : mt.v) out_->vertices.push_back(Point(mxf, v.data()));
@@ -111,7 +105,7 @@ class Flattener {
         for (size_t k = 0; k < n; ++k) v[k] = Point(xf, &p.fargs[3 * k]);
         // A mirroring transform turns the polygon over; xform reverses its vertices to keep the
         // side the normal points to.
-        if (!xf.identity && Determinant(xf) < 0) std::reverse(v.begin(), v.end());
+        if (xf.Mirrors()) std::reverse(v.begin(), v.end());
         const auto tris = TriangulatePolygon(v);
         if (tris.empty()) return;
         const uint32_t base = static_cast<uint32_t>(out_->vertices.size());

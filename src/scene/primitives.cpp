@@ -52,6 +52,13 @@ Transform Transform::Then(const Transform &n) const {
     return r;
 }
 
+bool Transform::Mirrors() const {
+    if (identity) return false;
+    const double det = m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
+                       m[2] * (m[4] * m[9] - m[5] * m[8]);
+    return det < 0;
+}
+
 void Transform::Apply(const double p[3], double out[3]) const {
     for (int j = 0; j < 3; ++j)
         out[j] = p[0] * m[j] + p[1] * m[4 + j] + p[2] * m[8 + j] + m[12 + j];

@@ -38,6 +38,8 @@ struct Transform {
     Transform Then(const Transform &next) const;  // this, followed by next
     void Apply(const double p[3], double out[3]) const;
     void ApplyDirection(const double d[3], double out[3]) const;  // no translation
+    // A mirror image (negative determinant): xform turns surfaces over to keep their front side.
+    bool Mirrors() const;
 };
 
 // If args[*i] is one of xform's transform options (-t x y z, -rx/-ry/-rz deg, -s f, -mx/-my/-mz),

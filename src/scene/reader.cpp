@@ -214,48 +214,53 @@ void CheckArguments(const Primitive &p) {
         need(ns >= 1, "a file name");
 }
 
-bool SceneReader::Xform(const std::vector<std::string> &args, const FileLoc &loc,
-                        const Context &cx) {
-    Transform xf;
-    Context inner = cx;
-    std::vector<std::string> files;
+bool ParseXformCommand(const std::string &command, const FileLoc &loc, XformCommand *out) {
+    const std::vector<std::string> args = SplitWords(command);
+    if (args.empty() || args[0] != "xform" ||
+        command.find_first_of("|;&<>$`'\"*?") != std::string::npos)
+        return false;
+    *out = XformCommand{};
     for (size_t i = 1; i < args.size(); ++i) {
         const std::string &a = args[i];
-        if (ApplyTransformOption(args, &i, loc, "xform", &xf)) {
+        if (ApplyTransformOption(args, &i, loc, "xform", &out->xf)) {
             continue;
         } else if (a == "-m" && i + 1 < args.size()) {
-            inner.modifier_override = args[++i];
+            out->modifier = args[++i];
         } else if (a == "-n" && i + 1 < args.size()) {
-            inner.name_prefix = cx.name_prefix + args[++i] + ".";
+            out->name_prefix = args[++i] + ".";
         } else if (a == "-e" || a == "-c") {
             // expand or keep commands: the same scene either way
         } else if (!a.empty() && a[0] == '-' && a.size() > 1) {
             return false;  // arrays, -i, ...: let the real xform do it
         } else {
-            files.push_back(a);
+            out->files.push_back(a);
         }
     }
-    inner.xf = xf.Then(cx.xf);
+    if (out->files.empty()) out->files.push_back("-");
+    return true;
+}
+
+void SceneReader::Xform(const XformCommand &xform, const Context &cx) {
+    Context inner = cx;
+    if (!xform.modifier.empty()) inner.modifier_override = xform.modifier;
+    inner.name_prefix = cx.name_prefix + xform.name_prefix;
+    inner.xf = xform.xf.Then(cx.xf);
     inner.depth = cx.depth + 1;
-    if (files.empty()) files.push_back("-");
-    for (const std::string &f : files) {
+    for (const std::string &f : xform.files) {
         auto in = InputSource::Open(f);
         Read(*in, inner);
     }
-    return true;
 }
 
 void SceneReader::RunCommand(const std::string &command, const FileLoc &loc, const Context &cx) {
     if (cx.depth >= kMaxCommandDepth)
         ErrorExit(&loc, "commands nested too deep (a command that includes itself?)");
-    std::vector<std::string> words = SplitWords(command);
-    if (words.empty()) ErrorExit(&loc, "empty command");
-    if (words[0] == "xform" && command.find_first_of("|;&<>$`'\"*?") == std::string::npos) {
-        try {
-            if (Xform(words, loc, cx)) return;
-        } catch (const UserError &e) {
-            ErrorExit(&loc, std::string("in '!") + command + "': " + e.what());
-        }
+    if (SplitWords(command).empty()) ErrorExit(&loc, "empty command");
+    try {
+        XformCommand xform;
+        if (ParseXformCommand(command, loc, &xform)) return Xform(xform, cx);
+    } catch (const UserError &e) {
+        ErrorExit(&loc, std::string("in '!") + command + "': " + e.what());
     }
     auto in = InputSource::Open("!" + command);
     Context inner = cx;

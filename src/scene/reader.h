@@ -13,6 +13,16 @@
 
 namespace dayflux {
 
+// An "!xform ..." line done without a shell: its transform, -m, -n and files ("-" if none).
+struct XformCommand {
+    Transform xf;
+    std::string modifier;     // -m: every object's modifier
+    std::string name_prefix;  // -n: "name." before every object's name
+    std::vector<std::string> files;
+};
+// False where the command needs the real xform: not xform, shell syntax, arrays (-a), -i.
+bool ParseXformCommand(const std::string &command, const FileLoc &loc, XformCommand *out);
+
 class SceneReader {
   public:
     explicit SceneReader(Scene *scene) : scene_(scene) {}
@@ -32,7 +42,7 @@ class SceneReader {
     void Read(InputSource &in, const Context &cx);
     void ReadPrimitive(InputSource &in, const Context &cx);
     void RunCommand(const std::string &command, const FileLoc &loc, const Context &cx);
-    bool Xform(const std::vector<std::string> &args, const FileLoc &loc, const Context &cx);
+    void Xform(const XformCommand &xform, const Context &cx);
 
     Scene *scene_;
     std::unordered_map<std::string, int> modifiers_;  // latest modifier definition of each name

@@ -56,6 +56,42 @@ INSTANTIATE_TEST_SUITE_P(Rfluxmtx, SenderBasis,
                              return name[0] == '-' ? "LeftHanded_" + name.substr(1) : name;
                          });
 
+struct XformedSender {
+    const char *name;
+    const char *xform;  // applied to SquareSender("kf")
+    bool faces_the_sky;
+};
+
+class SenderThroughXform : public testing::TestWithParam<XformedSender> {};
+
+// "!xform" in a sender file is done in-process (no xform program needed): moved and turned about
+// its normal (also within a file that xform reads), the square still sends each bin to its own;
+// mirrored across x its front stays its front (xform reverses the vertices); mirrored across z it
+// is turned over and sends nothing up.
+TEST_P(SenderThroughXform, KeepsItsBinsAndItsFront) {
+    const XformedSender &x = GetParam();
+    TempDir tmp;
+    WriteFile(tmp.path() / "square.rad", SquareSender("kf"));
+    WriteFile(tmp.path() / "turned.rad", "!xform -rz 30 square.rad\n");
+    WriteFile(tmp.path() / "sender.rad", std::string("!xform ") + x.xform + " square.rad\n");
+    WriteFile(tmp.path() / "sky.rad", SkyReceiver("kf"));
+    const Matrix m = RunFlux(tmp, "-c 20 -ab 0 sender.rad sky.rad");
+    ASSERT_EQ(m.rows, 145);
+    ASSERT_EQ(m.cols, 145);
+    for (int r = 0; r < m.rows; ++r)
+        for (int c = 0; c < m.cols; ++c)
+            ASSERT_EQ(m.at(r, c, 0), x.faces_the_sky && r == c ? 1.0 : 0.0)
+                << x.xform << " row " << r << " col " << c;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Rfluxmtx, SenderThroughXform,
+    testing::Values(XformedSender{"MovedAndTurned", "-rz 90 -t 5 -3 2 -s 2", true},
+                    XformedSender{"MirroredAcross", "-mx -t 1 0 0", true},
+                    XformedSender{"TurnedOver", "-mz", false},
+                    XformedSender{"NestedAndTwoFiles", "-t 1 1 0 -n outer turned.rad", true}),
+    [](const testing::TestParamInfo<XformedSender> &info) { return std::string(info.param.name); });
+
 // h=u: the sender's rays are cosine-weighted, so a sky patch between altitudes a0 and a1 with n
 // patches in its band gets (sin^2 a1 - sin^2 a0) / n of them; each band likewise in total.
 // Tolerances: 4 binomial standard errors (the stratified samples do better).
