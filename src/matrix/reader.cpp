@@ -40,12 +40,15 @@ void MatrixReader::Init(const ReadSpec &rs) {
         ncomp_ = 3;
     }
     // Pictures carry their size in a resolution line (also after NROWS/NCOLS, as dctimestep -oc
-    // writes); other matrices may have one where NROWS/NCOLS are missing.
+    // writes); other matrices may have one where NROWS/NCOLS are missing. The line wins, as in
+    // RADIANCE's rmx_load(): rcontrib's pictures (-x -y -o) say NROWS=x*y and no NCOLS.
     if (NextIsResolution(*in_) && (IsPicture(format_) || nrows_ == 0 || ncols_ == 0)) {
         int x = 0, y = 0;
         ReadResolution(*in_, &x, &y);
-        if ((nrows_ && nrows_ != y) || (ncols_ && ncols_ != x))
-            ErrorExit(&loc, "resolution line disagrees with NROWS/NCOLS");
+        const bool rcontrib_picture = nrows_ == x * y && ncols_ == 0;
+        if (!rcontrib_picture && ((nrows_ && nrows_ != y) || (ncols_ && ncols_ != x)))
+            Warning(&loc, "resolution line (" + std::to_string(x) + " x " + std::to_string(y) +
+                              ") disagrees with NROWS/NCOLS; taking the resolution line");
         nrows_ = y;
         ncols_ = x;
     }

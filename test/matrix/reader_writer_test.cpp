@@ -92,6 +92,24 @@ TEST(Reader, NegativeFirstValueIsNotAResolutionLine) {
     EXPECT_EQ(rows, 3);
 }
 
+// rcontrib's pictures (-x 4 -y 2 -o) say NROWS=8 before their resolution line: the line gives the
+// size, as RADIANCE's rmtxop takes it; a size that disagrees otherwise is taken from the line too.
+TEST(Reader, PictureSizeFromItsResolutionLine) {
+    const std::vector<double> v = RandomValues(2 * 4 * 3, 13);
+    const std::string picture = Encode(v, 2, 4, 3, DataFormat::RGBE);
+    for (const char *line : {"NROWS=8\n", "NROWS=3\nNCOLS=3\n"}) {
+        std::string s = picture;
+        s.insert(s.find("FORMAT="), line);
+        MatrixReader reader(InputSource::FromString(s, "mem"));
+        EXPECT_EQ(reader.Rows(), 2) << line;
+        EXPECT_EQ(reader.Cols(), 4) << line;
+        std::vector<double> row(4 * 3);
+        int n = 0;
+        while (reader.ReadRow(row.data())) ++n;
+        EXPECT_EQ(n, 2) << line;
+    }
+}
+
 TEST(Reader, SwapsBytesForTheOtherByteOrder) {
     std::vector<double> v = RandomValues(3 * 2 * 3, 11);
     for (DataFormat f : {DataFormat::Float, DataFormat::Double}) {
