@@ -174,20 +174,47 @@ MatrixShape ShapeOf(const MatrixReader &r, const Options &o, const MatrixShape *
     return shape;
 }
 
+// Illuminance below zero is no light at all: the five-phase sum (VTDS - V_d T D_d S + C_ds S_sun)
+// gives small negative values where its terms' noise does not cancel. They count as 0 (RADIANCE
+// tools would average them in), with one warning saying how many and the worst.
+class NegativeValues {
+  public:
+    double Clamp(double e, int row, int col) {
+        if (count_++ == 0 || e < worst_) worst_ = e, row_ = row, col_ = col;
+        return 0;
+    }
+    void Report(const std::string &name) const {
+        if (count_ == 0) return;
+        char worst[32];
+        std::snprintf(worst, sizeof worst, "%g", worst_);
+        Warning(name + ": " + std::to_string(count_) +
+                " negative illuminance value(s) taken as 0 (the lowest, " + worst +
+                " lux, at row " + std::to_string(row_ + 1) + " column " + std::to_string(col_ + 1) +
+                ")");
+    }
+
+  private:
+    long count_ = 0;
+    double worst_ = 0;
+    int row_ = 0, col_ = 0;
+};
+
 // Streams a matrix into the metrics, as total or as direct-sun illuminance.
 void Stream(MatrixReader &r, const Options &o, const Calendar &calendar, bool direct,
             AnnualMetrics *metrics) {
     const int nc = r.Comps();
     const std::vector<int> &col_step = calendar.step_of_column;
     std::vector<double> row(static_cast<size_t>(r.Cols()) * nc);
+    NegativeValues negatives;
     for (int i = 0; i < r.Rows(); ++i) {
         r.ReadRow(row.data());
         for (int j = 0; j < r.Cols(); ++j) {
             const double *v = &row[static_cast<size_t>(j) * nc];
-            const double e = nc == 1 ? v[0] : IlluminanceFromRgb(v);
+            double e = nc == 1 ? v[0] : IlluminanceFromRgb(v);
             if (!std::isfinite(e))
                 ErrorExit(r.Name() + ": row " + std::to_string(i + 1) + " column " +
                           std::to_string(j + 1) + " is not a finite number");
+            if (e < 0) e = negatives.Clamp(e, i, j);
             const int sensor = o.steps_are_rows ? j : i;
             const int step = col_step[o.steps_are_rows ? i : j];
             if (direct) {
@@ -197,6 +224,7 @@ void Stream(MatrixReader &r, const Options &o, const Calendar &calendar, bool di
             }
         }
     }
+    negatives.Report(r.Name());
     r.Finish(true);
 }
 

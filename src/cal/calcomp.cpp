@@ -33,6 +33,10 @@ constexpr LibraryEntry kLibrary[] = {
 };
 
 constexpr int kMaxDepth = 2000;  // calls deeper than this are taken as recursion without end
+// Expressions deeper than this are refused where they are read: evaluating, specialising and
+// freeing them recurses, and no real .cal file comes near (a chain a+b+c... is as deep as long).
+constexpr int kMaxHeight = 1000;
+constexpr int kMaxChannel = 100000;  // $N
 
 bool IsIdChar(int c) { return std::isalnum(c) || c == '_' || c == '.' || c == '`'; }
 
@@ -339,13 +343,36 @@ class Parser {
         n->num = v;
         return n;
     }
-    static NodePtr Op(Node::Kind k, NodePtr a, NodePtr b = nullptr) {
+    NodePtr Op(Node::Kind k, NodePtr a, NodePtr b = nullptr) const {
         auto n = std::make_unique<Node>();
         n->kind = k;
         n->kids.push_back(std::move(a));
         if (b) n->kids.push_back(std::move(b));
+        return Grown(std::move(n));
+    }
+    // n with its height from its kids', refused beyond kMaxHeight.
+    NodePtr Grown(NodePtr n) const {
+        for (const NodePtr &kid : n->kids) n->height = std::max(n->height, kid->height + 1);
+        if (n->height > kMaxHeight)
+            Syntax("expression nested deeper than " + std::to_string(kMaxHeight) + " levels");
         return n;
     }
+    // Counts the parser's own recursion (parentheses, unary signs, ^ chains) against the same
+    // limit, so that the stack is safe before any tree is built.
+    class Nested {
+      public:
+        explicit Nested(Parser *p) : p_(p) {
+            if (++p_->nesting_ > kMaxHeight)
+                p_->Syntax("expression nested deeper than " + std::to_string(kMaxHeight) +
+                           " levels");
+        }
+        ~Nested() { --p_->nesting_; }
+        Nested(const Nested &) = delete;
+        Nested &operator=(const Nested &) = delete;
+
+      private:
+        Parser *p_;
+    };
     // Reduces a node whose operands are all numbers, as RADIANCE's rconst().
     NodePtr Reduce(NodePtr n) {
         Evaluator ev(cx_, nullptr, nullptr);
@@ -355,6 +382,7 @@ class Parser {
     }
 
     NodePtr E1() {
+        const Nested nested(this);
         NodePtr a = E2();
         while (Peek() == '+' || Peek() == '-') {
             const Node::Kind k = Next() == '+' ? Node::kAdd : Node::kSub;
@@ -394,6 +422,7 @@ class Parser {
     NodePtr E3() {
         NodePtr a = E4();
         if (Peek() != '^') return a;
+        const Nested nested(this);
         Next();
         NodePtr b = E3();
         if (a->kind == Node::kNum && b->kind == Node::kNum)
@@ -406,6 +435,7 @@ class Parser {
     }
     NodePtr E4() {
         if (Peek() == '-') {
+            const Nested nested(this);
             Next();
             NodePtr a = E5();
             if (a->kind == Node::kNum) {
@@ -429,7 +459,11 @@ class Parser {
         if (Peek() == '$') {
             Next();
             int n = 0;
-            while (std::isdigit(Peek())) n = n * 10 + (Next() - '0');
+            while (std::isdigit(Peek())) {
+                n = n * 10 + (Next() - '0');
+                if (n > kMaxChannel)
+                    Syntax("channel number beyond $" + std::to_string(kMaxChannel));
+            }
             auto c = std::make_unique<Node>();
             c->kind = Node::kChan;
             c->index = n;
@@ -455,7 +489,7 @@ class Parser {
                 } while (Peek() == ',');
                 if (Peek() != ')') Syntax("')' expected");
                 Next();
-                return FoldConstantCall(std::move(call));
+                return FoldConstantCall(Grown(std::move(call)));
             }
             return FoldConstantVariable(std::move(ref));
         }
@@ -500,6 +534,7 @@ class Parser {
     size_t pos_ = 0;
     int line_ = 1;
     const std::vector<std::string> *params_ = nullptr;
+    int nesting_ = 0;  // E1, E3 and E4 frames on the stack (Nested)
 };
 
 }  // namespace
@@ -583,6 +618,26 @@ const std::string &Context::SymbolName(int index) const { return impl_->names[in
 const Context::Definition *Context::Find(int symbol) const {
     return symbol >= 0 && symbol < static_cast<int>(impl_->defs.size()) ? impl_->defs[symbol].get()
                                                                         : nullptr;
+}
+
+std::vector<std::string> Context::UndefinedNames(const Expression &e) const {
+    const Impl &cx = *impl_;
+    std::vector<std::string> undefined;
+    std::vector<char> seen(cx.names.size(), 0);
+    std::vector<const Node *> todo;  // a stack, not recursion: definitions may chain far
+    if (e.Root()) todo.push_back(e.Root());
+    while (!todo.empty()) {
+        const Node *n = todo.back();
+        todo.pop_back();
+        for (const NodePtr &kid : n->kids) todo.push_back(kid.get());
+        if (n->kind != Node::kVar || seen[n->index]) continue;
+        seen[n->index] = 1;
+        if (const Definition *d = cx.defs[n->index].get())
+            todo.push_back(d->body.get());
+        else if (cx.library[n->index] == Library::kNone)
+            undefined.push_back(cx.names[n->index]);
+    }
+    return undefined;
 }
 
 double Context::Value(const std::string &name, const Channels *channels) const {

@@ -26,6 +26,7 @@ struct Node {
     double num = 0;
     int index = 0;  // symbol (kVar, and kCall's callee when it names a symbol), argument, channel
     std::vector<NodePtr> kids;  // operands; for kCall, kids[0] is the callee (kVar or kArg)
+    int height = 1;             // levels of nodes from this one down to its deepest leaf
 };
 
 // Values of $1, $2, ... (the ray variables: Dx Dy Dz = $1 $2 $3, see lib/rayinit.cal).
@@ -124,6 +125,11 @@ class Context {
     Expression Compile(std::string_view text, const FileLoc &loc) const;
     // The same, always interpreted (to compare the specialised evaluation with).
     Expression CompileInterpreted(std::string_view text, const FileLoc &loc) const;
+
+    // The names e uses, directly or through the definitions it reaches, that are neither
+    // defined nor library functions: what would fail when evaluated (at the latest where a
+    // branch taking them is first met), found before any evaluation.
+    std::vector<std::string> UndefinedNames(const Expression &e) const;
 
     // Value of a variable (no arguments).
     double Value(const std::string &name, const Channels *channels = nullptr) const;

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <optional>
@@ -164,8 +165,17 @@ BsdfFile::BsdfFile(const std::string &path) : path_(path) {
             int nphi = bb.child("nPhis").text().as_int(0);
             if (b.nphis.size() && std::fabs(lower - b.theta.back()) > 1e-3)
                 Fail("theta bounds disagree in AngleBasis '" + name + "'", bb.offset_debug());
-            if (nphi <= 0 || (nphi == 1 && b.theta.back() > 1e-6) || upper <= b.theta.back())
-                Fail("illegal AngleBasisBlock in '" + name + "'", bb.offset_debug());
+            // Written so that NaN fails too: a polar angle in (previous bound, 90] degrees.
+            const bool upper_ok = upper > b.theta.back() && upper <= 90 + 1e-3;
+            if (nphi <= 0 || nphi > kMaxBasisSize || (nphi == 1 && b.theta.back() > 1e-6) ||
+                !upper_ok)
+                Fail("illegal AngleBasisBlock in '" + name + "' (UpperTheta " +
+                         std::to_string(upper) + ", nPhis " + std::to_string(nphi) + ")",
+                     bb.offset_debug());
+            if (b.Size() + nphi > kMaxBasisSize)
+                Fail("AngleBasis '" + name + "' has more than " + std::to_string(kMaxBasisSize) +
+                         " patches",
+                     bb.offset_debug());
             b.theta.push_back(upper);
             b.nphis.push_back(nphi);
         }
@@ -221,7 +231,11 @@ void BsdfFile::LoadBlock(pugi::xml_node block, char channel, bool rows_incident)
     pugi::xml_node data = block.child("ScatteringData");
     const char *s = data.text().get();
     if (!*s) Fail("missing ScatteringData", block.offset_debug());
-    std::vector<float> values(static_cast<size_t>(ninc) * nout);
+    const size_t count = static_cast<size_t>(ninc) * nout;
+    if (std::strlen(s) < count)  // each value takes a character at least: a cheap check first
+        Fail("ScatteringData is too short for " + std::to_string(count) + " values",
+             data.offset_debug());
+    std::vector<float> values(count);
     for (size_t i = 0; i < values.size(); ++i) {
         while (*s && (std::isspace(static_cast<unsigned char>(*s)) || *s == ',')) ++s;
         char *end;

@@ -11,6 +11,10 @@
 namespace dayflux {
 
 // An angle basis: latitude rings between theta bounds, each with nphis azimuth patches.
+// Patches an angle basis may have: Klems full has 145; RADIANCE's own limit is 1000 (MAXLATS
+// rings aside), so 100000 leaves room and keeps a basis's matrix within memory.
+constexpr int kMaxBasisSize = 100000;
+
 struct AngleBasis {
     std::string name;
     std::vector<double> theta;  // ring bounds in degrees, theta[0] = 0, size = rings + 1

@@ -2,6 +2,7 @@
 
 #include <strings.h>
 
+#include <algorithm>
 #include <cctype>
 
 #include "matrix/bsdf_xml.h"
@@ -19,7 +20,14 @@ BasicMatrix<T> ReadRows(MatrixReader &reader) {
     m.dtype = reader.Format();
     m.info = reader.Header().info;
     const size_t row_size = static_cast<size_t>(m.cols) * m.ncomp;
-    if (reader.Rows() > 0) m.data.reserve(static_cast<size_t>(reader.Rows()) * row_size);
+    // NROWS is untrusted: room for at most 16M values is made ahead, the rest as rows arrive,
+    // so a short file claiming many rows fails at its end, not by allocating them first.
+    if (reader.Rows() > 0) {
+        size_t ahead = std::min(static_cast<size_t>(reader.Rows()) * row_size, size_t{1} << 24);
+        if (const auto left = reader.BytesLeft(); left && reader.MinBytesPerValue() > 0)
+            ahead = std::min<size_t>(ahead, *left / reader.MinBytesPerValue());
+        m.data.reserve(ahead);
+    }
     std::vector<T> row(row_size);
     while (reader.ReadRow(row.data())) {
         m.data.insert(m.data.end(), row.begin(), row.end());

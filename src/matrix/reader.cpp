@@ -1,6 +1,7 @@
 #include "matrix/reader.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 
 #include "util/strings.h"
@@ -45,7 +46,8 @@ void MatrixReader::Init(const ReadSpec &rs) {
     if (NextIsResolution(*in_) && (IsPicture(format_) || nrows_ == 0 || ncols_ == 0)) {
         int x = 0, y = 0;
         ReadResolution(*in_, &x, &y);
-        const bool rcontrib_picture = nrows_ == x * y && ncols_ == 0;
+        const bool rcontrib_picture =
+            static_cast<int64_t>(nrows_) == static_cast<int64_t>(x) * y && ncols_ == 0;
         if (!rcontrib_picture && ((nrows_ && nrows_ != y) || (ncols_ && ncols_ != x)))
             Warning(&loc, "resolution line (" + std::to_string(x) + " x " + std::to_string(y) +
                               ") disagrees with NROWS/NCOLS; taking the resolution line");
@@ -64,8 +66,33 @@ void MatrixReader::Init(const ReadSpec &rs) {
     check("components", rs.ncomp, &ncomp_);
     if (ncomp_ == 0) ncomp_ = 3;
     if (ncols_ <= 0) ErrorExit(&loc, "unspecified number of columns (no NCOLS= in header)");
+    // A row is held whole: one beyond any real matrix (a sensor's 5185 suns, a picture's
+    // width) is a damaged header, refused before its buffer is made.
+    constexpr int64_t kMaxRowValues = int64_t{1} << 27;
+    if (static_cast<int64_t>(ncols_) * ncomp_ > kMaxRowValues)
+        ErrorExit(&loc, std::to_string(ncols_) + " columns of " + std::to_string(ncomp_) +
+                            " components: rows of more than " + std::to_string(kMaxRowValues) +
+                            " values are not supported");
     if (IsPicture(format_) && nrows_ <= 0) ErrorExit(&loc, "picture without a resolution line");
     if (header_.big_endian) swap_ = *header_.big_endian != NativeBigEndian();
+    // A file too short for even one row fails before that row's buffer is made.
+    if (const int64_t per_value = MinBytesPerValue(); per_value > 0)
+        if (const auto left = in_->BytesLeft())
+            if (static_cast<int64_t>(ncols_) * ncomp_ * per_value > static_cast<int64_t>(*left))
+                ShortInput();
+}
+
+int64_t MatrixReader::MinBytesPerValue() const {
+    switch (format_) {
+        case DataFormat::Float:
+            return 4;
+        case DataFormat::Double:
+            return 8;
+        case DataFormat::Ascii:
+            return 1;  // a digit (with a separator, two, but for the last)
+        default:
+            return 0;  // pictures: run-length encoded
+    }
 }
 
 void MatrixReader::ShortInput() {

@@ -2,7 +2,9 @@
 // the four data formats, byte-swapped as the header's BigEndian= says.
 #pragma once
 
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +31,9 @@ class MatrixReader {
     const std::string &Name() const { return in_->Name(); }
     // 0 when the row count is not known until the input ends.
     int Rows() const { return nrows_; }
+    // The least a value takes in this input's format (0 where it varies: pictures).
+    int64_t MinBytesPerValue() const;
+    std::optional<uint64_t> BytesLeft() const { return in_->BytesLeft(); }
     int Cols() const { return ncols_; }
     int Comps() const { return ncomp_; }
     DataFormat Format() const { return format_; }

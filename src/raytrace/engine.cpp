@@ -16,6 +16,27 @@
 
 namespace dayflux {
 
+namespace {
+
+// RADIANCE reports an undefined name in -b only when a ray first takes it, which may be never
+// (all-zero columns, no word) or hours into a run: we refuse it before tracing.
+void CheckBinExpressions(const std::vector<TrackedModifier> &tracked,
+                         const MakeContext &make_context) {
+    std::vector<std::unique_ptr<cal::Context>> contexts(tracked.size());
+    for (size_t k = 0; k < tracked.size(); ++k) {
+        const int of = tracked[k].context_of >= 0 ? tracked[k].context_of : static_cast<int>(k);
+        if (!contexts[of]) contexts[of] = make_context(of);
+        const cal::Context &cx = *contexts[of];
+        const cal::Expression bin = cx.Compile(tracked[k].bin_expression, FileLoc{"-b", 0});
+        const std::vector<std::string> undefined = cx.UndefinedNames(bin);
+        if (!undefined.empty())
+            ErrorExit("-b " + tracked[k].bin_expression + " (modifier '" + tracked[k].name +
+                      "'): undefined variable '" + undefined.front() + "'");
+    }
+}
+
+}  // namespace
+
 std::unique_ptr<ContribEngine> CreateContribEngine(const FlatScene &scene,
                                                    const ContribOptions &options,
                                                    const std::vector<TrackedModifier> &tracked,
@@ -23,6 +44,7 @@ std::unique_ptr<ContribEngine> CreateContribEngine(const FlatScene &scene,
                                                    const EngineOptions &engine) {
     if (engine.backend != "embree" && engine.backend != "vulkan")
         ErrorExit("unknown backend '" + engine.backend + "' (embree or vulkan)");
+    CheckBinExpressions(tracked, make_context);
     auto table = std::make_unique<SceneMaterials>(scene, tracked);
     PackedScene packed = PackScene(scene, *table, tracked, options);
     if (engine.backend == "vulkan") {

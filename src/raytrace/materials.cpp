@@ -54,6 +54,21 @@ SceneMaterials::SceneMaterials(const FlatScene &scene, const std::vector<Tracked
             Max3(materials_[i].color) > kTiny)
             AddLocalSource(static_cast<int>(i));
     }
+    WarnOfUnusedModifiers();
+}
+
+// RADIANCE gives a -m that no surface uses all-zero columns without a word; it is most often a
+// misspelt or renamed modifier, so we say so.
+void SceneMaterials::WarnOfUnusedModifiers() const {
+    std::vector<bool> used(tracked_.size(), false);
+    for (int k : tracked_of_object_)
+        if (k >= 0) used[k] = true;
+    for (const auto &[material, k] : tracked_of_mesh_material_)
+        if (k >= 0) used[k] = true;
+    for (size_t k = 0; k < tracked_.size(); ++k)
+        if (!used[k])
+            Warning("modifier '" + tracked_[k].name +
+                    "' (-m) is used by no surface in the scene: its contributions are all zero");
 }
 
 // fsetsrc(), rsetsrc() and sphsetsrc(): a polygon's centre, normal, area and half-size vectors

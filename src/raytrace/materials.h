@@ -155,6 +155,7 @@ class SceneMaterials {
 
   private:
     int TrackedIndex(const std::string &modifier) const;
+    void WarnOfUnusedModifiers() const;
     const Material &Resolved(int mod, std::vector<int> &pattern_of);
     void AddLocalSource(int object);
     // RADIANCE's lastmod(): the modifier named name defined before object `before`, or -1;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
@@ -71,10 +72,12 @@ class RayReader {
                 done_ = true;
                 break;
             }
+            CheckRay(ray, next_ray_ + b->rays.size() / 6 + skipped_ + 1);
             const bool zero = ray[3] == 0 && ray[4] == 0 && ray[5] == 0;
             if (zero && o_.accumulate <= 0) {
                 if (!warned_dummy_) Warning("dummy ray(s) ignored during accumulation");
                 warned_dummy_ = true;
+                ++skipped_;
                 continue;
             }
             AddRay(b.get(), ray);
@@ -88,6 +91,21 @@ class RayReader {
     }
 
   private:
+    // One bad line must not end a long run deep inside the engine (Embree asserts on such
+    // rays, a GPU gives garbage): NaN, infinity and coordinates beyond any scene are refused.
+    static void CheckRay(const double ray[6], uint64_t number) {
+        constexpr double kLargest = 1e12;  // metres: far beyond any scene, well within float
+        for (int k = 0; k < 6; ++k)
+            if (!(std::fabs(ray[k]) <= kLargest))
+                ErrorExit("input ray " + std::to_string(number) + ": " +
+                          (k < 3 ? "origin" : "direction") + " value " + FormatValue(ray[k]) +
+                          (std::isfinite(ray[k]) ? " is out of range" : " is not a number"));
+    }
+    static std::string FormatValue(double v) {
+        char s[32];
+        std::snprintf(s, sizeof s, "%g", v);
+        return s;
+    }
     static ReadSpec Spec(DataFormat format) {
         ReadSpec rs;
         rs.header = false;
@@ -126,8 +144,9 @@ class RayReader {
     RaySource rays_;
     long wanted_;
     uint64_t next_ray_ = 0;
-    long ended_ = 0;      // records ended
-    long in_record_ = 0;  // rays in the record being read
+    long ended_ = 0;        // records ended
+    long in_record_ = 0;    // rays in the record being read
+    uint64_t skipped_ = 0;  // dummy rays dropped (-c 0), for the numbers in messages
     bool done_ = false, warned_dummy_ = false;
 };
 

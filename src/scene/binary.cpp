@@ -16,12 +16,22 @@ std::string RadianceBinaryInput::Header(const std::string &format) {
     bool found = false;
     if (!in_.ReadLine(&line) || line.rfind("#?", 0) != 0)
         Fail("not a RADIANCE " + what_ + " (no header)");
-    while (in_.ReadLine(&line) && !line.empty()) {
+    std::string other;
+    bool ended = false;
+    while (in_.ReadLine(&line)) {
+        if (line.empty()) {
+            ended = true;
+            break;
+        }
         if (line == "FORMAT=" + format)
             found = true;
+        else if (line.rfind("FORMAT=", 0) == 0)
+            other = line;
         else
             rest += line + "\n";
     }
+    if (!found && !other.empty()) Fail("not a RADIANCE " + what_ + " (" + other + ")");
+    if (!ended) Fail("truncated " + what_ + " (in its header)");
     if (!found) Fail("not a RADIANCE " + what_ + " (no FORMAT=" + format + " in header)");
     return rest;
 }
@@ -54,7 +64,11 @@ double RadianceBinaryInput::Real() {
     return std::ldexp((l + .5 - (l < 0)) * (1. / 0x7fffffff), static_cast<int>(Int(1)));
 }
 
-void RadianceBinaryInput::SkipTree(int objsize) {
+void RadianceBinaryInput::SkipTree(int objsize, int depth) {
+    // oconv's resolution limits real trees to a few dozen levels; the bound keeps a damaged or
+    // hostile file from exhausting the stack.
+    constexpr int kMaxTreeDepth = 128;
+    if (depth > kMaxTreeDepth) Fail("damaged " + what_ + " (tree deeper than 128 levels)");
     switch (Byte()) {
         case 0:
             return;  // empty
@@ -64,7 +78,7 @@ void RadianceBinaryInput::SkipTree(int objsize) {
             return;
         }
         case 2:  // eight children
-            for (int i = 0; i < 8; ++i) SkipTree(objsize);
+            for (int i = 0; i < 8; ++i) SkipTree(objsize, depth + 1);
             return;
         default:
             Fail("damaged " + what_);

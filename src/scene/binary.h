@@ -22,7 +22,7 @@ class RadianceBinaryInput {
     std::string String();
     double Real();
     // Skips a pre-order octree whose leaves hold sets of objsize-byte numbers.
-    void SkipTree(int objsize);
+    void SkipTree(int objsize, int depth = 0);
     // Reads the type table and the objects that follow it into scene (modifiers relative to the
     // first object read); returns the number read.
     long Objects(int objsize, Scene *scene);

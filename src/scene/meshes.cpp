@@ -1,5 +1,6 @@
 #include "scene/meshes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
@@ -28,6 +29,9 @@ std::vector<MeshTriangle> ReadMesh(const std::string &path, Scene *scene) {
     double origin[3], size;
     for (double &o : origin) o = std::atof(m.String().c_str());
     size = std::atof(m.String().c_str());
+    for (double x : {origin[0], origin[1], origin[2], size})
+        if (!std::isfinite(x) || std::fabs(x) > 1e12) m.Fail("bad mesh bounds");
+    if (!(size > 0)) m.Fail("bad mesh bounds");
     for (int i = 0; i < 4; ++i) m.Real();  // (u,v) limits
     m.SkipTree(static_cast<int>(objsize));
     // The mesh's materials, stored as a frozen octree stores objects.
@@ -35,7 +39,10 @@ std::vector<MeshTriangle> ReadMesh(const std::string &path, Scene *scene) {
     m.Objects(static_cast<int>(objsize), scene);
     const long npatches = m.Int(4);
     if (npatches < 0) m.Fail("bad patch count");
-    std::vector<Patch> patches(npatches);
+    // The count is untrusted: patches are added as they are read (each takes 17 bytes or more),
+    // so a short file claiming many fails at its end instead of allocating them all first.
+    std::vector<Patch> patches;
+    patches.reserve(static_cast<size_t>(std::min(npatches, 4096L)));
     struct Pending {
         long v[3];  // global vertex ids: patch << 8 | local
         long mat;
@@ -47,7 +54,7 @@ std::vector<MeshTriangle> ReadMesh(const std::string &path, Scene *scene) {
             m.Fail("bad patch flags");
         const long nverts = m.Int(2);
         if (nverts <= 0 || nverts > 256) m.Fail("bad number of patch vertices");
-        Patch &p = patches[pn];
+        Patch &p = patches.emplace_back();
         p.xyz.resize(nverts);
         for (auto &v : p.xyz)
             for (uint32_t &c : v) c = static_cast<uint32_t>(m.Int(4));
@@ -106,7 +113,7 @@ std::vector<MeshTriangle> ReadMesh(const std::string &path, Scene *scene) {
         MeshTriangle mt;
         for (int k = 0; k < 3; ++k) mt.v[k] = vertex(t.v[k]);
         mt.material = t.mat == -1 ? -1 : static_cast<int>(mat0 + t.mat);
-        if (mt.material >= static_cast<int>(scene->objects.size()))
+        if (t.mat < -1 || mt.material >= static_cast<int>(scene->objects.size()))
             m.Fail("triangle refers to a missing material");
         out.push_back(mt);
     }

@@ -14,11 +14,11 @@ constexpr int kMagicBase = 4 * 8 + 251;  // RADIANCE's OCTMAGIC: plus sizeof(OBJ
 }  // namespace
 
 bool IsOctreeFile(const std::string &path) {
+    // A scene file never starts with a RADIANCE header line: a file that does is an octree, or
+    // a truncated one, or another RADIANCE file given by mistake, and ReadOctree() says which.
     std::ifstream f(path, std::ios::binary);
     std::string line;
-    for (int i = 0; i < 200 && std::getline(f, line) && !line.empty(); ++i)
-        if (line.rfind("FORMAT=Radiance_octree", 0) == 0) return true;
-    return false;
+    return std::getline(f, line) && line == "#?RADIANCE";
 }
 
 OctreeInfo ReadOctree(const std::string &path, Scene *scene) {

@@ -83,6 +83,11 @@ bool ApplyTransformOption(const std::vector<std::string> &args, size_t *i, const
         double v;
         if (*i + 1 >= args.size() || !ParseNumber(args[*i + 1], &v))
             ErrorExit(&loc, who + ": option " + a + " needs a number");
+        // The geometry would vanish or fill space: refused where the scene reader refuses a
+        // NaN among a primitive's own arguments.
+        if (!(std::fabs(v) <= 1e12))
+            ErrorExit(&loc, who + ": option " + a + ": '" + args[*i + 1] + "' is " +
+                                (std::isfinite(v) ? "out of range" : "not a number"));
         ++*i;
         return v;
     };
@@ -96,6 +101,7 @@ bool ApplyTransformOption(const std::vector<std::string> &args, size_t *i, const
         t.m[4 * u + u] = c, t.m[4 * u + w] = s, t.m[4 * w + u] = -s, t.m[4 * w + w] = c;
     } else if (a == "-s") {
         const double s = number();
+        if (s == 0) Warning(&loc, who + ": -s 0 shrinks everything after it to a point");
         for (int k = 0; k < 3; ++k) t.m[5 * k] = s;
         t.scale = s;
     } else if (a == "-mx" || a == "-my" || a == "-mz") {

@@ -256,11 +256,13 @@ void SceneReader::RunCommand(const std::string &command, const FileLoc &loc, con
     if (cx.depth >= kMaxCommandDepth)
         ErrorExit(&loc, "commands nested too deep (a command that includes itself?)");
     if (SplitWords(command).empty()) ErrorExit(&loc, "empty command");
-    try {
-        XformCommand xform;
-        if (ParseXformCommand(command, loc, &xform)) return Xform(xform, cx);
-    } catch (const UserError &e) {
-        ErrorExit(&loc, std::string("in '!") + command + "': " + e.what());
+    XformCommand xform;  // its own errors name loc
+    if (ParseXformCommand(command, loc, &xform)) {
+        try {
+            return Xform(xform, cx);
+        } catch (const UserError &e) {
+            ErrorExit(&loc, std::string("in '!") + command + "': " + e.what());
+        }
     }
     auto in = InputSource::Open("!" + command);
     Context inner = cx;

@@ -1,6 +1,7 @@
 #include "sky/weather.h"
 
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <vector>
 
@@ -154,6 +155,17 @@ void WeatherReader::Check(const WeatherRecord &r) const {
                          std::to_string(r.month));
     if (!(r.hour >= 0 && r.hour <= 24)) Fail(r.line, "hour is outside 0..24");
     if (!(r.dir >= 0) || !(r.dif >= 0)) Fail(r.line, "negative or non-numeric radiation value");
+    // Beyond what the sun gives above the atmosphere (1361 W/m2, 1.5 x 10^5 lux normal to it):
+    // a spike in the data, which would turn into NaN patches and negative skies (gendaymtx
+    // takes it); the margin keeps extreme real records.
+    const bool photometric = header_.units == 3;
+    const double most = photometric ? 200000 : 1500;
+    const char *unit = photometric ? " lux" : " W/m2";
+    char values[96];
+    std::snprintf(values, sizeof values, "%g%s direct, %g%s diffuse", r.dir, unit, r.dif, unit);
+    if (r.dir > most || r.dif > most)
+        Fail(r.line, std::string(values) + ": more than the sun can give (at most " +
+                         std::to_string(static_cast<int>(most)) + unit + ")");
 }
 
 bool WeatherReader::NextWea(WeatherRecord *r) {

@@ -52,6 +52,12 @@ int RunTool(int argc, char **argv, int (*body)(int, char **)) {
         std::cerr << ProgramName() << ": " << e.what() << std::endl;
     } catch (const std::bad_alloc &) {
         std::cerr << ProgramName() << ": out of memory" << std::endl;
+    } catch (const std::length_error &) {
+        std::cerr << ProgramName() << ": out of memory (a size beyond what memory can hold)"
+                  << std::endl;
+    } catch (const std::exception &e) {
+        // Anything else that escaped is our fault, but a message beats an abort.
+        std::cerr << ProgramName() << ": internal error: " << e.what() << std::endl;
     }
     return 1;
 }

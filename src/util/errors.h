@@ -37,7 +37,8 @@ void Warning(std::string_view message);
 void SetProgramName(std::string_view argv0);
 const std::string &ProgramName();
 
-// Runs body, turning UserError (and allocation failure) into a message and exit status 1.
+// Runs body, turning UserError, allocation failure and any other escaped exception into a
+// message and exit status 1 (never an abort).
 int RunTool(int argc, char **argv, int (*body)(int, char **));
 
 }  // namespace dayflux

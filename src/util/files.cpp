@@ -75,6 +75,17 @@ bool InputSource::Close() {
     return true;
 }
 
+std::optional<uint64_t> InputSource::BytesLeft() const {
+    const uint64_t buffered = end_ - pos_;
+    if (!fp_) return buffered;
+    if (is_pipe_) return std::nullopt;
+    struct stat st;
+    if (fstat(fileno(fp_), &st) != 0 || !S_ISREG(st.st_mode)) return std::nullopt;
+    const off_t at = ftello(fp_);
+    if (at < 0 || at > st.st_size) return std::nullopt;
+    return buffered + static_cast<uint64_t>(st.st_size - at);
+}
+
 bool InputSource::Fill() {
     if (eof_ || !fp_) return false;
     // Bytes not yet handed out move to the front; more are read after them.

@@ -56,6 +56,9 @@ class InputSource {
     bool NextWord(std::string_view *word);
     // The rest of the input (for small text files read whole).
     std::string ReadAll();
+    // The bytes not yet read where that is known (in-memory data and regular files, standard
+    // input included when it is one), for checking sizes a header claims before allocating.
+    std::optional<uint64_t> BytesLeft() const;
     // True when nothing but white space is left.
     bool OnlySpaceLeft();
     bool AtEnd() { return Peek() < 0; }

@@ -108,5 +108,30 @@ TEST(Calcomp, ErrorsNameFileLineAndProblem) {
     EXPECT_EQ(ErrorOf([&] { Eval(cx, "Dx"); }), "expr:1: undefined variable 'Dx'");
 }
 
+// Input that would overflow the stack (the parser's, or later the evaluator's and the tree's
+// destructor's) is refused with its place; depths a real file uses still read.
+TEST(Calcomp, DeepExpressionsAreRefusedNotCrashed) {
+    const auto repeat = [](const std::string &s, int n) {
+        std::string out;
+        for (int i = 0; i < n; ++i) out += s;
+        return out;
+    };
+    const std::string too_deep = "expression nested deeper than 1000 levels";
+    Context cx;
+    for (const std::string &e :
+         {"w=" + repeat("(", 10000) + "1" + repeat(")", 10000), "x=" + repeat("2^", 20000) + "1;",
+          "y=" + repeat("-(", 5000) + "1" + repeat(")", 5000) + ";",
+          "z=a" + repeat("+a", 3000) + ";",
+          "f=" + repeat("sin(", 3000) + "a" + repeat(")", 3000)}) {
+        const std::string error = ErrorOf([&] { cx.Load(e, FileLoc{"deep.cal", 7}); });
+        EXPECT_EQ(error.rfind("deep.cal:7: " + too_deep, 0), 0u) << error.substr(0, 100);
+    }
+    cx.Load("a = 1;\nok = " + repeat("(", 300) + "a" + repeat("+a)", 300) + ";\n",
+            FileLoc{"ok.cal", 1});
+    EXPECT_EQ(Eval(cx, "ok"), 301);
+    EXPECT_EQ(ErrorOf([&] { Eval(cx, "$99999999999 + 1"); }),
+              "expr:1: channel number beyond $100000 at '99999 + 1'");
+}
+
 }  // namespace
 }  // namespace dayflux::cal

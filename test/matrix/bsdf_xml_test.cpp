@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <tuple>
 
 #include "test_util.h"
 
@@ -186,6 +187,34 @@ TEST(BsdfMatrix, BadFilesGetMessages) {
     EXPECT_NE(LoadError(SyntheticBsdf("My/Basis", 41, "Columns", 0.1, -1, 0.1))
                   .find("undefined ColumnAngleBasis 'My/Basis'"),
               std::string::npos);
+}
+
+// A basis of the file's own whose second ring ends at `upper` degrees with `nphis` patches.
+std::string OwnBasisBsdf(const std::string &upper, const std::string &nphis) {
+    std::string xml = SyntheticBsdf("Mine", 1 + 8, "Columns", 0.1, -1, 0.1);
+    const std::string basis =
+        "<AngleBasis><AngleBasisName>Mine</AngleBasisName><AngleBasisBlock><nPhis>1</nPhis>"
+        "<ThetaBounds><LowerTheta>0</LowerTheta><UpperTheta>5</UpperTheta></ThetaBounds>"
+        "</AngleBasisBlock><AngleBasisBlock><nPhis>" +
+        nphis + "</nPhis><ThetaBounds><LowerTheta>5</LowerTheta><UpperTheta>" + upper +
+        "</UpperTheta></ThetaBounds></AngleBasisBlock></AngleBasis>";
+    xml.insert(xml.find("</DataDefinition>"), basis);
+    return xml;
+}
+
+// Angles outside the hemisphere (or not numbers) and patch counts beyond memory are refused
+// with their values, instead of giving an all-zero matrix or a failed allocation.
+TEST(BsdfMatrix, ImpossibleBasesGetMessages) {
+    EXPECT_EQ(LoadError(OwnBasisBsdf("90", "8")), "");
+    for (const auto &[upper, nphis, said] :
+         {std::tuple{"nan", "8", "(UpperTheta nan, nPhis 8)"},
+          std::tuple{"400", "8", "(UpperTheta 400.000000, nPhis 8)"},
+          std::tuple{"90", "2000000000", "(UpperTheta 90.000000, nPhis 2000000000)"}}) {
+        const std::string error = LoadError(OwnBasisBsdf(upper, nphis));
+        EXPECT_NE(error.find("illegal AngleBasisBlock in 'Mine' " + std::string(said)),
+                  std::string::npos)
+            << error;
+    }
 }
 
 }  // namespace

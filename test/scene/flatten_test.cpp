@@ -173,6 +173,32 @@ TEST(Flatten, MeshFromObj2mesh) {
     EXPECT_EQ(f.triangle_object[0], 1);
 }
 
+// A damaged mesh claiming 10^8 patches fails at the end of its data, without first making room
+// for them all (2.4 GB, as it once did).
+TEST(Flatten, DamagedMeshesGetMessages) {
+    test::TempDir tmp;
+    const std::string box = test::ReadFile(test::DataDir() / "scene/mesh/box.rtm");
+    // The end of the materials (type -1), the patch count (1) and the first patch's flags.
+    const std::string mark("\xff\0\0\0\x01\x01", 6);
+    const size_t at = box.find(mark);
+    ASSERT_NE(at, std::string::npos);
+    std::string many = box;
+    many.replace(at + 1, 4, std::string("\x05\xf5\xe1\x00", 4));
+    test::WriteFile(tmp.path() / "many.rtm", many);
+    setenv("RAYPATH", tmp.path().c_str(), 1);
+    Scene s;
+    SceneReader r(&s);
+    r.ReadText("void plastic grey 0 0 5 .5 .5 .5 0 0\ngrey mesh box 1 many.rtm 0 0\n", "t.rad");
+    std::string error;
+    try {
+        Flatten(std::move(s));
+    } catch (const UserError &e) {
+        error = e.what();
+    }
+    unsetenv("RAYPATH");
+    EXPECT_NE(error.find("many.rtm: truncated mesh file"), std::string::npos) << error;
+}
+
 TEST(Flatten, BadInstanceTransformNamesItsPlace) {
     Scene s;
     SceneReader r(&s);

@@ -90,7 +90,30 @@ TEST(Octree, BadOctreesGetMessages) {
     EXPECT_EQ(ErrorOf((tmp.path() / "short.oct").string()), "short.oct: truncated octree");
     test::WriteFile(tmp.path() / "text.oct", "#?RADIANCE\nFORMAT=ascii\n\n");
     EXPECT_EQ(ErrorOf((tmp.path() / "text.oct").string()),
-              "text.oct: not a RADIANCE octree (no FORMAT=Radiance_octree in header)");
+              "text.oct: not a RADIANCE octree (FORMAT=ascii)");
+    test::WriteFile(tmp.path() / "nameless.oct", "#?RADIANCE\noconv\n\n");
+    EXPECT_EQ(ErrorOf((tmp.path() / "nameless.oct").string()),
+              "nameless.oct: not a RADIANCE octree (no FORMAT=Radiance_octree in header)");
+    // Cut inside its header, an octree is still taken for one (not read as an empty scene).
+    test::WriteFile(tmp.path() / "ten.oct", full.substr(0, 10));
+    EXPECT_TRUE(IsOctreeFile((tmp.path() / "ten.oct").string()));
+    EXPECT_EQ(ErrorOf((tmp.path() / "ten.oct").string()),
+              "ten.oct: truncated octree (in its header)");
+    // A tree of 100000 levels (each a node of eight children): refused, not a stack overflow.
+    std::string deep = "#?RADIANCE\nFORMAT=Radiance_octree\n\n";
+    const int magic = 4 * 8 + 251 + 4;  // RADIANCE's, for 4-byte object numbers
+    deep += std::string{static_cast<char>(magic >> 8), static_cast<char>(magic & 0xff)};
+    deep += std::string(
+                "0\0"
+                "0\0"
+                "0\0"
+                "1\0",
+                8) +
+            std::string(1, '\0');                              // cube, no files
+    deep += std::string(4, '\0') + std::string(100000, '\2');  // 0 objects, tree
+    test::WriteFile(tmp.path() / "deep.oct", deep);
+    EXPECT_EQ(ErrorOf((tmp.path() / "deep.oct").string()),
+              "deep.oct: damaged octree (tree deeper than 128 levels)");
     EXPECT_EQ(ErrorOf((tmp.path() / "none.oct").string()), "none.oct': No such file or directory");
 }
 

@@ -166,6 +166,13 @@ TEST(SceneReader, BadInputNamesFileLineAndProblem) {
                   .find("bad.rad:1: in '!xform nosuch.rad': cannot open file 'nosuch.rad'"),
               std::string::npos);
     EXPECT_EQ(ErrorOf("!false\n"), "bad.rad:1: command '!false' failed");
+    // Transforms that would make the geometry vanish or fill space (RADIANCE's xform takes them).
+    EXPECT_EQ(ErrorOf("\n!xform -t nan 0 0 x.rad\n"),
+              "bad.rad:2: xform: option -t: 'nan' is not a number");
+    EXPECT_EQ(ErrorOf("!xform -rz inf x.rad\n"),
+              "bad.rad:1: xform: option -rz: 'inf' is not a number");
+    EXPECT_EQ(ErrorOf("!xform -s 1e300 x.rad\n"),
+              "bad.rad:1: xform: option -s: '1e300' is out of range");
 }
 
 }  // namespace

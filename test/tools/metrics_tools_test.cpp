@@ -90,6 +90,27 @@ TEST_F(DcmetricsTest, MetricsCsvJsonAndLayouts) {
     EXPECT_EQ(second_line_without_ase(tcsv), second_line_without_ase(csv));
 }
 
+// Negative illuminance (a five-phase sum's noise) is no light: the metrics are those of zeros,
+// not of an average pulled down, and one warning says how many there were and the lowest.
+TEST_F(DcmetricsTest, NegativeIlluminanceCountsAsNone) {
+    WriteFile(tmp_.path() / "total.mtx", AsciiMatrix(3, 8760, 1, false, Total));
+    // Afternoons at -5000 lux instead of 50: a mean would fall below 300 lux.
+    WriteFile(tmp_.path() / "negative.mtx", AsciiMatrix(3, 8760, 1, false, [](int s, int t) {
+                  return (t % 24) < 12 ? 400. + s : (s == 1 && t == 13 ? -9000. : -5000.);
+              }));
+    WriteFile(tmp_.path() / "zero.mtx", AsciiMatrix(3, 8760, 1, false, [](int s, int t) {
+                  return (t % 24) < 12 ? 400. + s : 0.;
+              }));
+    const CommandResult negative = Run("dcmetrics -o n negative.mtx");
+    ASSERT_EQ(negative.status, 0) << negative.err;
+    EXPECT_NE(negative.err.find("negative.mtx: 13140 negative illuminance value(s) taken as 0 "
+                                "(the lowest, -9000 lux, at row 2 column 14)"),
+              std::string::npos)
+        << negative.err;
+    ASSERT_EQ(Run("dcmetrics -o z zero.mtx").status, 0);
+    EXPECT_EQ(ReadFile(tmp_.path() / "n.csv"), ReadFile(tmp_.path() / "z.csv"));
+}
+
 TEST_F(DcmetricsTest, WeatherCalendarWithSunUpSteps) {
     // A leap-year .wea from two days: with -u the matrix holds only the sun-up steps, and the
     // occupied steps left out still count in the denominator.

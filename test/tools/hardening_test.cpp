@@ -1,0 +1,100 @@
+// Issue 20's classes of bad input, through the programs: each gets a message naming where and
+// what, and an exit status of 1 (never an abort or a crash); the likely mistakes RADIANCE takes
+// silently get a warning or an error before any tracing.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "test_util.h"
+
+namespace dayflux::test {
+namespace {
+
+const char *kRoom =
+    "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
+    "grey polygon floor 0 0 12 -5 -5 -1 5 -5 -1 5 5 -1 -5 5 -1\n"
+    "void glow sky 0 0 4 1 1 1 0\nsky source dome 0 0 4 0 0 1 180\n";
+
+CommandResult Rcontrib(const TempDir &tmp, const std::string &rays, const std::string &args) {
+    WriteFile(tmp.path() / "room.rad", kRoom);
+    WriteFile(tmp.path() / "rays", rays);
+    return RunCommand("rcontrib-gpu -h " + args + " room.rad < rays", tmp.path());
+}
+
+// One bad line of a long run stops it with its number, before the engine (Embree asserts on
+// such rays).
+TEST(Hardening, RaysThatAreNotNumbersOrBeyondAnySceneAreRefused) {
+    TempDir tmp;
+    for (const auto &[line, said] :
+         {std::pair{"0 0 nan 0 0 1", "input ray 2: origin value nan is not a number"},
+          std::pair{"0 0 0 0 inf 1", "input ray 2: direction value inf is not a number"},
+          std::pair{"1e20 0 0 0 0 1", "input ray 2: origin value 1e+20 is out of range"}}) {
+        const CommandResult r = Rcontrib(tmp, std::string("0 0 0 0 0 1\n") + line + "\n", "-m sky");
+        EXPECT_EQ(r.status, 1) << line;
+        EXPECT_NE(r.err.find(said), std::string::npos) << r.err;
+    }
+}
+
+// A -m no surface uses (a misspelt or renamed modifier) gives zeros in RADIANCE, silently.
+TEST(Hardening, ModifierNoSurfaceUsesIsWarnedOf) {
+    TempDir tmp;
+    const CommandResult r = Rcontrib(tmp, "0 0 0 0 0 1\n", "-m sky -m skye");
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("warning - modifier 'skye' (-m) is used by no surface in the scene"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.err.find("'sky' (-m)"), std::string::npos) << r.err;
+}
+
+// An undefined name in a bin expression is an error before tracing, even where no ray would
+// ever evaluate it (here the only ray looks down, away from the sky).
+TEST(Hardening, UndefinedBinVariableStopsTheRunBeforeTracing) {
+    TempDir tmp;
+    const CommandResult r = Rcontrib(tmp, "0 0 0 0 0 -1\n", "-ab 0 -b 'if(Dz,skybin,0)' -m sky");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("-b if(Dz,skybin,0) (modifier 'sky'): undefined variable 'skybin'"),
+              std::string::npos)
+        << r.err;
+}
+
+// Matrix headers that promise more than the input holds, or rows beyond memory: a message at
+// once, not an abort (std::length_error) or gigabytes allocated first.
+TEST(Hardening, MatrixSizesBeyondTheirDataAreRefused) {
+    TempDir tmp;
+    const std::string head = "#?RADIANCE\nNCOMP=3\nFORMAT=float\n";
+    WriteFile(tmp.path() / "tall.fmx",
+              head + "NROWS=2000000000\nNCOLS=3\n\n" + std::string(36, 'x'));
+    WriteFile(tmp.path() / "wide.fmx", head + "NROWS=2\nNCOLS=2000000000\n\n");
+    WriteFile(tmp.path() / "huge.fmx", head + "NROWS=2000000000\nNCOLS=2000000000\n\n");
+    for (const auto &[file, said] :
+         {std::pair{"tall.fmx", "tall.fmx: unexpected end of input in row 2 of 2000000000"},
+          std::pair{"wide.fmx",
+                    "wide.fmx: 2000000000 columns of 3 components: rows of more than "
+                    "134217728 values are not supported"},
+          std::pair{"huge.fmx", "huge.fmx: 2000000000 columns"}}) {
+        for (const char *program : {"rmtxop", "dctimestep"}) {
+            const CommandResult r =
+                RunCommand(std::string(program) + " " + file + " " + file, tmp.path());
+            EXPECT_EQ(r.status, 1) << program << " " << file;
+            EXPECT_NE(r.err.find(said), std::string::npos) << program << ": " << r.err;
+        }
+    }
+}
+
+// A spike in the weather (10^6 W/m2 of diffuse light) is refused with its line, instead of
+// NaN patches and negative skies.
+TEST(Hardening, WeatherBeyondWhatTheSunGivesIsRefused) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "spike.wea",
+              "place here\nlatitude 40.78\nlongitude 73.96\ntime_zone 75\nsite_elevation 40\n"
+              "weather_data_file_units 1\n6 21 12.5 800 200\n6 21 13.5 100 1000000\n");
+    const CommandResult r = RunCommand("gendaymtx -m 1 spike.wea", tmp.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("spike.wea:8: 100 W/m2 direct, 1e+06 W/m2 diffuse: more than the sun "
+                         "can give (at most 1500 W/m2)"),
+              std::string::npos)
+        << r.err;
+}
+
+}  // namespace
+}  // namespace dayflux::test
