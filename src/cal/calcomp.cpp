@@ -11,6 +11,7 @@
 #include "cal/calcomp_impl.h"
 #include "cal/specialise.h"
 #include "util/raypath.h"
+#include "util/strings.h"
 
 namespace dayflux::cal {
 
@@ -108,9 +109,10 @@ struct Evaluator {
                 return a(1) > 0.0 ? a(2) : a(3);
             case Library::kSelect: {
                 const double a1 = a(1);
+                // Checked as a double first: NaN or a huge index must not reach the cast.
+                if (!(a1 >= -.5 && a1 + .5 < f->nargs))
+                    Fail("select: index " + FormatNumber(a1) + " out of range");
                 const int n = static_cast<int>(a1 + .5);
-                if (a1 < -.5 || n >= f->nargs)
-                    Fail("select: index " + std::to_string(n) + " out of range");
                 if (n == 0) return f->nargs - 1;
                 return a(n + 1);
             }
@@ -144,11 +146,12 @@ struct Evaluator {
             case Library::kArg: {
                 const std::vector<double> *args = channels ? channels->ObjectArguments() : nullptr;
                 if (!args) Fail("arg() used where there is no object");
-                const int n = static_cast<int>(a(1) + .5);
-                if (n == 0) return static_cast<double>(args->size());
-                if (n < 1 || n > static_cast<int>(args->size()))
-                    Fail("arg(" + std::to_string(n) + "): the object has " +
+                const double a1 = a(1);
+                if (!(a1 >= -.5 && a1 + .5 < static_cast<double>(args->size()) + 1))
+                    Fail("arg(" + FormatNumber(a1) + "): the object has " +
                          std::to_string(args->size()) + " arguments");
+                const int n = static_cast<int>(a1 + .5);
+                if (n == 0) return static_cast<double>(args->size());
                 return (*args)[n - 1];
             }
             case Library::kNone:

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "cal/calcomp_impl.h"
+#include "util/strings.h"
 
 namespace dayflux::cal {
 
@@ -66,9 +67,9 @@ struct SpecialisedRun {
                 return Kid(o, 0) > 0.0 ? Kid(o, 1) : Kid(o, 2);
             case SpecialisedExpression::kSelect: {
                 const double a1 = Kid(o, 0);
+                if (!(a1 >= -.5 && a1 + .5 < o.nkids))
+                    ErrorExit(&e.loc_, "select: index " + FormatNumber(a1) + " out of range");
                 const int n = static_cast<int>(a1 + .5);
-                if (a1 < -.5 || n >= o.nkids)
-                    ErrorExit(&e.loc_, "select: index " + std::to_string(n) + " out of range");
                 if (n == 0) return o.nkids - 1;
                 return Kid(o, n);
             }
@@ -214,8 +215,9 @@ class SpecialisationBuilder {
                 const int c = arg(1);
                 if (IsNum(c)) {
                     const double a1 = NumOf(c);
+                    if (!(a1 >= -.5 && a1 + .5 < nargs))
+                        throw NotHandled{};  // the interpreter's error
                     const int i = static_cast<int>(a1 + .5);
-                    if (a1 < -.5 || i >= nargs) throw NotHandled{};  // the interpreter's error
                     return i == 0 ? Num(nargs - 1) : arg(i + 1);
                 }
                 std::vector<int> kids{c};

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <charconv>
+#include <cstdio>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,6 +22,13 @@ std::vector<std::string> SplitWords(std::string_view s);
 
 // RADIANCE's isflt(): true if the word is a decimal number (used to gather option factors).
 bool IsFloatWord(std::string_view word);
+
+// value as printf("%g") prints it, for messages.
+inline std::string FormatNumber(double value) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", value);
+    return buf;
+}
 
 // Appends value as printf("%.*e", precision, value) would print it.
 inline void AppendScientific(std::string *out, double value, int precision) {

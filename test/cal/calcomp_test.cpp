@@ -129,6 +129,19 @@ TEST(Calcomp, DeepExpressionsAreRefusedNotCrashed) {
     cx.Load("a = 1;\nok = " + repeat("(", 300) + "a" + repeat("+a)", 300) + ";\n",
             FileLoc{"ok.cal", 1});
     EXPECT_EQ(Eval(cx, "ok"), 301);
+    // Indices that are not numbers or beyond int are errors, not undefined casts, interpreted
+    // and specialised alike.
+    cx.Load("big = 1e300; nan = big * big - big * big;", FileLoc{"i.cal", 1});
+    for (const char *e : {"select(big, 1, 2)", "select(nan, 1, 2)", "select(-1e300, 1, 2)"}) {
+        for (const bool specialised : {false, true}) {
+            const std::string error = ErrorOf([&] {
+                const Expression x = specialised ? cx.Compile(e, FileLoc{"expr", 1})
+                                                 : cx.CompileInterpreted(e, FileLoc{"expr", 1});
+                x.Evaluate(cx);
+            });
+            EXPECT_NE(error.find("select: index"), std::string::npos) << e << ": " << error;
+        }
+    }
     EXPECT_EQ(ErrorOf([&] { Eval(cx, "$99999999999 + 1"); }),
               "expr:1: channel number beyond $100000 at '99999 + 1'");
 }
