@@ -224,20 +224,26 @@ bool MakeSurface(FluxSurface *s) {
 // The arguments of an object: strings, integers (skipped) and reals.
 std::vector<double> RealArguments(Words &words, const FileLoc &loc, const std::string &name) {
     std::string w;
-    for (int part = 0; part < 2; ++part) {
-        double n;
-        if (!words.Next(&w) || !ParseNumber(w, &n) || n < 0)
+    // A count is a whole number, and the arguments it counts must follow: they are read one by
+    // one, never allocated ahead from the count.
+    const auto count = [&] {
+        int n;
+        if (!words.Next(&w) || !ParseInt(w, &n) || n < 0)
             ErrorExit(&loc, "bad argument count for '" + name + "'");
-        for (int i = 0; i < static_cast<int>(n); ++i)
+        return n;
+    };
+    for (int part = 0; part < 2; ++part)
+        for (int i = count(); i > 0; --i)
             if (!words.Next(&w)) ErrorExit(&loc, "unexpected end of file in '" + name + "'");
-    }
-    double n;
-    if (!words.Next(&w) || !ParseNumber(w, &n) || n < 0)
-        ErrorExit(&loc, "bad argument count for '" + name + "'");
-    std::vector<double> reals(static_cast<size_t>(n));
-    for (double &x : reals)
+    std::vector<double> reals;
+    for (int i = count(); i > 0; --i) {
+        double x;
         if (!words.Next(&w) || !ParseNumber(w, &x))
             ErrorExit(&loc, "error reading arguments for '" + name + "'");
+        if (!std::isfinite(x))
+            ErrorExit(&loc, "argument '" + w + "' of '" + name + "' is not a number");
+        reals.push_back(x);
+    }
     return reals;
 }
 
