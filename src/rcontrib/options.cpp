@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "util/errors.h"
+#include "util/files.h"
 #include "util/options.h"
 #include "util/raypath.h"
 #include "util/strings.h"
@@ -22,7 +23,7 @@ namespace {
               " [-n nprocs][-V][-c count][-fo][-r][-e expr][-f source][-o ospec][-p "
               "p1=V1,p2=V2][-b binv][-bn N]"
               " {-m mod | -M file} [rtrace options] [-seed N][-asub N][-backend name][-device "
-              "name][-progress] octree   (or: " +
+              "name][-progress][-no_commands] octree   (or: " +
               prog + " -devices)");
 }
 
@@ -247,7 +248,7 @@ class Parser {
         return true;
     }
 
-    // Ours: -seed -asub -backend -device -gpu_traversal -gpu_accum -se -progress.
+    // Ours: -seed -asub -backend -device -gpu_traversal -gpu_accum -se -progress -no_commands.
     bool Ours(const std::string &a) {
         if (a == "-asub") {
             // N x N samples in each cell of the first ambient hemisphere, one of them
@@ -274,6 +275,8 @@ class Parser {
             o_.stderr_file = Value(a);
         } else if (a.rfind("-progress", 0) == 0) {
             o_.progress = Flag(a.substr(0, 2) + a.substr(9), o_.progress);
+        } else if (a == "-no_commands") {
+            AllowCommandsInDataFiles(false);  // the scene is read after the options
         } else {
             return false;
         }

@@ -320,8 +320,11 @@ class FluxReader {
         };
         const auto command = [&](const std::string &c, int line) {
             XformCommand xform;
-            if (!ParseXformCommand(c, FileLoc{in->Name(), line}, &xform))
+            const FileLoc loc{in->Name(), line};
+            if (!ParseXformCommand(c, loc, &xform)) {
+                if (!CommandsInDataFilesAllowed()) InputSource::OpenNamedIn("!" + c, loc);
                 return Read("!" + c, depth + 1, outer);
+            }
             xform.xf = xform.xf.Then(outer.xf);
             if (xform.modifier.empty()) xform.modifier = outer.modifier;
             xform.name_prefix = outer.name_prefix + xform.name_prefix;

@@ -4,6 +4,7 @@
 #include <set>
 
 #include "util/errors.h"
+#include "util/files.h"
 #include "util/options.h"
 #include "util/strings.h"
 
@@ -21,7 +22,7 @@ int OursWithValues(const std::string &a) {
     static const std::set<std::string> with_value = {
         "-backend", "-device", "-gpu_traversal", "-gpu_accum", "-seed", "-asub", "-se"};
     if (with_value.count(a)) return 1;
-    if (a.rfind("-progress", 0) == 0) return 0;
+    if (a.rfind("-progress", 0) == 0 || a == "-no_commands") return 0;
     return -1;
 }
 
@@ -79,6 +80,7 @@ RfluxmtxCommand ParseRfluxmtxCommand(const std::vector<std::string> &argv) {
         if (const int n = OursWithValues(a); n >= 0) {
             need(n + 2);
             if (a == "-seed") cmd.seed = std::strtoull(args[i + 1].c_str(), nullptr, 10);
+            if (a == "-no_commands") AllowCommandsInDataFiles(false);  // before any file is read
             cmd.rcontrib.insert(cmd.rcontrib.end(), args.begin() + i, args.begin() + i + n + 1);
             i += n;
         } else if (a == "-v") {

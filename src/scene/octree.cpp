@@ -37,7 +37,11 @@ OctreeInfo ReadOctree(const std::string &path, Scene *scene) {
     if (!info.files.empty()) {
         // An unfrozen octree: the scene is in the files oconv read (relative to where it ran).
         SceneReader reader(scene);
-        for (const std::string &f : info.files) reader.ReadFile(f);
+        for (const std::string &f : info.files) {
+            const FileLoc loc{path, 0};  // oconv records "!command" inputs in the list
+            auto source = InputSource::OpenNamedIn(f, loc);
+            reader.Read(*source);
+        }
         if (static_cast<long>(scene->objects.size() - first) != nobjects)
             oct.Fail("its scene files now hold " + std::to_string(scene->objects.size() - first) +
                      " objects, the octree " + std::to_string(nobjects) + " (octree stale?)");

@@ -38,6 +38,8 @@ void SceneReader::ReadFile(const std::string &path) {
     Read(*in, Context{});
 }
 
+void SceneReader::Read(InputSource &in) { Read(in, Context{}); }
+
 void SceneReader::ReadText(std::string_view text, const std::string &name) {
     auto in = InputSource::FromString(std::string(text), name);
     Read(*in, Context{});
@@ -264,7 +266,7 @@ void SceneReader::RunCommand(const std::string &command, const FileLoc &loc, con
             ErrorExit(&loc, std::string("in '!") + command + "': " + e.what());
         }
     }
-    auto in = InputSource::Open("!" + command);
+    auto in = InputSource::OpenNamedIn("!" + command, loc);
     Context inner = cx;
     inner.depth = cx.depth + 1;
     try {

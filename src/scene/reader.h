@@ -31,6 +31,7 @@ class SceneReader {
     // path "-" reads stdin.
     void ReadFile(const std::string &path);
     void ReadText(std::string_view text, const std::string &name);
+    void Read(InputSource &in);
 
   private:
     struct Context {

@@ -17,6 +17,20 @@ bool IsSpace(int c) {
 }
 }  // namespace
 
+namespace {
+bool commands_in_data_files = true;
+}  // namespace
+
+void AllowCommandsInDataFiles(bool allow) { commands_in_data_files = allow; }
+bool CommandsInDataFilesAllowed() { return commands_in_data_files; }
+
+std::unique_ptr<InputSource> InputSource::OpenNamedIn(const std::string &spec, const FileLoc &loc) {
+    if (!spec.empty() && spec[0] == '!' && !commands_in_data_files)
+        ErrorExit(&loc, "'" + spec.substr(0, 60) +
+                            "': commands in data files are refused (-no_commands)");
+    return Open(spec);
+}
+
 std::unique_ptr<InputSource> InputSource::Open(const std::string &spec) {
     std::unique_ptr<InputSource> in(new InputSource());
     if (spec.empty() || spec == "-") {

@@ -19,10 +19,20 @@ namespace dayflux {
 inline constexpr const char *kStdinName = "<stdin>";
 
 // A buffered byte source with line counting for text and raw reads for binary data.
+// Whether "!command" inputs named inside data files (scene lines, octrees' file lists, rfluxmtx's
+// sender and receiver files) run, as in RADIANCE: yes unless a program's -no_commands turned it
+// off, for services that open files they did not write. "!xform" with the options the readers
+// do in-process is not a command and stays allowed.
+void AllowCommandsInDataFiles(bool allow);
+bool CommandsInDataFilesAllowed();
+
 class InputSource {
   public:
     // spec: a path, "-" or "" for stdin, or "!command" (run with /bin/sh, its stdout read).
     static std::unique_ptr<InputSource> Open(const std::string &spec);
+    // The same for a spec named inside a data file at loc: a "!command" is an error there when
+    // commands in data files are not allowed.
+    static std::unique_ptr<InputSource> OpenNamedIn(const std::string &spec, const FileLoc &loc);
     // For tests and in-memory data.
     static std::unique_ptr<InputSource> FromString(std::string data, std::string name);
     ~InputSource();

@@ -35,6 +35,40 @@ TEST(Hardening, RaysThatAreNotNumbersOrBeyondAnySceneAreRefused) {
     }
 }
 
+// Commands in data files run, as in RADIANCE, unless -no_commands refuses them (for services
+// that open files they did not write): in scene files, in rfluxmtx's sender and receiver files,
+// and in the file list of an unfrozen octree; in-process xform stays allowed.
+TEST(Hardening, CommandsInDataFilesCanBeRefused) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "room.rad", kRoom);
+    WriteFile(tmp.path() / "rays", "0 0 0 0 0 1\n");
+    WriteFile(tmp.path() / "floor.rad", "!echo void plastic red 0 0 5 1 0 0 0 0 && touch ran\n");
+    WriteFile(tmp.path() / "moved.rad", "!xform -t 0 0 -2 room.rad\n");
+    EXPECT_EQ(RunCommand("rcontrib-gpu -h -m sky room.rad floor.rad < rays", tmp.path()).status, 0);
+    EXPECT_TRUE(std::filesystem::exists(tmp.path() / "ran"));
+    std::filesystem::remove(tmp.path() / "ran");
+    CommandResult r =
+        RunCommand("rcontrib-gpu -no_commands -h -m sky room.rad floor.rad < rays", tmp.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("floor.rad:1: '!echo void plastic red 0 0 5 1 0 0 0 0 && touch ran': "
+                         "commands in data files are refused (-no_commands)"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(std::filesystem::exists(tmp.path() / "ran"));
+    r = RunCommand("rcontrib-gpu -no_commands -h -m sky moved.rad < rays", tmp.path());
+    EXPECT_EQ(r.status, 0) << r.err;
+    // rfluxmtx: a receiver made by a command.
+    WriteFile(tmp.path() / "sender.rad",
+              "#@rfluxmtx h=u u=+Y\nvoid polygon w 0 0 12 0 0 0 0 1 0 1 1 0 1 0 0\n");
+    WriteFile(tmp.path() / "sky.rad", "!cat room.rad; touch ran\n");
+    r = RunCommand("rfluxmtx-gpu -no_commands -c 4 sender.rad sky.rad", tmp.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("sky.rad:1: '!cat room.rad; touch ran': commands in data files"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(std::filesystem::exists(tmp.path() / "ran"));
+}
+
 // A -m no surface uses (a misspelt or renamed modifier) gives zeros in RADIANCE, silently.
 TEST(Hardening, ModifierNoSurfaceUsesIsWarnedOf) {
     TempDir tmp;
