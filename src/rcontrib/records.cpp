@@ -1,6 +1,7 @@
 #include "rcontrib/records.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -40,7 +41,9 @@ class RayReader {
     RayReader(const RcontribOptions &o, size_t block_rays, RaySource rays)
         : o_(o), block_rays_(block_rays), rays_(std::move(rays)) {
         if (!rays_) {
-            auto in = std::make_shared<MatrixReader>(InputSource::Open("-"), Spec(o.in));
+            std::unique_ptr<InputSource> source = InputSource::Open("-");
+            if (o.in == DataFormat::Float || o.in == DataFormat::Double) WarnIfText(*source, o.in);
+            auto in = std::make_shared<MatrixReader>(std::move(source), Spec(o.in));
             rays_ = [in](double ray[6]) { return in->ReadRow(ray); };
         }
         wanted_ = o.yres > 0 ? static_cast<long>(o.yres) * std::max(o.xres, 1) : -1;
@@ -91,6 +94,21 @@ class RayReader {
     }
 
   private:
+    // -ff or -fd on rays written as text (the points file of a recipe, say) reads garbage that
+    // RADIANCE traces without a word: the first ray's bytes all being characters of numbers
+    // and blanks is a sure sign.
+    static void WarnIfText(InputSource &in, DataFormat format) {
+        const size_t bytes = 6 * (format == DataFormat::Float ? 4 : 8);
+        const std::string_view first = in.PeekBytes(bytes);
+        if (first.size() < bytes) return;
+        for (char c : first)
+            if (!std::isdigit(static_cast<unsigned char>(c)) &&
+                std::string_view(" \t\r\n.+-eE").find(c) == std::string_view::npos)
+                return;
+        Warning(std::string("the input rays look like text, but -f") +
+                (format == DataFormat::Float ? "f" : "d") +
+                " reads them as binary numbers (-fa reads text)");
+    }
     // One bad line must not end a long run deep inside the engine (Embree asserts on such
     // rays, a GPU gives garbage): NaN, infinity and coordinates beyond any scene are refused.
     static void CheckRay(const double ray[6], uint64_t number) {

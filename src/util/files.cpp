@@ -120,6 +120,13 @@ bool InputSource::Fill() {
     return true;
 }
 
+std::string_view InputSource::PeekBytes(size_t n) {
+    if (buf_.size() < n) buf_.resize(n);
+    while (end_ - pos_ < n)
+        if (!Fill()) break;
+    return std::string_view(buf_.data() + pos_, std::min(n, end_ - pos_));
+}
+
 int InputSource::PeekSecond() {
     while (end_ - pos_ < 2)
         if (!Fill()) return -1;

@@ -57,6 +57,9 @@ class InputSource {
     }
     // The byte after the next one, or -1 (for telling "-Y 3 +X 4" from "-3 ...").
     int PeekSecond();
+    // Up to n of the next bytes, without reading them (fewer only at the end of input); valid
+    // until the next call on this source.
+    std::string_view PeekBytes(size_t n);
     // Reads up to n bytes of binary data; returns the count read (less only at end of input).
     size_t Read(void *dst, size_t n);
     // Reads one line without its '\n'; false at end of input with nothing read.

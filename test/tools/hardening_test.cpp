@@ -69,6 +69,19 @@ TEST(Hardening, CommandsInDataFilesCanBeRefused) {
     EXPECT_FALSE(std::filesystem::exists(tmp.path() / "ran"));
 }
 
+// -ff on a points file written as text: RADIANCE traces the garbage without a word.
+TEST(Hardening, TextRaysReadAsBinaryAreWarnedOf) {
+    TempDir tmp;
+    const std::string warning = "the input rays look like text, but -ff reads them as binary";
+    const CommandResult text = Rcontrib(tmp, "0 0 0 0 0 1\n1.5 2 -3 0 0 1\n", "-ff -m sky");
+    EXPECT_NE(text.err.find(warning), std::string::npos) << text.err;
+    const float ray[6] = {0, 0, 0, 0, 0, 1};
+    const CommandResult binary =
+        Rcontrib(tmp, std::string(reinterpret_cast<const char *>(ray), sizeof ray), "-ff -m sky");
+    EXPECT_EQ(binary.status, 0) << binary.err;
+    EXPECT_EQ(binary.err.find(warning), std::string::npos) << binary.err;
+}
+
 // A -m no surface uses (a misspelt or renamed modifier) gives zeros in RADIANCE, silently.
 TEST(Hardening, ModifierNoSurfaceUsesIsWarnedOf) {
     TempDir tmp;
