@@ -5,9 +5,10 @@
 #include <cmath>
 
 extern "C" {
-// glibc's libmvec: AVX2 variants of exp and acos.
-__m256d _ZGVdN4v_exp(__m256d);
-__m256d _ZGVdN4v_acos(__m256d);
+// glibc's libmvec: AVX2 variants of exp and acos. Declared with the target of their callers:
+// passing __m256d in a register is AVX's ABI, which clang refuses to assume otherwise.
+__attribute__((target("avx2,fma"))) __m256d _ZGVdN4v_exp(__m256d);
+__attribute__((target("avx2,fma"))) __m256d _ZGVdN4v_acos(__m256d);
 }
 
 namespace dayflux {

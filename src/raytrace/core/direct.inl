@@ -59,6 +59,13 @@ struct PartNode {
     real3 cent, u, w;
     real du2, dv2;
     int mp;
+#ifdef __cplusplus
+    // GLSL's constructor. C++20 takes PartNode(...) as aggregate initialisation, but clang
+    // before 16 does not, so it is written out for C++.
+    PartNode() = default;
+    PartNode(ivec4 p, real3 c, real3 u0, real3 w0, real d0, real d1, int m)
+        : part(p), cent(c), u(u0), w(w0), du2(d0), dv2(d1), mp(m) {}
+#endif
 };
 int LocalSample(IN(PackedSource) s, int i, real3 origin, real weight, uint turn, int want,
                 OUT(real3) dir, OUT(real) omega) {

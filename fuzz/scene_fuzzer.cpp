@@ -1,0 +1,24 @@
+// .rad scene text read by SceneReader::ReadText, "!xform" lines included (done in-process), and
+// flattened to triangles and shapes as the ray tracers take it. Inputs whose '!' lines would
+// reach the shell, stdin or files of this machine are left out (fuzz_util.h), as are scenes with
+// instances or meshes, whose files Flatten() would open.
+#include "fuzz_util.h"
+#include "scene/flatten.h"
+#include "scene/reader.h"
+
+extern "C" int LLVMFuzzerInitialize(int *, char ***) {
+    dayflux::fuzz::WritePartFile();
+    return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    const std::string_view text = dayflux::fuzz::AsText(data, size);
+    if (!dayflux::fuzz::OnlySafeCommands(text)) return -1;
+    dayflux::fuzz::ExpectUserErrors([&] {
+        dayflux::Scene scene;
+        dayflux::SceneReader reader(&scene);
+        reader.ReadText(text, "fuzz.rad");
+        if (!dayflux::fuzz::NamesFiles(scene)) dayflux::Flatten(std::move(scene));
+    });
+    return 0;
+}
