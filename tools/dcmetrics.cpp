@@ -185,10 +185,8 @@ class NegativeValues {
     }
     void Report(const std::string &name) const {
         if (count_ == 0) return;
-        char worst[32];
-        std::snprintf(worst, sizeof worst, "%g", worst_);
         Warning(name + ": " + std::to_string(count_) +
-                " negative illuminance value(s) taken as 0 (the lowest, " + worst +
+                " negative illuminance value(s) taken as 0 (the lowest, " + FormatNumber(worst_) +
                 " lux, at row " + std::to_string(row_ + 1) + " column " + std::to_string(col_ + 1) +
                 ")");
     }

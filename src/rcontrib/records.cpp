@@ -13,6 +13,7 @@
 #include "util/errors.h"
 #include "util/files.h"
 #include "util/pipeline.h"
+#include "util/strings.h"
 
 namespace dayflux {
 
@@ -116,13 +117,8 @@ class RayReader {
         for (int k = 0; k < 6; ++k)
             if (!(std::fabs(ray[k]) <= kLargest))
                 ErrorExit("input ray " + std::to_string(number) + ": " +
-                          (k < 3 ? "origin" : "direction") + " value " + FormatValue(ray[k]) +
+                          (k < 3 ? "origin" : "direction") + " value " + FormatNumber(ray[k]) +
                           (std::isfinite(ray[k]) ? " is out of range" : " is not a number"));
-    }
-    static std::string FormatValue(double v) {
-        char s[32];
-        std::snprintf(s, sizeof s, "%g", v);
-        return s;
     }
     static ReadSpec Spec(DataFormat format) {
         ReadSpec rs;

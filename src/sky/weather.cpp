@@ -161,10 +161,9 @@ void WeatherReader::Check(const WeatherRecord &r) const {
     const bool photometric = header_.units == 3;
     const double most = photometric ? 200000 : 1500;
     const char *unit = photometric ? " lux" : " W/m2";
-    char values[96];
-    std::snprintf(values, sizeof values, "%g%s direct, %g%s diffuse", r.dir, unit, r.dif, unit);
     if (r.dir > most || r.dif > most)
-        Fail(r.line, std::string(values) + ": more than the sun can give (at most " +
+        Fail(r.line, FormatNumber(r.dir) + unit + " direct, " + FormatNumber(r.dif) + unit +
+                         " diffuse: more than the sun can give (at most " +
                          std::to_string(static_cast<int>(most)) + unit + ")");
 }
 
