@@ -39,10 +39,7 @@ V_BINS="-f klems_full.cal -b kbin(0,1,0,0,0,1) -bn Nkbins -m glass_mat"
 CDS_SCENE="model/materials.rad model/office.rad model/glass.rad model/suns.rad"
 CDS_ARGS="-I+ -ab 0 -dc 1 -dt 0 -dj 0 -faf -e MF:6 -f reinhart.cal -b rbin -bn Nrbins -m solar"
 export RAYPATH=.:$root/lib
-timed() {  # output command... ; prints wall seconds
-    (cd "$tmp" && /usr/bin/time -f "%e" -o "$tmp/time" "${@:2}" < "$tmp/sensors.pts" > "$1")
-    cat "$tmp/time"
-}
+timed() { timed_run "$tmp/sensors.pts" "$@"; }  # output command... ; prints wall seconds
 record() {  # case program ad seconds output reference
     err=$(python3 "$here/rcontrib_error.py" "$5" "$6")
     echo "$1,$2,$sensors,$3,$4,$err" | tee -a "$csv"

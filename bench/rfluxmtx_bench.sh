@@ -47,10 +47,7 @@ case $MODEL in
 esac
 D_ARGS="-ab 4 -ad 1000 -lw 0.001 $window $sky $scene"
 V_ARGS="-I+ -ab 4 -y $(wc -l < "$tmp/points.txt") - $window $scene"
-timed() {  # output command... ; prints wall seconds
-    (cd "$tmp" && /usr/bin/time -f "%e" -o "$tmp/time" "${@:2}" < "$tmp/points.txt" > "$1")
-    cat "$tmp/time"
-}
+timed() { timed_run "$tmp/points.txt" "$@"; }  # output command... ; prints wall seconds
 record() {  # case program setting seconds output reference
     err=$(python3 "$here/rcontrib_error.py" "$5" "$6")
     echo "$1,$2,$3,$4,$err" | tee -a "$csv"
