@@ -8,7 +8,9 @@
 #      wall seconds, and each GPU matrix's difference from Embree's at the same seed (the two run
 #      one estimator with one random stream, so this is float rounding, not noise).
 # Writes OUT/gpu.csv (model,case,program,sensors,wall_s,rel_rms_vs_embree), OUT/summary.txt and
-# the logs. Under 10 minutes on an H100 machine (16 cores for Embree).
+# the logs. On an H100 machine (16 cores for Embree), 2026-11-25: MODELS=small with the tests
+# 441 s, MODELS=large TESTS=0 402 s (96 s of it C_ds on the GPU): two calls within the device
+# tool's 10 minutes.
 #
 # usage: bench/gpu.sh    (from the repository root)
 # environment: BUILD (build: a build tree, or bench/gpu_bundle.sh's copy), DEVICE (0; llvmpipe
@@ -25,6 +27,9 @@ MODELS=${MODELS:-"small large"}
 QUICK=${QUICK:-0}
 TESTS=${TESTS:-1}
 RCONTRIB=$BUILD/bin/rcontrib-gpu
+if [ -f "$BUILD/gpu.tar.xz" ] && [ ! -x "$RCONTRIB" ]; then  # bench/gpu_bundle.sh's archive
+    tar -C "$BUILD" -xJf "$BUILD/gpu.tar.xz"
+fi
 [ -d "$BUILD/runtime" ] && export LD_LIBRARY_PATH="$BUILD/runtime${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 mkdir -p "$OUT"
 tmp=$(mktemp -d)
@@ -104,8 +109,11 @@ for model in $MODELS; do
                     continue
                 fi
             fi
-            (cd "$dir" && /usr/bin/time -f "%e" -o "$dir/time" "$RCONTRIB" ${p#*|} -seed 1 $args \
-                < sensors.pts > "$out" 2> "$dir/err") || { cat "$dir/err"; exit 1; }
+            # bash's own clock: the device machine's image has no /usr/bin/time
+            t0=$(date +%s.%N)
+            (cd "$dir" && "$RCONTRIB" ${p#*|} -seed 1 $args < sensors.pts > "$out" \
+                2> "$dir/err") || { cat "$dir/err"; exit 1; }
+            awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.2f\n", b - a }' > "$dir/time"
             diff=$([ "$name" = embree ] && echo 0 ||
                    python3 "$root/bench/rcontrib_error.py" "$out" "$dir/$case-embree.fmx")
             printf "%-6s %-4s %-16s %8s %10s %12s\n" "$model" "$case" "$name" "$sensors" \
