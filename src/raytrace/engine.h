@@ -20,6 +20,11 @@ namespace dayflux {
 // How a GPU finds hits: ray queries where the device has them (auto), ray queries, or a walk of
 // our own BVH (raytrace/bvh.h; NVIDIA's H100 and H200 have no ray queries).
 enum class GpuTraversal { kAuto, kRayQuery, kBvh };
+// Where a GPU keeps each task's ray stack and hemisphere rows: storage buffers (scratch), which
+// GPUs need (NVIDIA's driver refuses pipelines with more than about 16 KiB of private arrays an
+// invocation), or private arrays, which lavapipe's LLVM compiles over four times sooner; auto:
+// private arrays on CPU devices only.
+enum class GpuScratch { kAuto, kOn, kOff };
 
 struct EngineOptions {
     std::string backend = "embree";  // "embree" or "vulkan"
@@ -27,6 +32,7 @@ struct EngineOptions {
     // discrete GPU, else an integrated one; lavapipe only when named).
     std::string device;
     GpuTraversal traversal = GpuTraversal::kAuto;
+    GpuScratch scratch = GpuScratch::kAuto;
     // The GPU's per-task accumulators in float instead of double (half the memory: a sensor's
     // first hemisphere is split between tasks, so their sums are short; records are summed in
     // double on the host).

@@ -248,7 +248,8 @@ class Parser {
         return true;
     }
 
-    // Ours: -seed -asub -backend -device -gpu_traversal -gpu_accum -se -progress -no_commands.
+    // Ours: -seed -asub -backend -device -gpu_traversal -gpu_accum -gpu_scratch -se -progress
+    // -no_commands.
     bool Ours(const std::string &a) {
         if (a == "-asub") {
             // N x N samples in each cell of the first ambient hemisphere, one of them
@@ -264,6 +265,13 @@ class Parser {
             const std::string t = Value(a);
             if (t != "float" && t != "double") ErrorExit("-gpu_accum " + t + ": float or double");
             o_.engine.float_accumulators = t == "float";
+        } else if (a == "-gpu_scratch") {
+            const std::string t = Value(a);
+            if (t != "auto" && t != "on" && t != "off")
+                ErrorExit("-gpu_scratch " + t + ": auto, on or off");
+            o_.engine.scratch = t == "on"    ? GpuScratch::kOn
+                                : t == "off" ? GpuScratch::kOff
+                                             : GpuScratch::kAuto;
         } else if (a == "-gpu_traversal") {
             o_.engine.traversal = Traversal(a, Value(a));
         } else if (a == "-device") {

@@ -25,6 +25,11 @@ CONST int kBindingBvhPrims = 11;  // int per BVH leaf entry: triangle, or -(shap
 CONST int kBindingKlems = 12;     // float: the BSDF materials' Klems data
 CONST int kBindingRelays = 13;    // vec4: the mirrors that relay sources (PackedSource.relay)
 CONST int kBindingTracked = 14;   // ivec4 per tracked modifier (tables.h's kTracked*)
+// Scratch, on the device only: per task of the dispatch, its ray stack (STACK_SIZE + 1 items)
+// and its hemispheres' rows (2 maxn + DEEP_LEVELS 2 DEEP_N), in storage buffers rather than
+// private arrays, which NVIDIA's driver limits to about 16 KiB an invocation.
+CONST int kBindingScratchItems = 15;  // Item (raytrace/core/rays.inl)
+CONST int kBindingScratchRows = 16;   // vec4 (xyz: a direction)
 
 // One dispatch: tasks [task_offset, task_offset + count) of rays x slices; a slice traces a
 // share of the rows of the first hemisphere (the rest of a path follows the cell that started
@@ -45,10 +50,12 @@ struct GpuTasks {
     int contributions;  // -V
     int nsources;
     uint seed;
-    int ndirect;                                // sources sampled with shadow rays (not glow)
-    int ncols;                                  // columns of a record (all tracked modifiers' bins)
-    float lw, dj, tmin, st;                     // -lw, -dj, the ray start offset, -st
-    float ss, ds, pad3, pad4;                   // -ss, -ds
+    int ndirect;             // sources sampled with shadow rays (not glow)
+    int ncols;               // columns of a record (all tracked modifiers' bins)
+    float lw, dj, tmin, st;  // -lw, -dj, the ray start offset, -st
+    float ss, ds;            // -ss, -ds
+    int maxn;                // first-hemisphere cells a side the rows hold: at least any -ad gives
+    int pad4;
     double centre_x, centre_y, centre_z, pad5;  // added back to positions for the bins
 };
 

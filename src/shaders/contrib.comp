@@ -5,7 +5,7 @@
 //
 // The host prepends: #version and extensions, the run's macros (AB AD LW LR IRRADIANCE
 // FIRST_HIT CONTRIBUTIONS NSOURCES NDIRECT DJ SEED ST SS DS CENTRE_X CENTRE_Y CENTRE_Z TMIN NCOLS,
-// read from the tasks buffer; MAXN DEEP_N DEEP_LEVELS STACK_SIZE MIX_STACK LOCAL_SIZE ACCUM_T
+// read from the tasks buffer; DEEP_N DEEP_LEVELS STACK_SIZE MIX_STACK LOCAL_SIZE ACCUM_T
 // and the DAYFLUX_* features the scene needs, compiled in), shaders/common.h (the bindings), the
 // generated calcomp functions, EvalBin(j), which runs bin function j, and PatternRGB(k).
 
@@ -34,6 +34,22 @@ layout(std430, set = 0, binding = kBindingShapes) readonly buffer Shapes { Packe
 layout(std430, set = 0, binding = kBindingRelays) readonly buffer Relays { vec4 relays[]; };
 layout(std430, set = 0, binding = kBindingTracked) readonly buffer Tracked { ivec4 tracked[]; };
 layout(std430, set = 0, binding = kBindingKlems) readonly buffer Klems { float klems[]; };
+
+// The stack and the rows in scratch buffers, a region per task (the core's STACK, ROW0, ROWD):
+// NVIDIA's driver refuses pipelines whose private arrays pass about 16 KiB an invocation. (Else,
+// on CPU devices, the core's private arrays, with MAXN set by the host.)
+#ifdef DAYFLUX_SCRATCH
+#define MAXN tasks.maxn
+layout(std430, set = 0, binding = kBindingScratchRows) buffer ScratchRows { vec4 scratch_rows[]; };
+uint stack_base, rows_base;
+#define DRIVER_STACK_STORAGE \
+    layout(std430, set = 0, binding = kBindingScratchItems) buffer ScratchItems { \
+        Item scratch_items[]; \
+    };
+#define STACK(i) scratch_items[stack_base + uint(i)]
+#define ROW0(i) scratch_rows[rows_base + uint(i)].xyz
+#define ROWD(i) scratch_rows[rows_base + uint(2 * MAXN) + uint(i)].xyz
+#endif
 
 // ---- what the core asks of its driver (raytrace/core/README.md)
 double BinOf(int k, int source) { return EvalBin(tracked[k][kTrackedFunction]); }
@@ -199,6 +215,10 @@ void main() {
         uint task = uint(tasks.task_offset) + local_task;
         uint ray_in = task / uint(tasks.slices), slice = task % uint(tasks.slices);
         acc_base = local_task * uint(NCOLS * 3);
+#ifdef DAYFLUX_SCRATCH
+        stack_base = local_task * uint(STACK_SIZE + 1);
+        rows_base = local_task * uint(2 * MAXN + DEEP_LEVELS * 2 * DEEP_N);
+#endif
         if (rays[2 * ray_in + 1].w >= 0)  // a zero direction: counts, contributes nothing
             TraceInput(rays[2 * ray_in].xyz, normalize(rays[2 * ray_in + 1].xyz),
                        uint(tasks.first_ray) + ray_in, uint(tasks.replica), slice,

@@ -25,22 +25,22 @@ real3 SourceDirection(IN(PackedSource) s) {
 void ShadowRay(IN(Item) it, int i, IN(PackedSource) s, real3 dir, real3 coef) {
     if (Max3(coef) <= 0. || Bright(coef * XYZ(s.colour)) <= 0.) return;
     int at = PushSlot();
-    stack[at].r = it.r;
-    stack[at].r.depth = it.r.depth + 1;
-    stack[at].r.rlvl = it.r.rlvl + 1;
-    stack[at].r.crtype = it.r.crtype | kShadow;
-    stack[at].r.aimed = i;
-    stack[at].r.coef = it.r.coef * coef;
-    stack[at].r.org = it.point;
-    stack[at].r.dir = dir;
-    stack[at].r.next_clip = it.r.clip;
+    STACK(at).r = it.r;
+    STACK(at).r.depth = it.r.depth + 1;
+    STACK(at).r.rlvl = it.r.rlvl + 1;
+    STACK(at).r.crtype = it.r.crtype | kShadow;
+    STACK(at).r.aimed = i;
+    STACK(at).r.coef = it.r.coef * coef;
+    STACK(at).r.org = it.point;
+    STACK(at).r.dir = dir;
+    STACK(at).r.next_clip = it.r.clip;
 #ifdef DAYFLUX_DIELECTRIC
-    stack[at].r.t = 0.;
+    STACK(at).r.t = 0.;
 #endif
 #ifdef DAYFLUX_INSIDE
-    stack[at].r.counter = -1;
+    STACK(at).r.counter = -1;
 #endif
-    stack[at].kind = kItemTrace;
+    STACK(at).kind = kItemTrace;
 }
 
 #ifdef DAYFLUX_LOCAL_SOURCES  // only scenes with local light sources compile this on the GPU
@@ -354,22 +354,22 @@ void PushDirect(Ray r, real3 colour, real rdiff, real tdiff, real trans, bool fr
     if (!ScaleForDiffuse(r)) return;
 #endif
     int at = PushSlot();
-    stack[at].r = r;
-    stack[at].kind = kItemDirect;
-    stack[at].point = point;
-    stack[at].normal = normal;
-    stack[at].colour = colour;
-    stack[at].rdiff = rdiff;
-    stack[at].tdiff = tdiff;
-    stack[at].trans = trans;
-    stack[at].fresnel = fresnel ? 1 : 0;
-    stack[at].spec = spec;
-    stack[at].alpha2 = rough ? alpha2 : 0.;
-    stack[at].incident = r.dir;
-    stack[at].next = 0;
-    stack[at].end = NSOURCES;
-    stack[at].part = 0;
-    stack[at].turn = Pcg(rng ^ 0x68e31da4u);
+    STACK(at).r = r;
+    STACK(at).kind = kItemDirect;
+    STACK(at).point = point;
+    STACK(at).normal = normal;
+    STACK(at).colour = colour;
+    STACK(at).rdiff = rdiff;
+    STACK(at).tdiff = tdiff;
+    STACK(at).trans = trans;
+    STACK(at).fresnel = fresnel ? 1 : 0;
+    STACK(at).spec = spec;
+    STACK(at).alpha2 = rough ? alpha2 : 0.;
+    STACK(at).incident = r.dir;
+    STACK(at).next = 0;
+    STACK(at).end = NSOURCES;
+    STACK(at).part = 0;
+    STACK(at).turn = Pcg(rng ^ 0x68e31da4u);
 }
 
 // The next steps of direct item it, up to the first that pushes a shadow ray (above the item,

@@ -17,8 +17,14 @@
 
 uint pushed0;       // first-level hemispheres pushed for this input ray (random-number keys)
 uint hemispheres0;  // first-level hemispheres started, likewise
+// The rows: ROW0(i) of the first level's 2 MAXN, ROWD(i) of the deeper levels' 2 DEEP_N each;
+// a driver may keep them elsewhere by defining both (the GPU's does: see STACK in rays.inl).
+#ifndef ROW0
 real3 rows0[2 * MAXN];
 real3 rowsd[DEEP_LEVELS * 2 * DEEP_N];
+#define ROW0(i) rows0[i]
+#define ROWD(i) rowsd[i]
+#endif
 
 void PushHemisphere(Ray r, real3 colour, real3 point, real3 normal) {
     if (r.adepth >= AB || AD <= 0) return;
@@ -38,31 +44,31 @@ void PushHemisphere(Ray r, real3 colour, real3 point, real3 normal) {
     real t0 = Rand(), t1 = Rand(), t2 = Rand(), t3 = Rand();
     if (r.adepth == 0) rng = saved;
     int at = PushSlot();
-    stack[at].r = r;
-    stack[at].kind = kItemAmbient;
-    stack[at].point = point;
-    stack[at].normal = normal;
-    stack[at].colour = colour / real(n * n);
-    stack[at].n = n;
-    stack[at].next = 0;
-    stack[at].end = n * n;
+    STACK(at).r = r;
+    STACK(at).kind = kItemAmbient;
+    STACK(at).point = point;
+    STACK(at).normal = normal;
+    STACK(at).colour = colour / real(n * n);
+    STACK(at).n = n;
+    STACK(at).next = 0;
+    STACK(at).end = n * n;
 #ifdef DAYFLUX_ASUB
-    if (r.adepth == 0) stack[at].end *= ASUB * ASUB;  // steps: the cells' sub-samples
+    if (r.adepth == 0) STACK(at).end *= ASUB * ASUB;  // steps: the cells' sub-samples
 #endif
-    stack[at].incident = RandomTangent(normal, t0, t1, t2, t3);
+    STACK(at).incident = RandomTangent(normal, t0, t1, t2, t3);
 }
 
 bool CollisionRule(int depth, int n) {
     return n > 1 && (depth == 0 ? n <= MAXN : depth <= DEEP_LEVELS && n <= DEEP_N);
 }
 real3 RowDir(int depth, int slot, int j) {
-    return depth == 0 ? rows0[slot * MAXN + j] : rowsd[((depth - 1) * 2 + slot) * DEEP_N + j];
+    return depth == 0 ? ROW0(slot * MAXN + j) : ROWD(((depth - 1) * 2 + slot) * DEEP_N + j);
 }
 void SetRowDir(int depth, int slot, int j, real3 d) {
     if (depth == 0)
-        rows0[slot * MAXN + j] = d;
+        ROW0(slot * MAXN + j) = d;
     else
-        rowsd[((depth - 1) * 2 + slot) * DEEP_N + j] = d;
+        ROWD(((depth - 1) * 2 + slot) * DEEP_N + j) = d;
 }
 
 // Cell (i, j) of hemisphere item it divided n x n: its ray's coefficient and a direction in the
@@ -107,15 +113,15 @@ bool SubsampleStep(IN(Item) it, int k) {
     int at = PushSlot();  // the sub-sample's ray, spawned in its slot
     real3 dir;
     if (!CellDirection(it, it.n * ASUB, i * ASUB + s / ASUB, j * ASUB + s % ASUB, 0.0, false,
-                       stack[at].r, dir)) {
+                       STACK(at).r, dir)) {
         Unpush(at);
         return false;
     }
-    stack[at].r.coef /= real(per);
-    stack[at].r.dscale = s == chosen ? real(per) : 0.0;
-    stack[at].r.org = it.point;
-    stack[at].r.dir = dir;
-    stack[at].kind = kItemTrace;
+    STACK(at).r.coef /= real(per);
+    STACK(at).r.dscale = s == chosen ? real(per) : 0.0;
+    STACK(at).r.org = it.point;
+    STACK(at).r.dir = dir;
+    STACK(at).kind = kItemTrace;
     return true;
 }
 #endif
@@ -142,14 +148,14 @@ bool AmbientStep(INOUT(Item) it) {
     }
     int at = PushSlot();  // the cell's ray, spawned in its slot
     real3 dir;
-    bool ok = CellDirection(it, it.n, i, j, cos_thresh, rule, stack[at].r, dir);
+    bool ok = CellDirection(it, it.n, i, j, cos_thresh, rule, STACK(at).r, dir);
     if (rule) SetRowDir(d, i & 1, j, ok ? dir : real3(0));
     if (!ok) {
         Unpush(at);
         return false;
     }
-    stack[at].r.org = it.point;
-    stack[at].r.dir = dir;
-    stack[at].kind = kItemTrace;
+    STACK(at).r.org = it.point;
+    STACK(at).r.dir = dir;
+    STACK(at).kind = kItemTrace;
     return true;
 }

@@ -112,7 +112,9 @@ void QueryProjSA(int q, real3 v1, real3 v2, bool same, bool minmax, INOUT(real2)
         real3 v = (k == 0 || k == 2) ? v1 : v2;
         p[k & 1] = PartSolidAngle(q, PartIndex(q, v, incident), incident);
     }
-    if (minmax) psa.y = max(psa.y, max(p[0], p[1]));
+    if (minmax) {
+        psa.y = max(psa.y, max(p[0], p[1]));
+    }
     DONT_UNROLL for (int k = 0; k < 2; ++k) {
         if (p[k] > 0. && p[k] < psa.x) psa.x = p[k];
     }

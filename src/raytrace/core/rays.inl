@@ -74,7 +74,16 @@ struct Hit {
     real t;
 };
 
-Item stack[STACK_SIZE + 1];  // the last: the spare PushSlot() gives where the rest are full
+// The stack: STACK_SIZE items and, last, the spare PushSlot() gives where the rest are full.
+// A driver may keep it elsewhere: DRIVER_STACK_STORAGE declares that storage (after Item, which
+// it holds) and STACK(i) names item i there. The GPU's does, since NVIDIA's driver refuses
+// pipelines whose private arrays pass about 16 KiB an invocation.
+#ifdef DRIVER_STACK_STORAGE
+DRIVER_STACK_STORAGE
+#else
+Item stack[STACK_SIZE + 1];
+#define STACK(i) stack[i]
+#endif
 int top;
 uint dropped;  // items that did not fit, over the driver's run (it reads and clears it)
 uint reports;  // tables.h's kReport* flags, likewise
@@ -195,24 +204,24 @@ bool Spawn(IN(Ray) parent, int type, real3 rc, OUT(Ray) child) {
     return child.weight >= LW && child.rlvl <= LR;
 }
 
-void PushItem(IN(Item) it) { stack[PushSlot()] = it; }
+void PushItem(IN(Item) it) { STACK(PushSlot()) = it; }
 
 void PushTrace(IN(Ray) r) {
     int at = PushSlot();
-    stack[at].r = r;
-    stack[at].kind = kItemTrace;
+    STACK(at).r = r;
+    STACK(at).kind = kItemTrace;
 }
 
 // A child ray from org along dir, if rayorigin() lets it live (spawned in its slot).
 void PushChild(IN(Ray) r, int type, real3 coef, real3 org, real3 dir) {
     int at = PushSlot();
-    if (!Spawn(r, type, coef, stack[at].r)) {
+    if (!Spawn(r, type, coef, STACK(at).r)) {
         Unpush(at);
         return;
     }
-    stack[at].r.org = org;
-    stack[at].r.dir = dir;
-    stack[at].kind = kItemTrace;
+    STACK(at).r.org = org;
+    STACK(at).r.dir = dir;
+    STACK(at).kind = kItemTrace;
 }
 
 #ifdef DAYFLUX_ASUB

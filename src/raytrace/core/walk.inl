@@ -54,9 +54,9 @@ bool FindHit(IN(Ray) r, OUT(Hit) h) {
 // the rays their steps push, which run first.
 void RunStack() {
     while (top > 0) {
-        int kind = stack[top - 1].kind;
+        int kind = STACK(top - 1).kind;
         if (kind == kItemTrace) {
-            Ray r = stack[--top].r;
+            Ray r = STACK(--top).r;
             if (r.depth > kMaxDepth) continue;
             Hit h;
             if (!FindHit(r, h)) continue;
@@ -80,22 +80,22 @@ void RunStack() {
             Shade(r, h.object, h.tracked, h.source, h.m, h.point, h.normal, h.t);
         } else if (kind == kItemAmbient) {
             int at = top - 1;
-            bool last = stack[at].next + 1 >= stack[at].end;
-            bool pushed = AmbientStep(stack[at]);
+            bool last = STACK(at).next + 1 >= STACK(at).end;
+            bool pushed = AmbientStep(STACK(at));
             if (last) {  // the hemisphere leaves the stack, its last cell's ray takes its place
                 if (pushed) {
-                    stack[at].r = stack[at + 1].r;
-                    stack[at].kind = kItemTrace;
+                    STACK(at).r = STACK(at + 1).r;
+                    STACK(at).kind = kItemTrace;
                 }
                 --top;
             }
         } else {  // kItemDirect, kItemDirectBsdf
             int at = top - 1;
-            if (stack[at].next >= stack[at].end) {  // its last step's shadow ray has run
+            if (STACK(at).next >= STACK(at).end) {  // its last step's shadow ray has run
                 --top;
                 continue;
             }
-            if (!DirectItemStep(stack[at]) && top == at + 1) --top;
+            if (!DirectItemStep(STACK(at)) && top == at + 1) --top;
         }
     }
 }
@@ -153,7 +153,7 @@ void TraceInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint
     PushHemisphere(r, lamb, point, dir);
     if (top == 0) return;
     // This slice's share of the rows; the rows before it are replayed without tracing.
-    Item h = stack[--top];
+    Item h = STACK(--top);
     int rows = h.n, per = (rows + int(slices) - 1) / int(slices);
     int row_first = int(slice) * per, row_end = min(rows, row_first + per);
     if (row_first >= row_end) return;

@@ -92,6 +92,9 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
 #undef DEEP_N
 #undef DEEP_LEVELS
 #undef MIX_STACK
+#undef STACK
+#undef ROW0
+#undef ROWD
 
     // ---- what the core asks of its driver (raytrace/core/README.md)
     bool Intersect(const Ray &r, Hit &h) const {

@@ -107,9 +107,8 @@ std::string Macros(const PackedScene &packed, const ContribOptions &options, boo
                                               {"CENTRE_Y", "centre_y"},
                                               {"CENTRE_Z", "centre_z"}};
     for (const auto &o : kOptions) define(o[0], std::string("tasks.") + o[1]);
-    define("MAXN", std::to_string(kGpuMaxRows));
-    define("DEEP_N", "16");
-    define("DEEP_LEVELS", "12");
+    define("DEEP_N", std::to_string(kGpuDeepN));
+    define("DEEP_LEVELS", std::to_string(kGpuDeepLevels));
     define("MIX_STACK", std::to_string(kGpuMixStack));
     define("LOCAL_SIZE", std::to_string(kGpuLocalSize));
     define("STACK_SIZE", std::to_string(kGpuStackSize));
@@ -196,11 +195,14 @@ bool MakeContribShader(const PackedScene &packed, const ContribOptions &options,
     return true;
 }
 
-std::vector<uint32_t> CompileContribShader(const ContribShader &shader, bool ray_queries) {
+std::vector<uint32_t> CompileContribShader(const ContribShader &shader, bool ray_queries,
+                                           bool scratch) {
     // ([[dont_unroll]] keeps the BSDF's small loops, so its code is not copied.)
     const std::string source =
         std::string("#version 460\n#extension GL_EXT_control_flow_attributes : enable\n") +
         (ray_queries ? "#extension GL_EXT_ray_query : require\n" : "#define DAYFLUX_BVH 1\n") +
+        (scratch ? "#define DAYFLUX_SCRATCH 1\n"
+                 : "#define MAXN " + std::to_string(kGpuMaxRows) + "\n") +
         shader.source;
     const fs::path cache = CachePath(source);
     if (!cache.empty())

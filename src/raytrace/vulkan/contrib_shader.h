@@ -13,10 +13,15 @@
 
 namespace dayflux {
 
-// Invocations per work group, and the shader's sizes: its ray stack, and the rows of the first
-// hemisphere that keep RADIANCE's collision rule (-ad up to 65536; beyond, none).
+// Invocations per work group, and the shader's sizes: its ray stack, and the rows of deeper
+// hemispheres that keep RADIANCE's collision rule (up to kGpuDeepN cells a side, for the first
+// kGpuDeepLevels bounces). The first hemisphere's rows: in scratch buffers (shaders/common.h),
+// as many as each run's -ad needs; in private arrays, kGpuMaxRows (-ad up to 65536; beyond,
+// no collision rule).
 constexpr int kGpuLocalSize = 64;
 constexpr int kGpuStackSize = 64;
+constexpr int kGpuDeepN = 16;
+constexpr int kGpuDeepLevels = 12;
 constexpr int kGpuMaxRows = 256;
 
 struct ContribShader {
@@ -31,7 +36,9 @@ bool MakeContribShader(const PackedScene &packed, const ContribOptions &options,
                        const std::vector<TrackedModifier> &tracked, const MakeContext &make_context,
                        bool float_accumulators, ContribShader *shader, std::string *why);
 
-// SPIR-V for devices with ray queries or without (our BVH walk), from the cache if it is there.
-std::vector<uint32_t> CompileContribShader(const ContribShader &shader, bool ray_queries);
+// SPIR-V for devices with ray queries or without (our BVH walk), with the stack and rows in
+// scratch buffers or private arrays (GpuScratch), from the cache if it is there.
+std::vector<uint32_t> CompileContribShader(const ContribShader &shader, bool ray_queries,
+                                           bool scratch);
 
 }  // namespace dayflux

@@ -67,8 +67,7 @@ std::vector<VkPhysicalDevice> ChooseDevices(
             }
             const bool cpu = p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
             if (cpu && !allow_cpu && !named) {
-                reject(p.deviceName,
-                       " is a CPU device (-device can name it)");
+                reject(p.deviceName, " is a CPU device (-device can name it)");
                 continue;
             }
             const int s = p.deviceType == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU ? 3 : cpu ? 1 : 2;

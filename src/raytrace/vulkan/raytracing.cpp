@@ -97,8 +97,9 @@ struct GpuDevice::Impl {
     Buffer blas_storage, tlas_storage, box_storage;
 
     std::unordered_map<size_t, Pipeline> pipelines;
-    std::vector<Buffer> run_buffers;  // grown as needed, reused across runs
-    std::vector<Buffer> resident;     // Resident(): device-local, with the data's own sizes
+    std::vector<Buffer> run_buffers;      // grown as needed, reused across runs
+    std::vector<Buffer> scratch_buffers;  // likewise, device-local
+    std::vector<Buffer> resident;         // Resident(): device-local, with the data's own sizes
     std::vector<VkDeviceSize> resident_size;
 
     ~Impl() {
@@ -107,6 +108,7 @@ struct GpuDevice::Impl {
             DestroyScene();
             for (auto &[key, p] : pipelines) DestroyPipeline(p);
             for (Buffer &b : run_buffers) Destroy(b);
+            for (Buffer &b : scratch_buffers) Destroy(b);
             for (Buffer &b : resident) Destroy(b);
             if (fence) vkDestroyFence(device, fence, nullptr);
             if (pool) vkDestroyCommandPool(device, pool, nullptr);
@@ -248,6 +250,60 @@ GpuDevice::GpuDevice(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 GpuDevice::~GpuDevice() = default;
 const std::string &GpuDevice::Name() const { return impl_->name; }
 uint64_t GpuDevice::MaxBufferBytes() const { return impl_->limits.maxStorageBufferRange; }
+
+bool GpuDevice::IsCpu() const {
+    VkPhysicalDeviceProperties p;
+    vkGetPhysicalDeviceProperties(impl_->physical, &p);
+    return p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+}
+
+uint64_t GpuDevice::ScratchBudget() const {
+    if (IsCpu()) return uint64_t{256} << 20;
+    VkPhysicalDeviceMemoryProperties mp;
+    vkGetPhysicalDeviceMemoryProperties(impl_->physical, &mp);
+    uint64_t local = 0;
+    for (uint32_t i = 0; i < mp.memoryHeapCount; ++i)
+        if (mp.memoryHeaps[i].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+            local = std::max<uint64_t>(local, mp.memoryHeaps[i].size);
+    return std::clamp<uint64_t>(local / 4, uint64_t{64} << 20, uint64_t{2} << 30);
+}
+
+uint32_t GpuDevice::RuntimeArrayStride(const std::vector<uint32_t> &spirv, uint32_t binding) {
+    // SPIR-V opcodes and decorations (the SPIR-V specification, 3.32 and 3.20).
+    constexpr uint32_t kOpTypeRuntimeArray = 29, kOpTypeStruct = 30, kOpTypePointer = 32,
+                       kOpVariable = 59, kOpDecorate = 71, kDecorationArrayStride = 6,
+                       kDecorationBinding = 33, kDecorationDescriptorSet = 34;
+    std::unordered_map<uint32_t, uint32_t> stride, binding_of, set_of, pointee, first_member,
+        variable_type;
+    std::unordered_map<uint32_t, bool> runtime_array;
+    for (size_t i = 5; i < spirv.size();) {
+        const uint32_t op = spirv[i] & 0xffffu, words = spirv[i] >> 16;
+        if (words == 0 || i + words > spirv.size()) break;  // malformed: nothing found
+        const uint32_t *w = &spirv[i];
+        if (op == kOpDecorate && words >= 4) {
+            if (w[2] == kDecorationArrayStride) stride[w[1]] = w[3];
+            if (w[2] == kDecorationBinding) binding_of[w[1]] = w[3];
+            if (w[2] == kDecorationDescriptorSet) set_of[w[1]] = w[3];
+        } else if (op == kOpTypeRuntimeArray && words >= 3) {
+            runtime_array[w[1]] = true;
+        } else if (op == kOpTypeStruct && words >= 3) {
+            first_member[w[1]] = w[2];
+        } else if (op == kOpTypePointer && words >= 4) {
+            pointee[w[1]] = w[3];
+        } else if (op == kOpVariable && words >= 3) {
+            variable_type[w[2]] = w[1];
+        }
+        i += words;
+    }
+    for (const auto &[var, b] : binding_of) {
+        if (b != binding || set_of[var] != 0 || !variable_type.count(var)) continue;
+        const uint32_t block = pointee[variable_type[var]];
+        if (!first_member.count(block)) continue;
+        const uint32_t array = first_member[block];
+        if (runtime_array[array] && stride.count(array)) return stride[array];
+    }
+    return 0;
+}
 
 namespace {
 
@@ -688,7 +744,20 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
 
     // Storage buffers, kept between runs and grown when too small.
     if (d.run_buffers.size() < nb) d.run_buffers.resize(nb);
+    if (d.scratch_buffers.size() < nb) d.scratch_buffers.resize(nb);
     for (uint32_t i = 0; i < nb; ++i) {
+        if (const uint64_t size = bindings[i].scratch) {
+            if (size > d.limits.maxStorageBufferRange)
+                ErrorExit("Vulkan: scratch of " + std::to_string(size) + " bytes exceeds " +
+                          d.name + "'s maxStorageBufferRange of " +
+                          std::to_string(d.limits.maxStorageBufferRange));
+            Buffer &b = d.scratch_buffers[i];
+            if (!b.buffer || b.size < size) {
+                d.Destroy(b);
+                b = d.Create(size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
+            }
+            continue;
+        }
         if (!bindings[i].host) {
             CHECK(bindings[i].resident >= 0 &&
                   bindings[i].resident < static_cast<int>(d.resident.size()));
@@ -741,8 +810,12 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
         // The range is the caller's size, not the buffer's capacity, so .length() in the shader
         // is right (a range may not be 0: empty buffers get 16 bytes, the least Create makes).
         const Binding &bi = bindings[i];
-        const VkDeviceSize size = bi.host ? bi.host->size() : d.resident_size[bi.resident];
-        const VkBuffer buffer = bi.host ? d.run_buffers[i].buffer : d.resident[bi.resident].buffer;
+        const VkDeviceSize size = bi.scratch ? bi.scratch
+                                  : bi.host  ? bi.host->size()
+                                             : d.resident_size[bi.resident];
+        const VkBuffer buffer = bi.scratch ? d.scratch_buffers[i].buffer
+                                : bi.host  ? d.run_buffers[i].buffer
+                                           : d.resident[bi.resident].buffer;
         infos[i] = {buffer, 0, size > 0 ? size : 16};
         writes[i + first].dstSet = set;
         writes[i + first].dstBinding = i + first;

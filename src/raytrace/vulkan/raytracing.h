@@ -43,6 +43,8 @@ class GpuDevice {
     GpuDevice &operator=(const GpuDevice &) = delete;
 
     const std::string &Name() const;
+    // Whether it is a CPU device (lavapipe), whose memory is the machine's.
+    bool IsCpu() const;
     // The largest storage buffer a dispatch can bind (maxStorageBufferRange).
     uint64_t MaxBufferBytes() const;
 
@@ -67,15 +69,25 @@ class GpuDevice {
     // device-local memory, where shaders read it fastest on a discrete GPU. Returns its handle.
     int Resident(const std::vector<uint8_t> &data);
     // A buffer as Run binds it: a host vector copied in before the run and, with read_back, out
-    // after it; or a resident buffer.
+    // after it; a resident buffer; or scratch, `scratch` bytes on the device that the shader
+    // alone reads and writes (their contents undefined at the start).
     struct Binding {
         std::vector<uint8_t> *host = nullptr;
         bool read_back = true;
         int resident = -1;
+        uint64_t scratch = 0;
     };
-    static Binding In(std::vector<uint8_t> *host) { return {host, false, -1}; }
-    static Binding InOut(std::vector<uint8_t> *host) { return {host, true, -1}; }
-    static Binding OnDevice(int handle) { return {nullptr, false, handle}; }
+    static Binding In(std::vector<uint8_t> *host) { return {host, false, -1, 0}; }
+    static Binding InOut(std::vector<uint8_t> *host) { return {host, true, -1, 0}; }
+    static Binding OnDevice(int handle) { return {nullptr, false, handle, 0}; }
+    static Binding Scratch(uint64_t bytes) { return {nullptr, false, -1, bytes}; }
+    // The scratch one run may bind in all: a quarter of the device's local memory, at most
+    // 2 GiB (a CPU device's, such as lavapipe's, 256 MiB: it is the machine's memory).
+    uint64_t ScratchBudget() const;
+    // The ArrayStride of the runtime array that is the first member of the storage block at set
+    // 0, `binding` in spirv (the std430 size of its element as the compiler laid it out); 0
+    // where there is none.
+    static uint32_t RuntimeArrayStride(const std::vector<uint32_t> &spirv, uint32_t binding);
     // Runs spirv over `invocations` invocations in groups of local_size_x (which must match the
     // shader's), with the top-level structure at set 0 binding 0 (accelerationStructureEXT) and
     // storage buffers at bindings 1, 2, ... in the order given (without ray queries: no

@@ -96,8 +96,10 @@ struct DeviceState {
     std::vector<uint32_t> spirv;
     int positions = -1, indices = -1, triangles = -1, surfaces = -1, sources = -1, shapes = -1;
     int bvh_nodes = -1, bvh_prims = -1, klems = -1, relays = -1, tracked = -1;
-    uint64_t dropped = 0;  // stack items lost in its last Trace
-    uint32_t reports = 0;  // the core's kReport* flags, likewise
+    bool scratch = false;     // stack and rows in scratch buffers (GpuScratch)
+    uint32_t item_bytes = 0;  // the shader's stack item (std430), for its scratch
+    uint64_t dropped = 0;     // stack items lost in its last Trace
+    uint32_t reports = 0;     // the core's kReport* flags, likewise
 };
 
 // The device's copy of the scene; false, with why, when its buffers cannot hold it.
@@ -259,12 +261,22 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
             std::clamp<size_t>((want_tasks + n - 1) / n, 1, static_cast<size_t>(max_rows_)));
     const size_t record = 3 * static_cast<size_t>(columns_);
     const size_t total = n * static_cast<size_t>(slices);
-    const size_t per_run =
-        std::clamp<size_t>(kAccumBudget / (record * AccumBytes()), 1, kMaxTasksPerRun);
+    // Each task's scratch: its stack and its rows (shaders/common.h), within the device's budget.
+    const uint64_t stack_bytes = uint64_t(kGpuStackSize + 1) * dev.item_bytes;
+    const uint64_t rows_bytes = 16 * uint64_t(2 * max_rows_ + kGpuDeepLevels * 2 * kGpuDeepN);
+    const uint64_t scratch_tasks =
+        !dev.scratch ? uint64_t(kMaxTasksPerRun)
+                     : std::min({dev.device->ScratchBudget() / (stack_bytes + rows_bytes),
+                                 dev.device->MaxBufferBytes() / stack_bytes,
+                                 dev.device->MaxBufferBytes() / rows_bytes});
+    const size_t per_run = std::clamp<size_t>(
+        std::min<uint64_t>(kAccumBudget / (record * AccumBytes()), scratch_tasks), 1,
+        kMaxTasksPerRun);
     std::vector<uint8_t> ray_bytes = Bytes(in);
     for (size_t offset = 0; offset < total; offset += per_run) {
         const size_t count = std::min(per_run, total - offset);
         core::GpuTasks tasks = Tasks(n, slices, first_index, replica);
+        tasks.maxn = max_rows_;
         tasks.task_offset = static_cast<int>(offset);
         tasks.count = static_cast<int>(count);
         std::vector<uint8_t> task_bytes(sizeof tasks);
@@ -286,6 +298,10 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         buffers.push_back(G::OnDevice(dev.klems));    // kBindingKlems
         buffers.push_back(G::OnDevice(dev.relays));   // kBindingRelays
         buffers.push_back(G::OnDevice(dev.tracked));  // kBindingTracked
+        if (dev.scratch) {
+            buffers.push_back(G::Scratch(count * stack_bytes));  // kBindingScratchItems
+            buffers.push_back(G::Scratch(count * rows_bytes));   // kBindingScratchRows
+        }
         dev.device->Run(dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize, buffers);
         uint32_t stat[2];
         std::memcpy(stat, stats.data(), sizeof stat);
@@ -327,7 +343,14 @@ std::unique_ptr<ContribEngine> CreateVulkanContribEngine(
     for (std::unique_ptr<vk::GpuDevice> &device : opened) {
         DeviceState &dev = devices.emplace_back();
         dev.device = std::move(device);
-        dev.spirv = CompileContribShader(shader, dev.device->RayQueries());
+        dev.scratch = engine.scratch == GpuScratch::kOn ||
+                      (engine.scratch == GpuScratch::kAuto && !dev.device->IsCpu());
+        dev.spirv = CompileContribShader(shader, dev.device->RayQueries(), dev.scratch);
+        if (dev.scratch) {
+            dev.item_bytes =
+                vk::GpuDevice::RuntimeArrayStride(dev.spirv, uint32_t(core::kBindingScratchItems));
+            CHECK(dev.item_bytes > 0);  // contrib.comp declares the stack's scratch there
+        }
         if (!Upload(packed, tracked_table, geometry, dev, why)) return nullptr;
     }
     return std::make_unique<VulkanContribEngine>(packed, options, engine.float_accumulators,
