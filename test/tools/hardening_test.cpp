@@ -67,6 +67,24 @@ TEST(Hardening, CommandsInDataFilesCanBeRefused) {
               std::string::npos)
         << r.err;
     EXPECT_FALSE(std::filesystem::exists(tmp.path() / "ran"));
+    // An unfrozen octree whose file list names a command (oconv records "!command" inputs so):
+    // the tutorial room's, its first file made "!cat materials.rad" (the list is a run of
+    // NUL-terminated names, so the rest of the octree reads as before).
+    std::string oct = ReadFile(DataDir() / "scene" / "room2ph.oct");
+    const size_t at = oct.find(std::string("materials.rad\0", 14), oct.find("\n\n"));
+    ASSERT_NE(at, std::string::npos);
+    oct.replace(at, 13, "!cat materials.rad");
+    WriteFile(tmp.path() / "listed.oct", oct);
+    const std::filesystem::path room = DataDir() / "scene" / "models" / "room";
+    const std::string rays = " < '" + (tmp.path() / "rays").string() + "'";
+    const std::string listed = " -h -m skyglow '" + (tmp.path() / "listed.oct").string() + "'";
+    r = RunCommand("rcontrib-gpu" + listed + rays, room);
+    EXPECT_EQ(r.status, 0) << r.err;
+    r = RunCommand("rcontrib-gpu -no_commands" + listed + rays, room);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("listed.oct: '!cat materials.rad': commands in data files are refused"),
+              std::string::npos)
+        << r.err;
 }
 
 // -ff on a points file written as text: RADIANCE traces the garbage without a word.
