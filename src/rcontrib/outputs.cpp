@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -30,7 +31,8 @@ struct RcontribOutputs::Stream {
     bool standard_error = false;  // the -se output
     std::vector<int> columns;
     std::unique_ptr<OutputFile> file;
-    size_t prefix_bytes = 0;  // -r: the existing file's header (and resolution line)
+    std::string recover_from;  // -r: the partial file of a stopped run, or the output itself
+    size_t prefix_bytes = 0;   // -r: the existing file's header (and resolution line)
 };
 
 std::string OutputName(const std::string &spec, const std::string &mod, int bin, int *flags) {
@@ -139,15 +141,27 @@ RcontribOutputs::~RcontribOutputs() = default;
 void RcontribOutputs::Open(Stream &s, const std::vector<std::string> &header_args,
                            const std::string &octree_header, const std::string &label) {
     const RcontribOptions &o = o_;
-    if (!o.recover && s.name != "-" && s.name[0] != '!' && !o.force_open && fs::exists(s.name))
-        ErrorExit("cannot open '" + s.name + "' for writing: file exists (use -fo+)");
-    s.file = std::make_unique<OutputFile>(s.name);
+    const bool is_file = s.name != "-" && s.name[0] != '!';
+    if (is_file && !o.recover && !o.force_open) {
+        if (fs::exists(s.name))
+            ErrorExit("cannot open '" + s.name + "' for writing: file exists (use -fo+)");
+        if (fs::exists(OutputFile::PartialName(s.name)))
+            ErrorExit("'" + OutputFile::PartialName(s.name) +
+                      "' holds the records of a run that stopped early: continue it with -r, "
+                      "or start over with -fo+");
+    }
     const int reclen = static_cast<int>(s.columns.size());
     if (recovered_ > 0) {
-        CopyPrefix(s.name, s.prefix_bytes + recovered_ * RecordBytes(o, s.columns.size()),
-                   s.file.get());
+        const size_t kept = s.prefix_bytes + recovered_ * RecordBytes(o, s.columns.size());
+        if (s.recover_from == s.name) {
+            s.file = std::make_unique<OutputFile>(s.name);
+            CopyPrefix(s.name, kept, s.file.get());
+        } else {
+            s.file = std::make_unique<OutputFile>(s.name, kept);
+        }
         return;
     }
+    s.file = std::make_unique<OutputFile>(s.name);
     if (o.header) {
         std::vector<std::string> args = header_args;
         std::vector<char *> av;
@@ -178,29 +192,37 @@ long RcontribOutputs::RecoverableRecords() {
     for (Stream &s : streams_) {
         if (s.name == "-") ErrorExit("cannot recover from stdout");
         if (s.name[0] == '!') ErrorExit("cannot recover from command");
+        // A partial file is newer than the output it would replace.
+        const std::string partial = OutputFile::PartialName(s.name);
+        s.recover_from = fs::exists(partial) ? partial : s.name;
         std::error_code ec;
-        const auto size = fs::file_size(s.name, ec);
+        const auto size = fs::file_size(s.recover_from, ec);
         if (ec || size == 0) {
             if (ec) Warning("missing recover file '" + s.name + "'");
             Warning("no previous data to recover");
             return 0;
         }
-        std::ifstream f(s.name, std::ios::binary);
+        std::ifstream f(s.recover_from, std::ios::binary);
         std::string head(std::min<uintmax_t>(size, 1 << 16), '\0');
         f.read(head.data(), static_cast<std::streamsize>(head.size()));
         size_t body = 0;
         if (o.header) {
             const size_t end = head.find("\n\n");
+            if (end == std::string::npos && s.recover_from == partial) {
+                Warning("no previous data to recover (the header of '" + partial +
+                        "' is incomplete)");
+                return 0;
+            }
             if (head.rfind("#?RADIANCE", 0) != 0 || end == std::string::npos ||
                 head.substr(0, end + 1).find(FormatLine(o.out)) == std::string::npos)
-                ErrorExit("format mismatch for '" + s.name + "'");
+                ErrorExit("format mismatch for '" + s.recover_from + "'");
             body = end + 2;
         }
         if (s.columns.size() == 1 && o.xres > 0 && o.yres > 0) {
             const size_t eol = head.find('\n', body);
             if (eol == std::string::npos ||
                 head.substr(body, eol + 1 - body) != ResolutionLine(o.xres, o.yres))
-                ErrorExit("resolution mismatch for '" + s.name + "'");
+                ErrorExit("resolution mismatch for '" + s.recover_from + "'");
             body = eol + 1;
         }
         s.prefix_bytes = body;
@@ -238,6 +260,7 @@ void RcontribOutputs::Write(const std::vector<double> &values,
         }
         s.file->Write(text_);
     }
+    ++written_;
 }
 
 void RcontribOutputs::Flush() {
@@ -245,7 +268,31 @@ void RcontribOutputs::Flush() {
 }
 
 void RcontribOutputs::Commit() {
+    // Every output flushed before any is renamed: a full disk leaves them all partial, for -r.
+    for (Stream &s : streams_)
+        if (std::fflush(s.file->Stream()) != 0)
+            ErrorExit("error writing to '" + s.file->Name() + "': " + std::strerror(errno));
     for (Stream &s : streams_) s.file->Commit();
+}
+
+std::string RcontribOutputs::KeepPartial() {
+    std::string kept;
+    bool recoverable = o_.out != DataFormat::Ascii && o_.accumulate > 0, flushed = true;
+    for (Stream &s : streams_) {
+        if (!s.file) continue;
+        flushed = s.file->KeepPartial() && flushed;
+        if (s.file->IsFile())
+            kept += (kept.empty() ? "'" : ", '") + OutputFile::PartialName(s.name) + "'";
+        else
+            recoverable = false;
+    }
+    const long records = recovered_ + written_;
+    if (!recoverable || kept.empty() || records == 0) return "";
+    // After a write error the files hold fewer records than were written (-r counts them).
+    const std::string what =
+        flushed ? std::to_string(records) + " complete record" + (records == 1 ? "" : "s")
+                : "the records written";
+    return what + " kept in " + kept + ": the same command with -r continues the run";
 }
 
 }  // namespace dayflux

@@ -1,7 +1,8 @@
 // rcontrib's outputs: the standard output, or the files and commands -o names by modifier and
 // bin (ofname()), each with the columns that go there, and -se's standard errors; headers as
-// RADIANCE writes them; -r's recovery of existing outputs. Files are written to temporaries and
-// renamed by Commit(), so a failed run leaves no complete-looking output.
+// RADIANCE writes them; -r's recovery of existing outputs. Files are written as "name.partial" and
+// renamed by Commit(), so a run that stopped early leaves no complete-looking output; -r continues
+// a partial file (a run that was stopped or killed) or the output itself, as RADIANCE's does.
 #pragma once
 
 #include <memory>
@@ -32,6 +33,9 @@ class RcontribOutputs {
     void Write(const std::vector<double> &values, const std::vector<double> &standard_errors);
     void Flush();
     void Commit();
+    // For a run that stops early: the records written so far kept in the partial files, and a
+    // sentence saying where and how to continue ("" when -r cannot continue these outputs).
+    std::string KeepPartial();
 
   private:
     struct Stream;
@@ -42,6 +46,7 @@ class RcontribOutputs {
     const RcontribOptions &o_;
     std::vector<Stream> streams_;
     long recovered_ = 0;
+    long written_ = 0;  // records written by this run
     std::vector<double> part_;
     std::string text_;
 };

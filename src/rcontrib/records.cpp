@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -13,6 +14,7 @@
 #include "util/errors.h"
 #include "util/files.h"
 #include "util/pipeline.h"
+#include "util/signals.h"
 #include "util/strings.h"
 
 namespace dayflux {
@@ -67,12 +69,18 @@ class RayReader {
         b->first_ray = next_ray_;
         double ray[6];
         while (b->rays.size() / 6 < block_rays_) {
+            if (StopOnSignals::Requested()) {
+                done_ = true;
+                break;
+            }
             if (wanted_ >= 0 && ended_ >= wanted_) {
                 done_ = true;
                 break;
             }
             if (!rays_(ray)) {
-                EndOfInput(b.get());
+                // A terminal's Ctrl-C also ends the program writing the rays: its end is not
+                // the end of the input.
+                if (!StopOnSignals::Requested()) EndOfInput(b.get());
                 done_ = true;
                 break;
             }
@@ -85,9 +93,14 @@ class RayReader {
                 continue;
             }
             AddRay(b.get(), ray);
-            b->flush = b->flush || zero;
             if (o_.accumulate > 0 && in_record_ == o_.accumulate)
                 EndRecord(b.get(), o_.accumulate > 1 ? 1.0 / o_.accumulate : 1);
+            // The block ends at a flush: a caller feeding rays through a pipe may be waiting for
+            // the records so far before it sends more.
+            if (zero) {
+                b->flush = true;
+                break;
+            }
         }
         if (b->segments.empty()) return nullptr;
         next_ray_ += b->rays.size() / 6;
@@ -247,6 +260,9 @@ void TraceRecords(const RcontribOptions &o, ContribEngine &engine, RcontribOutpu
     OrderedPipeline<Block>([&] { return reader.Next(); },
                            [&](Block &b) { TraceBlock(engine, replicate ? kReplicas : 1, b); },
                            [&](Block &b) { writer.Consume(b); });
+    if (const int sig = StopOnSignals::Requested())
+        throw Interrupted(sig, std::string("stopped by ") + (sig == SIGINT ? "SIGINT" : "SIGTERM") +
+                                   " after " + std::to_string(writer.Written()) + " records");
     if (wanted > 0 && writer.Written() < wanted)
         ErrorExit("unexpected end of input: " + std::to_string(writer.Written()) + " of " +
                   std::to_string(wanted) + " records");

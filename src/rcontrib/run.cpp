@@ -9,6 +9,7 @@
 #include "scene/flatten.h"
 #include "scene/octree.h"
 #include "scene/reader.h"
+#include "util/signals.h"
 
 namespace dayflux {
 
@@ -29,6 +30,23 @@ FlatScene ReadScene(const std::vector<std::string> &files, std::string *octree_h
 
 }  // namespace
 
+void TraceToOutputs(const RcontribOptions &o, ContribEngine &engine, RcontribOutputs &outputs,
+                    RaySource rays) {
+    // A run stopped by a signal or an error (a full disk, a lost GPU, a bad ray) keeps the records
+    // it wrote, for -r.
+    try {
+        const StopOnSignals stop;
+        TraceRecords(o, engine, outputs, std::move(rays));
+        outputs.Commit();
+    } catch (const Interrupted &e) {
+        const std::string kept = outputs.KeepPartial();
+        throw Interrupted(e.Signal(), e.what() + (kept.empty() ? "" : "; " + kept));
+    } catch (const UserError &e) {
+        const std::string kept = outputs.KeepPartial();
+        throw UserError(e.what() + (kept.empty() ? "" : "\n" + ProgramName() + ": " + kept));
+    }
+}
+
 void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &header_args,
                  const std::string &header_lines, RaySource rays) {
     std::unique_ptr<tbb::global_control> threads;
@@ -42,8 +60,7 @@ void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &heade
         flat, o.contrib, TrackedModifiers(o),
         [&o](int k) { return MakeCalContext(o, o.modifiers[k].params); }, o.engine);
     RcontribOutputs outputs(o, engine->Columns(), header_args, header, engine->Label());
-    TraceRecords(o, *engine, outputs, std::move(rays));
-    outputs.Commit();
+    TraceToOutputs(o, *engine, outputs, std::move(rays));
 }
 
 }  // namespace dayflux

@@ -6,7 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "raytrace/engine.h"
 #include "rcontrib/options.h"
+#include "rcontrib/outputs.h"
 #include "rcontrib/records.h"
 
 namespace dayflux {
@@ -15,5 +17,11 @@ namespace dayflux {
 // (after any octree's); rays: the input rays (by default the standard input, in the -f format).
 void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &header_args,
                  const std::string &header_lines = "", RaySource rays = nullptr);
+
+// Traces every record to outputs and commits them. A run stopped by SIGINT or SIGTERM
+// (Interrupted) or by an error (UserError: a full disk, a lost GPU, a bad ray) keeps the records
+// it wrote in the partial files, and its message says so.
+void TraceToOutputs(const RcontribOptions &o, ContribEngine &engine, RcontribOutputs &outputs,
+                    RaySource rays);
 
 }  // namespace dayflux

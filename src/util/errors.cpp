@@ -3,6 +3,8 @@
 #include <iostream>
 #include <new>
 
+#include "util/signals.h"
+
 namespace dayflux {
 
 namespace {
@@ -45,8 +47,13 @@ const std::string &ProgramName() { return ProgramNameStorage(); }
 
 int RunTool(int argc, char **argv, int (*body)(int, char **)) {
     SetProgramName(argc > 0 ? argv[0] : "dayflux");
+    IgnoreFileSizeSignal();
     try {
         return body(argc, argv);
+    } catch (const Interrupted &e) {
+        std::fflush(stdout);
+        std::cerr << ProgramName() << ": " << e.what() << std::endl;
+        RaiseDefault(e.Signal());
     } catch (const UserError &e) {
         std::fflush(stdout);
         std::cerr << ProgramName() << ": " << e.what() << std::endl;

@@ -1,5 +1,7 @@
 #include "util/files.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -10,7 +12,7 @@
 namespace dayflux {
 
 namespace {
-constexpr size_t kBufferSize = 1 << 20;
+constexpr size_t kBufferSize = 1 << 20, kPipeBufferSize = 1 << 16;
 
 bool IsSpace(int c) {
     return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v';
@@ -51,7 +53,12 @@ std::unique_ptr<InputSource> InputSource::Open(const std::string &spec) {
         in->fp_ = std::fopen(spec.c_str(), "rb");
         if (!in->fp_) ErrorExit("cannot open file '" + spec + "': " + std::strerror(errno));
     }
-    in->buf_.resize(kBufferSize);
+    // A small file gets a small buffer (scenes open many), a pipe what it can hold at once.
+    struct stat st;
+    size_t size = kPipeBufferSize;
+    if (fstat(fileno(in->fp_), &st) == 0 && S_ISREG(st.st_mode))
+        size = std::clamp<size_t>(static_cast<size_t>(st.st_size) + 1, 4096, kBufferSize);
+    in->buf_.resize(size);
     return in;
 }
 
@@ -95,7 +102,7 @@ std::optional<uint64_t> InputSource::BytesLeft() const {
     if (is_pipe_) return std::nullopt;
     struct stat st;
     if (fstat(fileno(fp_), &st) != 0 || !S_ISREG(st.st_mode)) return std::nullopt;
-    const off_t at = ftello(fp_);
+    const off_t at = lseek(fileno(fp_), 0, SEEK_CUR);
     if (at < 0 || at > st.st_size) return std::nullopt;
     return buffered + static_cast<uint64_t>(st.st_size - at);
 }
@@ -107,16 +114,20 @@ bool InputSource::Fill() {
     if (left > 0 && pos_ > 0) std::memmove(buf_.data(), buf_.data() + pos_, left);
     pos_ = 0;
     end_ = left;
-    const size_t n = std::fread(buf_.data() + left, 1, buf_.size() - left, fp_);
-    end_ += n;
+    // read(), not fread(): it returns what a pipe holds now instead of waiting for a full
+    // buffer, so a caller that feeds rays and waits for their records is answered.
+    ssize_t n;
+    do n = ::read(fileno(fp_), buf_.data() + left, buf_.size() - left);
+    while (n < 0 && errno == EINTR);
+    if (n < 0) {
+        FileLoc loc = LocNoLine();
+        ErrorExit(&loc, std::string("read error: ") + std::strerror(errno));
+    }
     if (n == 0) {
-        if (std::ferror(fp_)) {
-            FileLoc loc = LocNoLine();
-            ErrorExit(&loc, std::string("read error: ") + std::strerror(errno));
-        }
         eof_ = true;
         return false;
     }
+    end_ += static_cast<size_t>(n);
     return true;
 }
 
@@ -205,7 +216,7 @@ bool InputSource::OnlySpaceLeft() {
     return true;
 }
 
-OutputFile::OutputFile(const std::string &spec) {
+OutputFile::OutputFile(const std::string &spec, uint64_t keep_bytes) {
     if (spec.empty() || spec == "-") {
         name_ = "<stdout>";
         fp_ = stdout;
@@ -220,18 +231,34 @@ OutputFile::OutputFile(const std::string &spec) {
         is_pipe_ = true;
         return;
     }
-    temp_ = spec + ".tmp" + std::to_string(getpid());
-    fp_ = std::fopen(temp_.c_str(), "wb");
-    if (!fp_) ErrorExit("cannot open '" + spec + "' for output: " + std::strerror(errno));
+    temp_ = PartialName(spec);
+    const int fd = open(temp_.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0666);
+    if (fd < 0) ErrorExit("cannot open '" + spec + "' for output: " + std::strerror(errno));
+    // The lock ends with the process, so a partial file left by a killed run is free again.
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        close(fd);
+        ErrorExit("cannot write '" + spec + "': another run is writing it ('" + temp_ +
+                  "' is locked)");
+    }
+    if (ftruncate(fd, static_cast<off_t>(keep_bytes)) != 0 ||
+        lseek(fd, 0, SEEK_END) != static_cast<off_t>(keep_bytes)) {
+        close(fd);
+        ErrorExit("cannot write '" + temp_ + "': " + std::strerror(errno));
+    }
+    fp_ = fdopen(fd, "wb");
+    if (!fp_) {
+        close(fd);
+        ErrorExit("cannot open '" + spec + "' for output: " + std::strerror(errno));
+    }
     std::setvbuf(fp_, nullptr, _IOFBF, kBufferSize);
 }
 
 OutputFile::~OutputFile() {
-    if (committed_ || !fp_) return;
+    if (finished_) return;
     if (is_pipe_) {
-        pclose(fp_);
+        if (fp_) pclose(fp_);
     } else if (!is_stdout_) {
-        std::fclose(fp_);
+        if (fp_) std::fclose(fp_);
         std::remove(temp_.c_str());
     }
 }
@@ -242,25 +269,43 @@ void OutputFile::Write(const void *data, size_t n) {
 }
 
 void OutputFile::Commit() {
-    if (committed_) return;
-    committed_ = true;
+    if (finished_) return;
     if (is_stdout_) {
-        if (std::fflush(fp_) != 0) ErrorExit("write error on output");
+        finished_ = true;
+        if (std::fflush(fp_) != 0)
+            ErrorExit("write error on output: " + std::string(std::strerror(errno)));
         return;
     }
     if (is_pipe_) {
+        finished_ = true;
         int status = pclose(fp_);
         fp_ = nullptr;
         if (status != 0) ErrorExit("error running command '" + name_ + "'");
         return;
     }
+    // On failure the partial file stays until the destructor removes it, or KeepPartial() keeps
+    // what it holds.
+    errno = 0;
     bool ok = std::fflush(fp_) == 0 && !std::ferror(fp_);
     ok = (std::fclose(fp_) == 0) && ok;
     fp_ = nullptr;
-    if (!ok || std::rename(temp_.c_str(), name_.c_str()) != 0) {
-        std::remove(temp_.c_str());
-        ErrorExit("error writing to '" + name_ + "'");
-    }
+    if (!ok) ErrorExit("error writing to '" + name_ + "': " + std::strerror(errno));
+    if (std::rename(temp_.c_str(), name_.c_str()) != 0)
+        ErrorExit("cannot rename '" + temp_ + "' to '" + name_ + "': " + std::strerror(errno));
+    finished_ = true;
+}
+
+bool OutputFile::KeepPartial() {
+    if (finished_) return true;
+    finished_ = true;
+    if (!fp_) return false;  // a Commit() that failed
+    bool ok = std::fflush(fp_) == 0 && !std::ferror(fp_);
+    if (is_pipe_)
+        pclose(fp_);
+    else if (!is_stdout_)
+        ok = std::fclose(fp_) == 0 && ok;
+    fp_ = nullptr;
+    return ok;
 }
 
 }  // namespace dayflux

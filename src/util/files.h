@@ -94,20 +94,30 @@ class InputSource {
     std::string word_;
 };
 
-// A destination for program output: stdout ("-" or ""), "!command", or a file replaced atomically.
+// A destination for program output: stdout ("-" or ""), "!command", or a file written as
+// "name.partial" and renamed onto name when complete. A run that stops early leaves the partial
+// file (which -r can continue) or, after an error, nothing; the partial file is locked while it is
+// written, so two runs never write one output at once.
 class OutputFile {
   public:
-    explicit OutputFile(const std::string &spec);
+    // keep_bytes > 0: continue name.partial after its first keep_bytes (which it must hold).
+    explicit OutputFile(const std::string &spec, uint64_t keep_bytes = 0);
     ~OutputFile();
     OutputFile(const OutputFile &) = delete;
     OutputFile &operator=(const OutputFile &) = delete;
 
+    static std::string PartialName(const std::string &spec) { return spec + ".partial"; }
+
     FILE *Stream() { return fp_; }
     const std::string &Name() const { return name_; }
+    bool IsFile() const { return !is_pipe_ && !is_stdout_; }
     void Write(const void *data, size_t n);
     void Write(std::string_view s) { Write(s.data(), s.size()); }
-    // Flushes and, for files, renames the temporary onto the target. Throws on a write error.
+    // Flushes and, for files, renames the partial file onto the target. Throws on a write error.
     void Commit();
+    // Flushes and closes, keeping a file's partial file (for -r) instead of removing it; false
+    // when what was written could not all be flushed.
+    bool KeepPartial();
 
   private:
     std::string name_;
@@ -115,7 +125,7 @@ class OutputFile {
     FILE *fp_ = nullptr;
     bool is_pipe_ = false;
     bool is_stdout_ = false;
-    bool committed_ = false;
+    bool finished_ = false;  // committed, or kept partial
 };
 
 }  // namespace dayflux

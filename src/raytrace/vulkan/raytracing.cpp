@@ -17,13 +17,34 @@ namespace dayflux::vk {
 
 namespace {
 
-// Every Vulkan call is checked; a failure is an internal error with the call named.
+// The results a run meets in practice, by name; the rest by number.
+std::string ResultName(VkResult r) {
+    switch (r) {
+        case VK_ERROR_OUT_OF_HOST_MEMORY:
+            return "VK_ERROR_OUT_OF_HOST_MEMORY";
+        case VK_ERROR_OUT_OF_DEVICE_MEMORY:
+            return "VK_ERROR_OUT_OF_DEVICE_MEMORY";
+        case VK_ERROR_INITIALIZATION_FAILED:
+            return "VK_ERROR_INITIALIZATION_FAILED";
+        case VK_ERROR_DEVICE_LOST:
+            return "VK_ERROR_DEVICE_LOST: the GPU stopped or was reset";
+        case VK_ERROR_UNKNOWN:
+            return "VK_ERROR_UNKNOWN";
+        case VK_TIMEOUT:
+            return "VK_TIMEOUT";
+        default:
+            return std::to_string(r);
+    }
+}
+
+// Every Vulkan call is checked; a failure is an error with the call and its result named (a run
+// that has written records keeps them for -r: rcontrib/run.cpp).
 #define VK_CHECK(call)                                                \
     do {                                                              \
         VkResult vk_check_result = (call);                            \
         if (vk_check_result != VK_SUCCESS)                            \
             ErrorExit(std::string("Vulkan: ") + #call + " failed (" + \
-                      std::to_string(vk_check_result) + ")");         \
+                      ResultName(vk_check_result) + ")");             \
     } while (false)
 
 const char *const kRequiredExtensions[] = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
