@@ -29,7 +29,7 @@ double Rad(double deg) { return deg * (M_PI / 180.); }
     ErrorExit(std::string("Usage: ") + prog +
               " [-v][-h][-A][-d|-s|-n][-u][-D file [-M modfile]][-r deg][-m N][-g r g b][-c r g "
               "b][-o{f|d}]"
-              "[-O{0|1}] [tape.wea]");
+              "[-O{0|1}][-max_steps N] [tape.wea]");
 }
 
 struct Step {
@@ -43,6 +43,9 @@ struct Options {
     int average = 0;  // 1: -A, -1: no matrix (-n, -D -)
     char format = 'a';
     std::string suns_file, mods_file, weather = "-";
+    // Ours: every time step is held until the rows are written (about 450 bytes each; RADIANCE
+    // holds its whole matrix), so a weather file with more is refused, not memory exhausted.
+    long max_steps = 5000000;
 };
 
 double Number(int argc, char **argv, int *i) { return OptionNumber(argc, argv, i, Usage); }
@@ -58,6 +61,13 @@ Options ParseOptions(int argc, char **argv) {
     };
     for (; i < argc && argv[i][0] == '-'; ++i) {
         const std::string a = argv[i];
+        if (a == "-max_steps") {
+            const double n = Number(argc, argv, &i);
+            if (!(n >= 1 && n <= 1e9) || n != std::floor(n))
+                ErrorExit("-max_steps needs a whole number from 1 to 1000000000");
+            o.max_steps = static_cast<long>(n);
+            continue;
+        }
         switch (a.size() > 1 ? a[1] : 0) {
             case 'g':
                 colour(o.sky.ground_reflectance);
@@ -186,6 +196,12 @@ int Main(int argc, char **argv) {
     while (weather.Next(&rec)) {
         const SunTrack::Position pos = sun.Next(rec.month, rec.day, rec.hour);
         if (o.sun_hours_only && !pos.in_sky) continue;
+        if (static_cast<long>(pending.size()) == o.max_steps) {
+            const FileLoc loc{weather.Name(), rec.line};
+            ErrorExit(&loc, "more than " + std::to_string(o.max_steps) +
+                                " time steps (-max_steps): split the weather file, or raise "
+                                "-max_steps where memory allows (about 450 bytes a step)");
+        }
         Pending p{rec, pos.day_of_year, pos.altitude, pos.azimuth + M_PI - Rad(o.sky.rotation_deg),
                   pos.in_sky};
         pending.push_back(p);
@@ -234,6 +250,7 @@ int Main(int argc, char **argv) {
         mf.Commit();
     }
     if (o.average < 0) return 0;
+    std::vector<Pending>().swap(pending);  // memory for the rows
 
     // Sun contributions, indexed by patch.
     std::vector<std::vector<std::pair<int, float>>> sun_at(npatch);
@@ -280,7 +297,7 @@ int Main(int argc, char **argv) {
             b.text.reserve(static_cast<size_t>(b.p1 - b.p0) * (3 * ncols + 1) * bytes_per_value);
             std::vector<float> v(3 * static_cast<size_t>(nsteps));
             std::vector<char> line;
-            SkyModel::StepArrays arrays = step_arrays;  // this block's row factors
+            SkyModel::RowWork work;  // this block's row factors
             int cached_row = -1;
             for (int p = b.p0; p < b.p1; ++p) {
                 if (p == 0) {
@@ -290,9 +307,9 @@ int Main(int argc, char **argv) {
                 } else {
                     if (model.RowOf(p) != cached_row) {
                         cached_row = model.RowOf(p);
-                        model.RowFactors(step_ptrs, p, &arrays);
+                        model.RowFactors(step_ptrs, step_arrays, p, &work);
                     }
-                    model.PatchValues(arrays, p, v.data());
+                    model.PatchValues(step_arrays, p, &work, v.data());
                     for (const auto &[i, val] : sun_at[p])
                         for (int k = 0; k < 3; ++k) v[3 * i + k] += val * o.sky.sun_color[k];
                 }

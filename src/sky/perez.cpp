@@ -312,7 +312,7 @@ SkyModel::StepArrays SkyModel::Arrays(const std::vector<const SkyStep *> &steps)
     StepArrays a;
     const size_t n = steps.size();
     for (auto *v :
-         {&a.cos_sz, &a.sin_sz, &a.cos_az, &a.sin_az, &a.c, &a.d, &a.e, &a.scale, &a.row_factor})
+         {&a.cos_sz, &a.sin_sz, &a.cos_az, &a.sin_az, &a.c, &a.d, &a.e, &a.scale})
         v->assign(n, 0.0);
     a.mode.assign(n, 0);
     for (size_t i = 0; i < n; ++i) {
@@ -327,22 +327,26 @@ SkyModel::StepArrays SkyModel::Arrays(const std::vector<const SkyStep *> &steps)
     return a;
 }
 
-void SkyModel::RowFactors(const std::vector<const SkyStep *> &steps, int p, StepArrays *a) const {
+void SkyModel::RowFactors(const std::vector<const SkyStep *> &steps, const StepArrays &a, int p,
+                          RowWork *w) const {
+    w->row_factor.resize(steps.size());
     for (size_t i = 0; i < steps.size(); ++i)
-        a->row_factor[i] = a->mode[i] == 1 ? RowFactor(*steps[i], p) : 0;
+        w->row_factor[i] = a.mode[i] == 1 ? RowFactor(*steps[i], p) : 0;
 }
 
-void SkyModel::PatchValues(const StepArrays &a, int p, float *rgb) const {
+void SkyModel::PatchValues(const StepArrays &a, int p, RowWork *w, float *rgb) const {
     const size_t n = a.mode.size();
-    std::vector<double> x(n);
-    std::vector<float> l(n);
+    std::vector<double> &x = w->x;
+    std::vector<float> &l = w->l;
+    x.resize(n);
+    l.resize(n);
     const double czp = cos_zenith_[p], szp = sin_zenith_[p], cap = cos_azi_[p], sap = sin_azi_[p];
     for (size_t i = 0; i < n; ++i) {
         const double cg =
             a.cos_sz[i] * czp + a.sin_sz[i] * szp * (cap * a.cos_az[i] + sap * a.sin_az[i]);
         x[i] = std::clamp(cg, -1.0, 1.0);
     }
-    PerezRelativeLuminance(n, x.data(), a.row_factor.data(), a.c.data(), a.d.data(), a.e.data(),
+    PerezRelativeLuminance(n, x.data(), w->row_factor.data(), a.c.data(), a.d.data(), a.e.data(),
                            l.data());
     const float *col = options_.sky_color;
     for (size_t i = 0; i < n; ++i) {

@@ -67,14 +67,21 @@ class SkyModel {
 
     // The time steps of a run as arrays, for computing one patch at every step in one loop.
     struct StepArrays {
-        std::vector<double> cos_sz, sin_sz, cos_az, sin_az, c, d, e, scale, row_factor;
+        std::vector<double> cos_sz, sin_sz, cos_az, sin_az, c, d, e, scale;
         std::vector<unsigned char> mode;  // 0: black, 1: Perez sky, 2: uniform sky
     };
     StepArrays Arrays(const std::vector<const SkyStep *> &steps) const;
-    // Sky values of patch p at every step (3 floats each), given a.row_factor for p's row.
-    void PatchValues(const StepArrays &a, int p, float *rgb) const;
-    // Fills a.row_factor for the row of patch p.
-    void RowFactors(const std::vector<const SkyStep *> &steps, int p, StepArrays *a) const;
+    // Buffers for one thread's patch rows: the row factors of every step (shared by the patches
+    // of a sky row), and PatchValues' scratch.
+    struct RowWork {
+        std::vector<double> row_factor, x;
+        std::vector<float> l;
+    };
+    // Sky values of patch p at every step (3 floats each), given w.row_factor for p's row.
+    void PatchValues(const StepArrays &a, int p, RowWork *w, float *rgb) const;
+    // Fills w->row_factor for the row of patch p.
+    void RowFactors(const std::vector<const SkyStep *> &steps, const StepArrays &a, int p,
+                    RowWork *w) const;
 
   private:
     double CosToSun(const SkyStep &s, int p) const;

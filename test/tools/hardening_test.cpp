@@ -161,5 +161,26 @@ TEST(Hardening, WeatherBeyondWhatTheSunGivesIsRefused) {
         << r.err;
 }
 
+// gendaymtx holds every time step until it writes the rows: more than -max_steps (5000000 by
+// default, about 2 GB) is refused at the first step beyond, naming its line, before memory runs
+// out; -u counts only the steps it keeps.
+TEST(Hardening, TimeStepsBeyondTheCapAreRefused) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "three.wea",
+              "place here\nlatitude 40.78\nlongitude 73.96\ntime_zone 75\nsite_elevation 40\n"
+              "weather_data_file_units 1\n6 21 0.5 0 0\n6 21 12.5 800 200\n6 21 13.5 700 150\n");
+    CommandResult r = RunCommand("gendaymtx -m 1 -max_steps 2 three.wea", tmp.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("three.wea:9: more than 2 time steps (-max_steps)"), std::string::npos)
+        << r.err;
+    EXPECT_TRUE(r.out.empty());
+    r = RunCommand("gendaymtx -m 1 -u -max_steps 2 three.wea", tmp.path());
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("NCOLS=2"), std::string::npos);
+    r = RunCommand("gendaymtx -m 1 -max_steps 0 three.wea", tmp.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("-max_steps needs a whole number"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace dayflux::test
