@@ -8,7 +8,7 @@ packages=(
     build-essential cmake ninja-build pkg-config git xz-utils python3
     libvulkan-dev vulkan-tools glslang-dev glslang-tools libshaderc-dev spirv-tools
     libembree-dev libtbb-dev libglm-dev libopenexr-dev libpugixml-dev libeigen3-dev libopenblas-dev
-    libgtest-dev libgmock-dev libbenchmark-dev libcairo2-dev fonts-dejavu-core
+    libgtest-dev libgmock-dev libbenchmark-dev libcairo2-dev fonts-dejavu-core parallel
 )
 backports=(mesa-vulkan-drivers)
 

@@ -1,6 +1,7 @@
 #include "rcontrib/options.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -68,7 +69,7 @@ class Parser {
             const std::string a = args_[i_];
             if (a.empty() || a[0] != '-' || a.size() == 1) break;
             const size_t start = i_;
-            if (!Modifiers(a) && !Formats(a) && !Records(a) && !Tracing(a) && !Ours(a)) {
+            if (!Ours(a) && !Modifiers(a) && !Formats(a) && !Records(a) && !Tracing(a)) {
                 std::fprintf(stderr, "%s: unknown option '%s'\n", prog, a.c_str());
                 Usage(prog);
             }
@@ -248,8 +249,8 @@ class Parser {
         return true;
     }
 
-    // Ours: -seed -asub -backend -device -gpu_traversal -gpu_accum -gpu_scratch -se -progress
-    // -no_commands.
+    // Ours: -seed -first_record -asub -backend -device -gpu_traversal -gpu_accum -gpu_scratch
+    // -se -progress -no_commands.
     bool Ours(const std::string &a) {
         if (a == "-asub") {
             // N x N samples in each cell of the first ambient hemisphere, one of them
@@ -258,6 +259,11 @@ class Parser {
             if (o_.contrib.ambient_subsamples < 1) ErrorExit("-asub: a whole number of 1 or more");
         } else if (a == "-seed") {
             o_.contrib.seed = static_cast<uint64_t>(Number(a));
+        } else if (a == "-first_record") {
+            const double n = Number(a);
+            if (!(n >= 0 && n <= 1e15) || n != std::floor(n))
+                ErrorExit("-first_record: a whole number of 0 or more");
+            o_.first_record = static_cast<long>(n);
         } else if (a == "-backend") {
             backend_ = Value(a);
         } else if (a == "-gpu_accum") {
@@ -321,6 +327,8 @@ RcontribOptions ParseRcontribOptions(const std::vector<std::string> &args,
     if (o.scene.empty()) Usage(prog);
     if (o.modifiers.empty()) ErrorExit("no modifiers given (-m or -M)");
     if (o.accumulate < 0) ErrorExit("-c must not be negative");
+    if (o.first_record > 0 && o.accumulate == 0)
+        ErrorExit("-first_record with -c 0: one record of every ray cannot be split into shards");
     int col = 0;
     for (ModifierSpec &m : o.modifiers) m.tracked.first_column = col, col += m.tracked.nbins;
     if (!o.stderr_file.empty())

@@ -40,6 +40,9 @@ struct RcontribOptions {
     bool progress = false;      // -progress: a progress line with the time left (ours)
     bool force_open = false;    // -fo: overwrite existing output files
     bool recover = false;       // -r: continue the records of existing output files
+    // -first_record (ours): the input's first record is this record of a larger run (a shard),
+    // so its random numbers are those the whole run would draw for it.
+    long first_record = 0;
     EngineOptions engine;       // -backend, -device, -gpu_traversal, -gpu_accum
     std::vector<std::string> scene;
 };

@@ -50,6 +50,8 @@ class RayReader {
             rays_ = [in](double ray[6]) { return in->ReadRow(ray); };
         }
         wanted_ = o.yres > 0 ? static_cast<long>(o.yres) * std::max(o.xres, 1) : -1;
+        ray_base_ = static_cast<uint64_t>(o.first_record) *
+                    static_cast<uint64_t>(std::max(o.accumulate, 1));
     }
     long Wanted() const { return wanted_; }
 
@@ -66,7 +68,7 @@ class RayReader {
     std::unique_ptr<Block> Next() {
         if (done_) return nullptr;
         auto b = std::make_unique<Block>();
-        b->first_ray = next_ray_;
+        b->first_ray = ray_base_ + next_ray_;
         double ray[6];
         while (b->rays.size() / 6 < block_rays_) {
             if (StopOnSignals::Requested()) {
@@ -170,6 +172,7 @@ class RayReader {
     const size_t block_rays_;
     RaySource rays_;
     long wanted_;
+    uint64_t ray_base_ = 0;  // -first_record: the rays of the records before this input's
     uint64_t next_ray_ = 0;
     long ended_ = 0;        // records ended
     long in_record_ = 0;    // rays in the record being read

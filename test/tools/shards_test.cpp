@@ -1,0 +1,114 @@
+// Issue 23's runs split across processes: a sensor file split into shards (examples/shards),
+// each traced on its own with -first_record, merged with rmtxcat, is byte for byte the matrix
+// of one run with the same -seed, whichever engine ran the shards (GNU parallel, make -j, a
+// Slurm array run task by task as its dry run); a missing shard stops the merge.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <sstream>
+#include <string>
+
+#include "test_util.h"
+
+namespace dayflux::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char *kRoom =
+    "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
+    "grey polygon floor 0 0 12 -5 -5 -1 5 -5 -1 5 5 -1 -5 5 -1\n"
+    "void glow sky 0 0 4 1 1 1 0\nsky source dome 0 0 4 0 0 1 180\n";
+
+// Two rays a record (-c 2), so the shards' first records are half their first lines.
+const std::string kArgs =
+    "-seed 5 -faf -c 2 -ab 2 -ad 64 -lw 1e-4 -b 'if(Dz-.5,0,1)' -bn 2 -m sky room.rad";
+
+std::string Body(const fs::path &p) {
+    const std::string text = ReadFile(p);
+    const size_t end = text.find("\n\n");
+    return end == std::string::npos ? "" : text.substr(end + 2);
+}
+
+class Shards : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        WriteFile(tmp_.path() / "room.rad", kRoom);
+        std::ostringstream s;
+        for (int i = 0; i < 610; ++i)
+            s << "0 0 " << (i % 37) * 0.02 << " 0 " << (i % 11) * 0.1 << " 1\n";
+        WriteFile(tmp_.path() / "sensors", s.str());
+        const CommandResult r = Run("rcontrib-gpu " + kArgs + " < sensors > whole.mtx");
+        ASSERT_EQ(r.status, 0) << r.err;
+        whole_ = Body(tmp_.path() / "whole.mtx");
+        ASSERT_EQ(whole_.size(), 305u * 2 * 12);
+    }
+    CommandResult Run(const std::string &command) {
+        return RunCommand("PATH='" + Scripts().string() + "':\"$PATH\" && " + command, tmp_.path());
+    }
+    static fs::path Scripts() { return fs::path(DAYFLUX_LIB_DIR) / ".." / "examples" / "shards"; }
+    TempDir tmp_;
+    std::string whole_;
+};
+
+TEST_F(Shards, GnuParallelMergesToTheSingleRun) {
+    if (RunCommand("command -v parallel", tmp_.path()).status != 0)
+        GTEST_SKIP() << "GNU parallel is not installed (tools/setup.sh installs it)";
+    CommandResult r = Run("split_sensors.sh sensors 150 shards 2");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.out, "5 shards of 150 lines in shards\n");
+    EXPECT_TRUE(fs::exists(tmp_.path() / "shards" / "shard_000000000225.pts"));
+    r = Run("parallel -j 3 --halt now,fail=1 -q trace_shard.sh {} {.}.mtx " + kArgs +
+            " ::: shards/shard_*.pts && merge_shards.sh shards merged.mtx");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(Body(tmp_.path() / "merged.mtx") == whole_);
+    EXPECT_NE(ReadFile(tmp_.path() / "merged.mtx").find("NROWS=305\n"), std::string::npos);
+}
+
+TEST_F(Shards, MakeMergesToTheSingleRun) {
+    ASSERT_EQ(Run("split_sensors.sh sensors 100 shards 2").status, 0);
+    const CommandResult r = Run("make -s -j 3 -f '" + (Scripts() / "Makefile").string() +
+                                "' DIR=shards OUT=made.mtx ARGS=\"" + kArgs + "\"");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(Body(tmp_.path() / "made.mtx") == whole_);
+}
+
+// The job array's script run as Slurm would run each task (no Slurm needed), then the merge.
+TEST_F(Shards, SlurmArrayTasksMergeToTheSingleRun) {
+    ASSERT_EQ(Run("split_sensors.sh sensors 200 shards 2").status, 0);
+    const CommandResult r = Run(
+        "for t in 0 1 2 3; do SLURM_ARRAY_TASK_ID=$t SLURM_CPUS_PER_TASK=1 DAYFLUX_SHARDS_DIR='" +
+        Scripts().string() + "' bash '" + (Scripts() / "shards.sbatch").string() + "' shards " +
+        kArgs + " || exit 1; done && merge_shards.sh shards slurm.mtx");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(Body(tmp_.path() / "slurm.mtx") == whole_);
+}
+
+TEST_F(Shards, MissingOrMismatchedShardsStopTheMerge) {
+    ASSERT_EQ(Run("split_sensors.sh sensors 200 shards 2").status, 0);
+    ASSERT_EQ(
+        Run("for s in shards/shard_*.pts; do trace_shard.sh $s ${s%.pts}.mtx " + kArgs + "; done")
+            .status,
+        0);
+    fs::remove(tmp_.path() / "shards" / "shard_000000000100.mtx");
+    CommandResult r = Run("merge_shards.sh shards merged.mtx");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("shard 'shards/shard_000000000100.pts' has no matrix"), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(tmp_.path() / "merged.mtx"));
+    // A shard of other columns (another -bn) is named by rmtxcat.
+    r =
+        Run("rcontrib-gpu -seed 5 -faf -c 2 -m sky room.rad < shards/shard_000000000100.pts > "
+            "shards/shard_000000000100.mtx && merge_shards.sh shards merged.mtx");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("shard_000000000100.mtx: 1 columns of 3 components, where"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(tmp_.path() / "merged.mtx"));
+    r = Run("split_sensors.sh sensors 101 odd 2");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("must be a positive multiple of RAYS_PER_RECORD (2)"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace dayflux::test
