@@ -183,6 +183,13 @@ def main():
             f.writelines(lines)
 
     write("materials.rad", mat)
+    # Black surfaces for the direct-only matrices of the five-phase method (V_d, D_d).
+    black = ["# The reference office's materials made black, for V_d and D_d (five-phase)\n"]
+    for line in mat[1:]:
+        w = line.split()
+        black.append(" ".join(w[:3] + ["0 0 5 0 0 0 0 0"]) + "\n" if w[1] in ("plastic", "metal")
+                     else line)
+    write("materials_black.rad", black)
     write("office.rad", geo)
     write("glass.rad", glass)
     write("window.rad", window)
