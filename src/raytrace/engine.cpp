@@ -60,8 +60,10 @@ std::unique_ptr<ContribEngine> CreateContribEngine(const FlatScene &scene,
         Warning("this build has no Vulkan backend; using Embree");
 #endif
     }
+    std::unique_ptr<Backend> backend = CreateEmbreeBackend();
+    if (engine.wrap_cpu_backend) backend = engine.wrap_cpu_backend(std::move(backend));
     return CreateCpuContribEngine(scene, tracked, std::move(table), std::move(packed), options,
-                                  make_context);
+                                  make_context, std::move(backend));
 }
 
 std::string DescribeGpuDevices() {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cal/calcomp.h"
+#include "raytrace/backend.h"
 #include "raytrace/contrib.h"
 #include "scene/flatten.h"
 
@@ -37,6 +38,9 @@ struct EngineOptions {
     // first hemisphere is split between tasks, so their sums are short; records are summed in
     // double on the host).
     bool float_accumulators = false;
+    // For benchmarks (bench/ray_replay_bench.cpp): wraps the CPU's ray caster, to count or
+    // record the rays the integrator traces. Empty: Embree as it is.
+    std::function<std::unique_ptr<Backend>(std::unique_ptr<Backend>)> wrap_cpu_backend;
 };
 
 class ContribEngine {

@@ -13,10 +13,8 @@
 
 namespace dayflux {
 
-namespace {
-
 // The scene files and octrees, in order, flattened; the octrees' headers in *octree_header.
-FlatScene ReadScene(const std::vector<std::string> &files, std::string *octree_header) {
+FlatScene ReadRcontribScene(const std::vector<std::string> &files, std::string *octree_header) {
     Scene scene;
     SceneReader reader(&scene);
     for (const std::string &s : files) {
@@ -27,8 +25,6 @@ FlatScene ReadScene(const std::vector<std::string> &files, std::string *octree_h
     }
     return Flatten(std::move(scene));
 }
-
-}  // namespace
 
 void TraceToOutputs(const RcontribOptions &o, ContribEngine &engine, RcontribOutputs &outputs,
                     RaySource rays) {
@@ -54,7 +50,7 @@ void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &heade
         threads = std::make_unique<tbb::global_control>(
             tbb::global_control::max_allowed_parallelism, o.threads);
     std::string header;
-    const FlatScene flat = ReadScene(o.scene, &header);
+    const FlatScene flat = ReadRcontribScene(o.scene, &header);
     header += header_lines;
     const std::unique_ptr<ContribEngine> engine = CreateContribEngine(
         flat, o.contrib, TrackedModifiers(o),

@@ -9,6 +9,7 @@
 #include "raytrace/engine.h"
 #include "rcontrib/options.h"
 #include "rcontrib/outputs.h"
+#include "scene/flatten.h"
 #include "rcontrib/records.h"
 
 namespace dayflux {
@@ -17,6 +18,9 @@ namespace dayflux {
 // (after any octree's); rays: the input rays (by default the standard input, in the -f format).
 void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &header_args,
                  const std::string &header_lines = "", RaySource rays = nullptr);
+
+// The scene files and octrees, in order, flattened; the octrees' headers in *octree_header.
+FlatScene ReadRcontribScene(const std::vector<std::string> &files, std::string *octree_header);
 
 // Traces every record to outputs and commits them. A run stopped by SIGINT or SIGTERM
 // (Interrupted) or by an error (UserError: a full disk, a lost GPU, a bad ray) keeps the records

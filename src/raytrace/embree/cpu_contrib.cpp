@@ -150,13 +150,14 @@ class CpuContribEngine : public ContribEngine {
   public:
     CpuContribEngine(const FlatScene &flat, std::vector<TrackedModifier> tracked,
                      std::unique_ptr<SceneMaterials> table, PackedScene packed,
-                     const ContribOptions &options, const MakeContext &make_context)
+                     const ContribOptions &options, const MakeContext &make_context,
+                     std::unique_ptr<Backend> backend)
         : tracked_(std::move(tracked)),
           table_(std::move(table)),
           packed_(std::move(packed)),
           options_(options),
           make_context_(make_context),
-          backend_(CreateEmbreeBackend()),
+          backend_(std::move(backend)),
           scene_{flat, packed_, *backend_, options_, tracked_, make_context_, reports_, dropped_} {
         if (packed_.mix_depth > 63)
             ErrorExit("mixfuncs nested more than 63 deep (" + packed_.mix_deepest + ")");
@@ -206,14 +207,13 @@ class CpuContribEngine : public ContribEngine {
 
 }  // namespace
 
-std::unique_ptr<ContribEngine> CreateCpuContribEngine(const FlatScene &scene,
-                                                      std::vector<TrackedModifier> tracked,
-                                                      std::unique_ptr<SceneMaterials> table,
-                                                      PackedScene packed,
-                                                      const ContribOptions &options,
-                                                      const MakeContext &make_context) {
+std::unique_ptr<ContribEngine> CreateCpuContribEngine(
+    const FlatScene &scene, std::vector<TrackedModifier> tracked,
+    std::unique_ptr<SceneMaterials> table, PackedScene packed, const ContribOptions &options,
+    const MakeContext &make_context, std::unique_ptr<Backend> backend) {
     return std::make_unique<CpuContribEngine>(scene, std::move(tracked), std::move(table),
-                                              std::move(packed), options, make_context);
+                                              std::move(packed), options, make_context,
+                                              std::move(backend));
 }
 
 }  // namespace dayflux

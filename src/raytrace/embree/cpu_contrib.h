@@ -12,12 +12,11 @@
 
 namespace dayflux {
 
-// An engine tracing scene on the CPU. It keeps table (whose patterns packed names) and packed.
-std::unique_ptr<ContribEngine> CreateCpuContribEngine(const FlatScene &scene,
-                                                      std::vector<TrackedModifier> tracked,
-                                                      std::unique_ptr<SceneMaterials> table,
-                                                      PackedScene packed,
-                                                      const ContribOptions &options,
-                                                      const MakeContext &make_context);
+// An engine tracing scene on the CPU with backend (Embree, uncommitted). It keeps table (whose
+// patterns packed names) and packed.
+std::unique_ptr<ContribEngine> CreateCpuContribEngine(
+    const FlatScene &scene, std::vector<TrackedModifier> tracked,
+    std::unique_ptr<SceneMaterials> table, PackedScene packed, const ContribOptions &options,
+    const MakeContext &make_context, std::unique_ptr<Backend> backend);
 
 }  // namespace dayflux

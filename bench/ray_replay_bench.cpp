@@ -1,0 +1,173 @@
+// Issue 24's measure of the CPU integrator's limit: the rays one run traces, replayed through
+// the ray caster alone. Three passes over the sensors read from stdin (rcontrib-gpu's options
+// and scene as arguments, text rays, one record per ray):
+//   1. the run, timed, counting the rays the integrator asks the caster for (nearest hit and
+//      shadow, per thread: no shared counter in the hot path);
+//   2. the run again over every K-th sensor (-record_every K), recording those rays;
+//   3. the recorded rays replayed through a fresh Embree caster on the same scene and threads,
+//      one ray a call as the integrator calls it, timed.
+// Efficiency = (rays a second of the run) / (rays a second of the replay): the share of the
+// run's time that is the caster's. The replay goes through dayflux's Backend (Embree's
+// rtcIntersect1/rtcOccluded1 plus the hit's double-precision point and normal), the part of
+// the work no integrator can avoid.
+// usage: ray_replay_bench [-record_every K] rcontrib-gpu-options... scene... < sensors
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "raytrace/backend.h"
+#include "raytrace/engine.h"
+#include "rcontrib/options.h"
+#include "rcontrib/run.h"
+#include "util/errors.h"
+
+namespace dayflux {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::time_point since) {
+    return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+struct Counts {
+    uint64_t closest = 0, occluded = 0;
+};
+
+// The rays a run traces, per thread; recorded as well when log is set.
+struct RayLog {
+    bool record = false;
+    tbb::enumerable_thread_specific<Counts> counts;
+    tbb::enumerable_thread_specific<std::vector<TraceRay>> closest, occluded;
+
+    Counts Total() const {
+        Counts t;
+        for (const Counts &c : counts) t.closest += c.closest, t.occluded += c.occluded;
+        return t;
+    }
+};
+
+// The caster, counting (and recording) what goes through it.
+class LoggingBackend : public Backend {
+  public:
+    LoggingBackend(std::unique_ptr<Backend> inner, RayLog *log)
+        : inner_(std::move(inner)), log_(log) {}
+    std::string Name() const override { return inner_->Name(); }
+    void Commit(const FlatScene &scene) override { inner_->Commit(scene); }
+    void Closest(const TraceRay *rays, TraceHit *hits, size_t n) const override {
+        log_->counts.local().closest += n;
+        if (log_->record) log_->closest.local().insert(log_->closest.local().end(), rays, rays + n);
+        inner_->Closest(rays, hits, n);
+    }
+    void Occluded(const TraceRay *rays, bool *occluded, size_t n) const override {
+        log_->counts.local().occluded += n;
+        if (log_->record)
+            log_->occluded.local().insert(log_->occluded.local().end(), rays, rays + n);
+        inner_->Occluded(rays, occluded, n);
+    }
+
+  private:
+    std::unique_ptr<Backend> inner_;
+    RayLog *log_;
+};
+
+// The run over rays (6 doubles each), timed; the engine's caster logs into *log.
+double TimedRun(const RcontribOptions &o, const FlatScene &flat, const std::vector<double> &rays,
+                RayLog *log) {
+    EngineOptions engine = o.engine;
+    engine.wrap_cpu_backend = [log](std::unique_ptr<Backend> b) {
+        return std::make_unique<LoggingBackend>(std::move(b), log);
+    };
+    const std::unique_ptr<ContribEngine> e = CreateContribEngine(
+        flat, o.contrib, TrackedModifiers(o),
+        [&o](int k) { return MakeCalContext(o, o.modifiers[k].params); }, engine);
+    const size_t n = rays.size() / 6;
+    std::vector<double> records(n * 3 * static_cast<size_t>(e->Columns()), 0.0);
+    const Clock::time_point start = Clock::now();
+    e->Trace(rays.data(), n, 0, 0, records.data());
+    return Seconds(start);
+}
+
+// The recorded rays through a fresh caster, one a call, in parallel; seconds.
+double Replay(const FlatScene &flat, const std::vector<TraceRay> &closest,
+              const std::vector<TraceRay> &occluded) {
+    const std::unique_ptr<Backend> caster = CreateEmbreeBackend();
+    caster->Commit(flat);
+    const Clock::time_point start = Clock::now();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, closest.size(), 4096), [&](auto r) {
+        TraceHit hit;
+        for (size_t i = r.begin(); i < r.end(); ++i) caster->Closest(&closest[i], &hit, 1);
+    });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, occluded.size(), 4096), [&](auto r) {
+        bool blocked;
+        for (size_t i = r.begin(); i < r.end(); ++i) caster->Occluded(&occluded[i], &blocked, 1);
+    });
+    return Seconds(start);
+}
+
+std::vector<double> ReadRays(std::istream &in) {
+    std::vector<double> rays;
+    double v;
+    while (in >> v) rays.push_back(v);
+    if (rays.empty() || rays.size() % 6) ErrorExit("<stdin>: expected rays of 6 numbers");
+    return rays;
+}
+
+int Main(int argc, char **argv) {
+    std::vector<std::string> args(argv, argv + argc);
+    size_t every = 1;
+    if (args.size() > 2 && args[1] == "-record_every") {
+        every = std::stoul(args[2]);
+        args.erase(args.begin() + 1, args.begin() + 3);
+    }
+    std::vector<std::string> header;
+    RcontribOptions o = ParseRcontribOptions(args, &header);
+    if (o.engine.backend != "embree") ErrorExit("the replay measures the CPU (Embree) backend");
+    std::unique_ptr<tbb::global_control> threads;
+    if (o.threads > 0)
+        threads = std::make_unique<tbb::global_control>(
+            tbb::global_control::max_allowed_parallelism, o.threads);
+    std::string octree_header;
+    const FlatScene flat = ReadRcontribScene(o.scene, &octree_header);
+    const std::vector<double> rays = ReadRays(std::cin);
+
+    RayLog counted;
+    const double run_s = TimedRun(o, flat, rays, &counted);
+    const Counts total = counted.Total();
+
+    std::vector<double> subset;
+    for (size_t i = 0; i < rays.size() / 6; i += every)
+        subset.insert(subset.end(), &rays[6 * i], &rays[6 * i + 6]);
+    RayLog recorded;
+    recorded.record = true;
+    TimedRun(o, flat, subset, &recorded);
+    std::vector<TraceRay> closest, occluded;
+    for (auto &v : recorded.closest) closest.insert(closest.end(), v.begin(), v.end());
+    for (auto &v : recorded.occluded) occluded.insert(occluded.end(), v.begin(), v.end());
+    const double replay_s = Replay(flat, closest, occluded);
+
+    const double run_rate = static_cast<double>(total.closest + total.occluded) / run_s;
+    const double replay_rate = static_cast<double>(closest.size() + occluded.size()) / replay_s;
+    std::printf(
+        "sensors,closest_rays,shadow_rays,run_s,run_mrays_s,replayed_rays,replay_s,"
+        "replay_mrays_s,efficiency\n");
+    std::printf("%zu,%llu,%llu,%.3f,%.3f,%zu,%.3f,%.3f,%.3f\n", rays.size() / 6,
+                static_cast<unsigned long long>(total.closest),
+                static_cast<unsigned long long>(total.occluded), run_s, run_rate * 1e-6,
+                closest.size() + occluded.size(), replay_s, replay_rate * 1e-6,
+                run_rate / replay_rate);
+    return 0;
+}
+
+}  // namespace
+}  // namespace dayflux
+
+int main(int argc, char **argv) { return dayflux::RunTool(argc, argv, dayflux::Main); }
