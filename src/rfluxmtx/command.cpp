@@ -21,7 +21,7 @@ namespace {
 int OursWithValues(const std::string &a) {
     static const std::set<std::string> with_value = {"-backend",   "-device",      "-gpu_traversal",
                                                      "-gpu_accum", "-gpu_scratch", "-seed",
-                                                     "-asub",      "-se"};
+                                                     "-asub",      "-se",          "-first_record"};
     if (with_value.count(a)) return 1;
     if (a.rfind("-progress", 0) == 0 || a == "-no_commands") return 0;
     return -1;
@@ -126,6 +126,11 @@ RfluxmtxCommand ParseRfluxmtxCommand(const std::vector<std::string> &argv) {
     } else {
         if (cmd.sender[0] == '-') Usage(prog, cmd.sender);
         if (!irradiance.empty()) ErrorExit("-i, -I supported for pass-through only");
+        for (const std::string &w : cmd.rcontrib)
+            if (w == "-first_record")
+                ErrorExit(
+                    "-first_record shards the rays read in pass-through mode (sender -), "
+                    "not a sender's samples");
         format[2] = 'd';  // the sample rays go to rcontrib as doubles
         if (cmd.samples <= 0) cmd.samples = 10000;
     }

@@ -84,6 +84,27 @@ TEST_F(Shards, SlurmArrayTasksMergeToTheSingleRun) {
     EXPECT_TRUE(Body(tmp_.path() / "slurm.mtx") == whole_);
 }
 
+// rfluxmtx-gpu passes -first_record on in pass-through mode (V from a sensor file), and refuses
+// it with a sender, whose samples are not read from a file that could be split.
+TEST_F(Shards, RfluxmtxPassThroughShardIsTheSingleRunsTail) {
+    WriteFile(tmp_.path() / "receiver.rad",
+              "#@rfluxmtx h=u u=+Y\nvoid glow skyr 0 0 4 1 1 1 0\nskyr source s 0 0 4 0 0 1 180\n");
+    const std::string rflux = "rfluxmtx-gpu -seed 5 -I+ -ab 2 -ad 64 -lw 1e-4 -faf ";
+    ASSERT_EQ(Run(rflux + "- receiver.rad room.rad < sensors > all.mtx").status, 0);
+    const CommandResult r = Run("sed -n 301,610p sensors | " + rflux +
+                                "-first_record 300 - receiver.rad room.rad > tail.mtx");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string all = Body(tmp_.path() / "all.mtx"), tail = Body(tmp_.path() / "tail.mtx");
+    ASSERT_EQ(all.size(), 610u * 12);
+    EXPECT_TRUE(tail == all.substr(300 * 12));
+    const CommandResult refused =
+        Run("rfluxmtx-gpu -first_record 3 -c 10 receiver.rad receiver.rad room.rad");
+    EXPECT_EQ(refused.status, 1);
+    EXPECT_NE(refused.err.find("-first_record shards the rays read in pass-through mode"),
+              std::string::npos)
+        << refused.err;
+}
+
 TEST_F(Shards, MissingOrMismatchedShardsStopTheMerge) {
     ASSERT_EQ(Run("split_sensors.sh sensors 200 shards 2").status, 0);
     ASSERT_EQ(
