@@ -3,14 +3,14 @@
 # then each method's sDA300/50% and ASE1000,250 (examples/reference-office, METHOD=dc, 3phase,
 # 5phase). Results: bench/results/methods_office.csv (step, seconds) and the metrics lines.
 # usage: bench/methods_office.sh [make settings: OFFICES=2 AD=... BACKEND=vulkan ...]
-# environment: OUT (/tmp/dayflux-methods), BUILD (build)
+# environment: OUT (/tmp/dayflux-methods), BUILD (build), LABEL (a suffix for the results file)
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(dirname "$here")
 out=${OUT:-/tmp/dayflux-methods}
 example=$root/examples/reference-office
 bin=$root/${BUILD:-build}/bin
-results=$here/results/methods_office.csv
+results=$here/results/methods_office${LABEL:+_$LABEL}.csv
 mk() { make -s --no-print-directory -C "$example" BIN="$bin" OUT="$out" "$@"; }
 mkdir -p "$out"
 mk "$@" METHOD=5phase "$out/model/sensors.pts" "$out/weather.wea" "$out/clear.xml" 2> /dev/null

@@ -1,5 +1,6 @@
 #include "rfluxmtx/annotations.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -95,6 +96,9 @@ bool Direction(const std::string &s, double v[3]) {
     return true;
 }
 
+// The largest rN / scN size: r1000 is 144 million bins already.
+constexpr int kMaxBasisSize = 1000;
+
 // h=: the basis, as finish_receiver() and prepare_sampler() recognise it.
 bool Basis(const std::string &h, FluxBasis *b) {
     std::string s = h;
@@ -105,9 +109,12 @@ bool Basis(const std::string &h, FluxBasis *b) {
     }
     if (s.empty()) return false;
     b->spec = s;
+    // The digits give the size (rN, scN); past kMaxBasisSize they stop counting, and the caller
+    // refuses the basis (no int overflow, no billions of bins).
     int size = 0;
     for (char c : s)
-        if (std::isdigit(static_cast<unsigned char>(c))) size = 10 * size + (c - '0');
+        if (std::isdigit(static_cast<unsigned char>(c)))
+            size = std::min(10 * size + (c - '0'), kMaxBasisSize + 1);
     b->size = size > 0 ? size : 1;
     const char c0 = static_cast<char>(std::tolower(static_cast<unsigned char>(s[0])));
     const char c1 =
@@ -144,6 +151,10 @@ void ApplyAnnotation(const std::string &text, const FileLoc &loc, FluxGroup *g) 
         if (key == "h" && !value.empty()) {
             if (!Basis(value, &g->basis))
                 ErrorExit(&loc, "unrecognized hemisphere sampling: h=" + value);
+            if (g->basis.size > kMaxBasisSize)
+                ErrorExit(&loc, "h=" + value + ": a basis size above " +
+                                    std::to_string(kMaxBasisSize) +
+                                    " (more bins than a matrix of ours can hold)");
             g->has_basis = true;
         } else if (key == "u" && Direction(value, g->up)) {
         } else if (key == "o" && !value.empty()) {

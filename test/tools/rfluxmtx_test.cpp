@@ -320,6 +320,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"UnknownBasis", kSender,
                  "#@rfluxmtx h=x\nvoid glow g 0 0 4 1 1 1 0\ng source s 0 0 4 0 0 1 180\n", "",
                  "sky.rad:1: unrecognized hemisphere sampling: h=x"},
+        // Found by fuzzing (30 minutes): the digits overflowed an int.
+        BadInput{"HugeBasis", kSender,
+                 "#@rfluxmtx h=r4444444444444\nvoid glow g 0 0 4 1 1 1 0\ng source s 0 0 4 0 0 1 "
+                 "180\n",
+                 "", "sky.rad:1: h=r4444444444444: a basis size above 1000"},
         BadInput{"BadParameter", kSender,
                  "#@rfluxmtx h=u k=3\nvoid glow g 0 0 4 1 1 1 0\ng source s 0 0 4 0 0 1 180\n", "",
                  "sky.rad:1: bad parameter string: 'k=3'"},
