@@ -48,7 +48,7 @@ struct KlemsData {
     }
     std::vector<float> table;
     const float *klems = nullptr;
-    static constexpr int b = 0;  // the BSDF's offset
+    [[maybe_unused]] static constexpr int b = 0;  // the BSDF's offset (klems.inl)
 #define DAYFLUX_BSDF 1
 #include "raytrace/core/klems.inl"
 #undef DAYFLUX_BSDF

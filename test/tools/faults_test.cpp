@@ -225,7 +225,7 @@ TEST(Faults, FullDeviceIsAWriteError) {
     WriteFile(tmp.path() / "m3.txt",
               "#?RADIANCE\nNROWS=2\nNCOLS=2\nNCOMP=3\nFORMAT=ascii\n\n"
               "1 1 1 2 2 2\n3 3 3 4 4 4\n");
-    for (const std::string cmd :
+    for (const std::string &cmd :
          {std::string("rcontrib-gpu ") + kArgs + " -faf -m sky room.rad < rays",
           std::string("rmtxop -fa m.txt"), std::string("rmtxop -ff m.txt"),
           "gendaymtx -m 1 '" + wea + "'", std::string("dctimestep m3.txt m3.txt")}) {
