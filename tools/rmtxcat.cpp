@@ -55,27 +55,40 @@ int Main(int argc, char **argv) {
             Usage(argv[0]);
     }
     if (i >= argc) Usage(argv[0]);
-    std::vector<std::unique_ptr<MatrixReader>> inputs;
+    // A first pass reads every header; files are closed again and reopened one at a time to
+    // copy them, so a merge of thousands of shards holds one open (the standard input and
+    // commands cannot be read twice, so they stay open).
+    struct Input {
+        std::string spec;
+        std::unique_ptr<MatrixReader> reader;  // kept open: "-" and "!command"
+    };
+    std::vector<Input> inputs;
+    MatrixHeader first_header;
+    std::string first_name;
+    int ncols = 0, ncomp = 0;
+    DataFormat first_format = DataFormat::Unknown;
     int64_t rows = 0;
     for (; i < argc; ++i) {
         auto r = std::make_unique<MatrixReader>(argv[i]);
-        const MatrixReader &first = inputs.empty() ? *r : *inputs.front();
-        if (r->Cols() != first.Cols() || r->Comps() != first.Comps())
+        if (inputs.empty()) {
+            first_header = r->Header(), first_name = r->Name();
+            ncols = r->Cols(), ncomp = r->Comps(), first_format = r->Format();
+        }
+        if (r->Cols() != ncols || r->Comps() != ncomp)
             ErrorExit(r->Name() + ": " + std::to_string(r->Cols()) + " columns of " +
-                      std::to_string(r->Comps()) + " components, where '" + first.Name() +
-                      "' has " + std::to_string(first.Cols()) + " of " +
-                      std::to_string(first.Comps()));
+                      std::to_string(r->Comps()) + " components, where '" + first_name + "' has " +
+                      std::to_string(ncols) + " of " + std::to_string(ncomp));
         const int64_t n = KnownRows(*r);
         rows = rows < 0 || n < 0 ? -1 : rows + n;
-        inputs.push_back(std::move(r));
+        const std::string spec = argv[i];
+        const bool reopen = spec != "-" && spec[0] != '!';
+        inputs.push_back(Input{spec, reopen ? nullptr : std::move(r)});
     }
-    const MatrixReader &first = *inputs.front();
     if (format == DataFormat::Unknown)
-        format = BytesPerValue(first.Format()) ? first.Format() : DataFormat::Ascii;
-    const int ncols = first.Cols(), ncomp = first.Comps();
+        format = BytesPerValue(first_format) ? first_format : DataFormat::Ascii;
     OutputFile out("-");
     if (header) {
-        std::string h = HeaderStart(argc, argv) + first.Header().info;
+        std::string h = HeaderStart(argc, argv) + first_header.info;
         std::string fields =
             HeaderFields(rows > 0 ? static_cast<int>(rows) : 0, ncols, ncomp, format);
         if (rows <= 0) fields.erase(0, fields.find('\n') + 1);  // no NROWS= when unknown
@@ -84,7 +97,11 @@ int Main(int argc, char **argv) {
     const RowFormatter formatter(format, ncols, ncomp);
     std::vector<double> row(static_cast<size_t>(ncols) * ncomp);
     std::string text;
-    for (auto &r : inputs) {
+    for (Input &in : inputs) {
+        std::unique_ptr<MatrixReader> r =
+            in.reader ? std::move(in.reader) : std::make_unique<MatrixReader>(in.spec);
+        if (r->Cols() != ncols || r->Comps() != ncomp)
+            ErrorExit(r->Name() + ": changed while being merged");
         for (int k = 0; r->Rows() == 0 || k < r->Rows(); ++k) {
             if (!r->ReadRow(row.data())) break;
             text.clear();

@@ -327,7 +327,7 @@ RcontribOptions ParseRcontribOptions(const std::vector<std::string> &args,
     if (o.scene.empty()) Usage(prog);
     if (o.modifiers.empty()) ErrorExit("no modifiers given (-m or -M)");
     if (o.accumulate < 0) ErrorExit("-c must not be negative");
-    if (o.first_record > 0 && o.accumulate == 0)
+    if (o.first_record >= 0 && o.accumulate == 0)
         ErrorExit("-first_record with -c 0: one record of every ray cannot be split into shards");
     int col = 0;
     for (ModifierSpec &m : o.modifiers) m.tracked.first_column = col, col += m.tracked.nbins;

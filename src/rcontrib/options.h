@@ -41,8 +41,8 @@ struct RcontribOptions {
     bool force_open = false;    // -fo: overwrite existing output files
     bool recover = false;       // -r: continue the records of existing output files
     // -first_record (ours): the input's first record is this record of a larger run (a shard),
-    // so its random numbers are those the whole run would draw for it.
-    long first_record = 0;
+    // so its random numbers are those the whole run would draw for it; -1: not given.
+    long first_record = -1;
     EngineOptions engine;       // -backend, -device, -gpu_traversal, -gpu_accum
     std::vector<std::string> scene;
 };

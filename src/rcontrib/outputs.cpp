@@ -130,6 +130,16 @@ RcontribOutputs::RcontribOutputs(const RcontribOptions &o, int ncols,
         se.standard_error = true;
         for (int c = 0; c < ncols; ++c) se.columns.push_back(c);
     }
+    // One file under two names (-se and -o, "./a" and "a") would be written twice at once.
+    std::map<fs::path, std::string> files;
+    for (const Stream &s : streams_) {
+        if (s.name == "-" || s.name[0] == '!') continue;
+        std::error_code ec;
+        const fs::path key = fs::weakly_canonical(fs::absolute(s.name), ec);
+        const auto [it, added] = files.emplace(ec ? fs::path(s.name) : key, s.name);
+        if (!added)
+            ErrorExit("'" + s.name + "' and '" + it->second + "' name the same output file");
+    }
     // -r: the complete records every output already has, kept (header and all) in front of
     // the rest.
     recovered_ = o.recover ? RecoverableRecords() : 0;
@@ -145,7 +155,16 @@ void RcontribOutputs::Open(Stream &s, const std::vector<std::string> &header_arg
     if (is_file && !o.recover && !o.force_open) {
         if (fs::exists(s.name))
             ErrorExit("cannot open '" + s.name + "' for writing: file exists (use -fo+)");
-        if (fs::exists(OutputFile::PartialName(s.name)))
+        // A partial file without a complete record (cut in its header, another format) is
+        // nothing to lose.
+        size_t prefix = 0;
+        const std::string partial = OutputFile::PartialName(s.name);
+        bool holds_records = false;
+        try {
+            holds_records = fs::exists(partial) && RecordsIn(partial, s, true, &prefix) > 0;
+        } catch (const UserError &) {
+        }
+        if (holds_records)
             ErrorExit("'" + OutputFile::PartialName(s.name) +
                       "' holds the records of a run that stopped early: continue it with -r, "
                       "or start over with -fo+");
@@ -182,8 +201,42 @@ void RcontribOutputs::Open(Stream &s, const std::vector<std::string> &header_arg
     if (reclen == 1 && o.xres > 0 && o.yres > 0) s.file->Write(ResolutionLine(o.xres, o.yres));
 }
 
+// The complete records in file (an output of stream s), and the bytes before them in *prefix;
+// -1 where it has none to give: missing, empty, or (a partial file) cut inside its header.
+long RcontribOutputs::RecordsIn(const std::string &file, const Stream &s, bool partial,
+                                size_t *prefix) const {
+    const RcontribOptions &o = o_;
+    std::error_code ec;
+    const auto size = fs::file_size(file, ec);
+    if (ec || size == 0) return -1;
+    std::ifstream f(file, std::ios::binary);
+    std::string head(std::min<uintmax_t>(size, 1 << 16), '\0');
+    f.read(head.data(), static_cast<std::streamsize>(head.size()));
+    size_t body = 0;
+    if (o.header) {
+        const size_t end = head.find("\n\n");
+        if (end == std::string::npos && partial) return -1;
+        if (head.rfind("#?RADIANCE", 0) != 0 || end == std::string::npos ||
+            head.substr(0, end + 1).find(FormatLine(o.out)) == std::string::npos)
+            ErrorExit("format mismatch for '" + file + "'");
+        body = end + 2;
+    }
+    if (s.columns.size() == 1 && o.xres > 0 && o.yres > 0) {
+        const size_t eol = head.find('\n', body);
+        if (eol == std::string::npos && partial) return -1;
+        if (eol == std::string::npos ||
+            head.substr(body, eol + 1 - body) != ResolutionLine(o.xres, o.yres))
+            ErrorExit("resolution mismatch for '" + file + "'");
+        body = eol + 1;
+    }
+    *prefix = body;
+    return static_cast<long>((size - body) / RecordBytes(o, s.columns.size()));
+}
+
 // recover_output(): the number of complete records in every output (0 if there is nothing to
-// recover), after checking that they are files of the format asked for. Sets prefix_bytes.
+// recover), after checking that they are files of the format asked for. Each output continues
+// its partial file (a stopped run's, newer than the output) where that holds a complete record,
+// else the output itself, as RADIANCE's -r does. Sets recover_from and prefix_bytes.
 long RcontribOutputs::RecoverableRecords() {
     const RcontribOptions &o = o_;
     if (o.out == DataFormat::Ascii) ErrorExit("cannot recover ASCII output");
@@ -192,41 +245,19 @@ long RcontribOutputs::RecoverableRecords() {
     for (Stream &s : streams_) {
         if (s.name == "-") ErrorExit("cannot recover from stdout");
         if (s.name[0] == '!') ErrorExit("cannot recover from command");
-        // A partial file is newer than the output it would replace.
         const std::string partial = OutputFile::PartialName(s.name);
-        s.recover_from = fs::exists(partial) ? partial : s.name;
-        std::error_code ec;
-        const auto size = fs::file_size(s.recover_from, ec);
-        if (ec || size == 0) {
-            if (ec) Warning("missing recover file '" + s.name + "'");
+        long n = RecordsIn(partial, s, true, &s.prefix_bytes);
+        s.recover_from = partial;
+        if (n <= 0) {
+            n = RecordsIn(s.name, s, false, &s.prefix_bytes);
+            s.recover_from = s.name;
+        }
+        if (n < 0) {
+            if (!fs::exists(s.name) && !fs::exists(partial))
+                Warning("missing recover file '" + s.name + "'");
             Warning("no previous data to recover");
             return 0;
         }
-        std::ifstream f(s.recover_from, std::ios::binary);
-        std::string head(std::min<uintmax_t>(size, 1 << 16), '\0');
-        f.read(head.data(), static_cast<std::streamsize>(head.size()));
-        size_t body = 0;
-        if (o.header) {
-            const size_t end = head.find("\n\n");
-            if (end == std::string::npos && s.recover_from == partial) {
-                Warning("no previous data to recover (the header of '" + partial +
-                        "' is incomplete)");
-                return 0;
-            }
-            if (head.rfind("#?RADIANCE", 0) != 0 || end == std::string::npos ||
-                head.substr(0, end + 1).find(FormatLine(o.out)) == std::string::npos)
-                ErrorExit("format mismatch for '" + s.recover_from + "'");
-            body = end + 2;
-        }
-        if (s.columns.size() == 1 && o.xres > 0 && o.yres > 0) {
-            const size_t eol = head.find('\n', body);
-            if (eol == std::string::npos ||
-                head.substr(body, eol + 1 - body) != ResolutionLine(o.xres, o.yres))
-                ErrorExit("resolution mismatch for '" + s.recover_from + "'");
-            body = eol + 1;
-        }
-        s.prefix_bytes = body;
-        const long n = static_cast<long>((size - body) / RecordBytes(o, s.columns.size()));
         if (last < 0 || n < last) last = n;
     }
     if (last == 0) Warning("no previous data to recover");
@@ -276,18 +307,20 @@ void RcontribOutputs::Commit() {
 }
 
 std::string RcontribOutputs::KeepPartial() {
+    // Kept only where -r can continue them: binary records of -c rays, all in files, at least one
+    // written. Otherwise the partial files go (those this run continued stay, as they were).
+    bool recoverable = o_.out != DataFormat::Ascii && o_.accumulate > 0;
+    for (const Stream &s : streams_) recoverable = recoverable && s.file && s.file->IsFile();
+    const long records = recovered_ + written_;
+    bool flushed = true;
     std::string kept;
-    bool recoverable = o_.out != DataFormat::Ascii && o_.accumulate > 0, flushed = true;
     for (Stream &s : streams_) {
-        if (!s.file) continue;
-        flushed = s.file->KeepPartial() && flushed;
+        if (!s.file || (s.file->IsFile() && !(recoverable && records > 0))) continue;
+        flushed = s.file->KeepPartial() && flushed;  // the standard output: what was written
         if (s.file->IsFile())
             kept += (kept.empty() ? "'" : ", '") + OutputFile::PartialName(s.name) + "'";
-        else
-            recoverable = false;
     }
-    const long records = recovered_ + written_;
-    if (!recoverable || kept.empty() || records == 0) return "";
+    if (kept.empty()) return "";
     // After a write error the files hold fewer records than were written (-r counts them).
     const std::string what =
         flushed ? std::to_string(records) + " complete record" + (records == 1 ? "" : "s")

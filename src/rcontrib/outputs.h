@@ -42,6 +42,7 @@ class RcontribOutputs {
     void Open(Stream &s, const std::vector<std::string> &header_args,
               const std::string &octree_header, const std::string &label);
     long RecoverableRecords();
+    long RecordsIn(const std::string &file, const Stream &s, bool partial, size_t *prefix) const;
 
     const RcontribOptions &o_;
     std::vector<Stream> streams_;

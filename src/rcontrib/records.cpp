@@ -50,7 +50,7 @@ class RayReader {
             rays_ = [in](double ray[6]) { return in->ReadRow(ray); };
         }
         wanted_ = o.yres > 0 ? static_cast<long>(o.yres) * std::max(o.xres, 1) : -1;
-        ray_base_ = static_cast<uint64_t>(o.first_record) *
+        ray_base_ = static_cast<uint64_t>(std::max(o.first_record, 0L)) *
                     static_cast<uint64_t>(std::max(o.accumulate, 1));
     }
     long Wanted() const { return wanted_; }
@@ -98,8 +98,9 @@ class RayReader {
             if (o_.accumulate > 0 && in_record_ == o_.accumulate)
                 EndRecord(b.get(), o_.accumulate > 1 ? 1.0 / o_.accumulate : 1);
             // The block ends at a flush: a caller feeding rays through a pipe may be waiting for
-            // the records so far before it sends more.
-            if (zero) {
+            // the records so far before it sends more. Not for pictures (-x and -y), where
+            // RADIANCE does not flush either and vwrays' zero rays would make blocks of one.
+            if (zero && (o_.yres <= 0 || o_.xres <= 1)) {
                 b->flush = true;
                 break;
             }
@@ -163,6 +164,11 @@ class RayReader {
         if (o_.accumulate <= 0) {
             EndRecord(b, 1);  // -c 0: one record of every ray
         } else if (in_record_ > 0) {
+            // A shard cut inside a record would merge into a matrix with a row too many.
+            if (o_.first_record >= 0)
+                ErrorExit("the input ends " + std::to_string(in_record_) +
+                          " rays into a record of " + std::to_string(o_.accumulate) +
+                          " (-c): a shard (-first_record) must hold whole records");
             Warning("partial accumulation in final record");
             EndRecord(b, o_.accumulate > 1 ? 1.0 / static_cast<double>(in_record_) : 1);
         }

@@ -39,7 +39,15 @@ void TraceToOutputs(const RcontribOptions &o, ContribEngine &engine, RcontribOut
         throw Interrupted(e.Signal(), e.what() + (kept.empty() ? "" : "; " + kept));
     } catch (const UserError &e) {
         const std::string kept = outputs.KeepPartial();
+        // A signal that also ended the program writing the rays (mid-ray: "unexpected end of
+        // input") still ends this one by the signal.
+        if (const int sig = StopOnSignals::Requested())
+            throw Interrupted(sig, std::string("stopped by a signal (") + e.what() + ")" +
+                                       (kept.empty() ? "" : "; " + kept));
         throw UserError(e.what() + (kept.empty() ? "" : "\n" + ProgramName() + ": " + kept));
+    } catch (...) {
+        outputs.KeepPartial();
+        throw;
     }
 }
 

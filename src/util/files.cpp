@@ -1,6 +1,7 @@
 #include "util/files.h"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -8,6 +9,8 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+
+#include "util/signals.h"
 
 namespace dayflux {
 
@@ -56,8 +59,10 @@ std::unique_ptr<InputSource> InputSource::Open(const std::string &spec) {
     // A small file gets a small buffer (scenes open many), a pipe what it can hold at once.
     struct stat st;
     size_t size = kPipeBufferSize;
-    if (fstat(fileno(in->fp_), &st) == 0 && S_ISREG(st.st_mode))
+    if (fstat(fileno(in->fp_), &st) == 0 && S_ISREG(st.st_mode)) {
         size = std::clamp<size_t>(static_cast<size_t>(st.st_size) + 1, 4096, kBufferSize);
+        in->regular_ = true;
+    }
     in->buf_.resize(size);
     return in;
 }
@@ -114,6 +119,8 @@ bool InputSource::Fill() {
     if (left > 0 && pos_ > 0) std::memmove(buf_.data(), buf_.data() + pos_, left);
     pos_ = 0;
     end_ = left;
+    // A run asked to stop by a signal must not wait for a pipe that may never speak again.
+    if (!WaitForInput()) return false;
     // read(), not fread(): it returns what a pipe holds now instead of waiting for a full
     // buffer, so a caller that feeds rays and waits for their records is answered.
     ssize_t n;
@@ -129,6 +136,18 @@ bool InputSource::Fill() {
     }
     end_ += static_cast<size_t>(n);
     return true;
+}
+
+bool InputSource::WaitForInput() {
+    const int wake = StopOnSignals::WakeFd();
+    if (wake < 0 || regular_) return true;
+    struct pollfd fds[2] = {{fileno(fp_), POLLIN, 0}, {wake, POLLIN, 0}};
+    for (;;) {
+        if (StopOnSignals::Requested()) return false;
+        if (poll(fds, 2, -1) < 0 && errno != EINTR) return true;  // read() reports the rest
+        if (fds[0].revents) return true;
+        if (fds[1].revents && StopOnSignals::Requested()) return false;
+    }
 }
 
 std::string_view InputSource::PeekBytes(size_t n) {
@@ -235,11 +254,20 @@ OutputFile::OutputFile(const std::string &spec, uint64_t keep_bytes) {
     const int fd = open(temp_.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0666);
     if (fd < 0) ErrorExit("cannot open '" + spec + "' for output: " + std::strerror(errno));
     // The lock ends with the process, so a partial file left by a killed run is free again.
+    // File systems without locks (some NFS and Lustre mounts) only lose the check.
     if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
-        close(fd);
-        ErrorExit("cannot write '" + spec + "': another run is writing it ('" + temp_ +
-                  "' is locked)");
+        if (errno == EWOULDBLOCK) {
+            close(fd);
+            ErrorExit("cannot write '" + spec + "': another run is writing it ('" + temp_ +
+                      "' is locked)");
+        }
+        static bool warned = false;
+        if (!warned)
+            Warning("'" + temp_ + "': no file locks here (" + std::strerror(errno) +
+                    "): two runs writing one output would not be stopped");
+        warned = true;
     }
+    continues_partial_ = keep_bytes > 0;
     if (ftruncate(fd, static_cast<off_t>(keep_bytes)) != 0 ||
         lseek(fd, 0, SEEK_END) != static_cast<off_t>(keep_bytes)) {
         close(fd);
@@ -259,7 +287,8 @@ OutputFile::~OutputFile() {
         if (fp_) pclose(fp_);
     } else if (!is_stdout_) {
         if (fp_) std::fclose(fp_);
-        std::remove(temp_.c_str());
+        // A partial file this run continued held records before it: they stay.
+        if (!continues_partial_) std::remove(temp_.c_str());
     }
 }
 
@@ -285,14 +314,20 @@ void OutputFile::Commit() {
     }
     // On failure the partial file stays until the destructor removes it, or KeepPartial() keeps
     // what it holds.
+    // Renamed while the lock is held, so no other run can truncate the file in between.
     errno = 0;
-    bool ok = std::fflush(fp_) == 0 && !std::ferror(fp_);
-    ok = (std::fclose(fp_) == 0) && ok;
-    fp_ = nullptr;
-    if (!ok) ErrorExit("error writing to '" + name_ + "': " + std::strerror(errno));
+    if (std::fflush(fp_) != 0 || std::ferror(fp_))
+        ErrorExit("error writing to '" + name_ + "': " + std::strerror(errno));
     if (std::rename(temp_.c_str(), name_.c_str()) != 0)
         ErrorExit("cannot rename '" + temp_ + "' to '" + name_ + "': " + std::strerror(errno));
     finished_ = true;
+    const bool closed = std::fclose(fp_) == 0;
+    fp_ = nullptr;
+    if (!closed) {
+        const std::string why = std::strerror(errno);
+        std::remove(name_.c_str());
+        ErrorExit("error writing to '" + name_ + "': " + why);
+    }
 }
 
 bool OutputFile::KeepPartial() {

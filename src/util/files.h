@@ -82,11 +82,14 @@ class InputSource {
   private:
     InputSource() = default;
     bool Fill();
+    // False when a stop was asked for (StopOnSignals) while waiting on a pipe.
+    bool WaitForInput();
 
     std::string name_;
     FILE *fp_ = nullptr;
     bool is_pipe_ = false;
     bool is_stdin_ = false;
+    bool regular_ = false;  // a regular file: never waits
     bool eof_ = false;
     std::vector<char> buf_;
     size_t pos_ = 0, end_ = 0;
@@ -125,7 +128,8 @@ class OutputFile {
     FILE *fp_ = nullptr;
     bool is_pipe_ = false;
     bool is_stdout_ = false;
-    bool finished_ = false;  // committed, or kept partial
+    bool finished_ = false;           // committed, or kept partial
+    bool continues_partial_ = false;  // opened on the records of an earlier run (-r)
 };
 
 }  // namespace dayflux

@@ -1,5 +1,9 @@
 #include "util/signals.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <csignal>
 #include <cstdlib>
 
@@ -9,8 +13,20 @@ namespace {
 
 volatile std::sig_atomic_t requested_signal = 0;
 struct sigaction saved_int, saved_term;
+// A pipe the handler writes a byte to, so that a reader waiting in poll() wakes (a read() would
+// be restarted); its read end while a StopOnSignals lives, else -1.
+int wake_pipe[2] = {-1, -1};
+int wake_fd = -1;
 
-void RequestStop(int sig) { requested_signal = sig; }
+void RequestStop(int sig) {
+    requested_signal = sig;
+    const int saved_errno = errno;
+    if (wake_pipe[1] >= 0) {
+        const char byte = 1;
+        [[maybe_unused]] const ssize_t n = write(wake_pipe[1], &byte, 1);
+    }
+    errno = saved_errno;
+}
 
 void Install(int sig, struct sigaction *saved) {
     struct sigaction sa {};
@@ -28,16 +44,22 @@ void Install(int sig, struct sigaction *saved) {
 
 StopOnSignals::StopOnSignals() {
     requested_signal = 0;
+    if (wake_pipe[0] < 0 && pipe2(wake_pipe, O_CLOEXEC | O_NONBLOCK) != 0)
+        wake_pipe[0] = wake_pipe[1] = -1;
+    wake_fd = wake_pipe[0];
     Install(SIGINT, &saved_int);
     Install(SIGTERM, &saved_term);
 }
 
 StopOnSignals::~StopOnSignals() {
+    wake_fd = -1;
     sigaction(SIGINT, &saved_int, nullptr);
     sigaction(SIGTERM, &saved_term, nullptr);
 }
 
 int StopOnSignals::Requested() { return requested_signal; }
+
+int StopOnSignals::WakeFd() { return wake_fd; }
 
 void IgnoreFileSizeSignal() { std::signal(SIGXFSZ, SIG_IGN); }
 

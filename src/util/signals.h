@@ -18,6 +18,9 @@ class StopOnSignals {
 
     // The signal that asked to stop, or 0.
     static int Requested();
+    // While one lives: a descriptor that becomes readable when a stop is asked for, for readers
+    // that wait on a pipe (poll() it beside theirs); else -1.
+    static int WakeFd();
 };
 
 // A run that stopped on a signal: RunTool prints the message and ends the program by the same

@@ -156,9 +156,11 @@ TEST(Faults, LostGpuKeepsTheRecordsWritten) {
     EXPECT_EQ(Body(out + ".partial").size() % 12, 0u);
 }
 
-// The same through the program: SIGTERM while it waits for rays from a pipe, after a zero ray
-// flushed the records before it. It ends by the signal (status 143 from the shell), and the
-// partial file holds the 41 records.
+// The same through the program: SIGTERM while it waits for rays from a pipe the producer keeps
+// open, after a zero ray flushed the records before it. It stops at once (not when the pipe
+// closes, 5 s later), ends by the signal (status 143 from the shell), and the partial files hold
+// the 41 records. A -r that cannot open one output (another run holds it) leaves the other's
+// records alone; then -r finishes both as an uninterrupted run would have.
 TEST(Faults, SigtermToTheProgramKeepsItsRecords) {
     TempDir tmp;
     WriteFile(tmp.path() / "room.rad", kRoom);
@@ -166,26 +168,44 @@ TEST(Faults, SigtermToTheProgramKeepsItsRecords) {
     WriteFile(tmp.path() / "first", first);
     WriteFile(tmp.path() / "all", first + rest);
     const std::string cmd = std::string("rcontrib-gpu ") + kArgs + " -faf";
-    ASSERT_EQ(RunCommand(cmd + " -o full.mtx -m sky room.rad < all", tmp.path()).status, 0);
+    const std::string outputs = " -o %s_%s.mtx -m sky -m grey room.rad";
+    const auto run = [&](const std::string &prefix, const std::string &more) {
+        std::string c = cmd + more + outputs;
+        return c.replace(c.find("%s_"), 3, prefix + "_");
+    };
+    ASSERT_EQ(RunCommand(run("full", "") + " < all", tmp.path()).status, 0);
     // The producer waits until the flushed records are in the partial file, so the signal
     // never comes before the handler is in place.
     const CommandResult r = RunCommand(
-        "mkfifo rays.fifo\n" + cmd +
-            " -o cut.mtx -m sky room.rad < rays.fifo & pid=$!\n"
-            "{ cat first; n=0; while [ $(stat -c %s cut.mtx.partial 2>/dev/null || echo 0) -lt "
-            "984 ] && [ $n -lt 600 ]; do sleep 0.05; n=$((n+1)); done; kill -TERM $pid; "
-            "} > rays.fifo; wait $pid; echo $?",
+        "mkfifo rays.fifo\n" + run("cut", "") +
+            " < rays.fifo & pid=$!\n"
+            "{ cat first; n=0; while [ $(stat -c %s cut_sky.mtx.partial 2>/dev/null || echo 0) "
+            "-lt 984 ] && [ $n -lt 600 ]; do sleep 0.05; n=$((n+1)); done; kill -TERM $pid; "
+            "sleep 5; touch late; } > rays.fifo &\n"
+            "wait $pid; echo $?; [ -e late ] && echo late; wait",
         tmp.path());
     EXPECT_EQ(r.out, "143\n") << r.err;
     EXPECT_NE(r.err.find("stopped by SIGTERM after 41 records; 41 complete records kept in "
-                         "'cut.mtx.partial': the same command with -r continues the run"),
+                         "'cut_sky.mtx.partial', 'cut_grey.mtx.partial': the same command with "
+                         "-r continues the run"),
               std::string::npos)
         << r.err;
-    EXPECT_FALSE(fs::exists(tmp.path() / "cut.mtx"));
-    const CommandResult again =
-        RunCommand(cmd + " -r -o cut.mtx -m sky room.rad < all", tmp.path());
+    EXPECT_FALSE(fs::exists(tmp.path() / "cut_sky.mtx"));
+    const auto kept = fs::file_size(tmp.path() / "cut_sky.mtx.partial");
+    CommandResult again = RunCommand(
+        "flock cut_grey.mtx.partial sleep 2 & sleep 0.5; " + run("cut", " -r") + " < all; wait",
+        tmp.path());
+    EXPECT_NE(again.err.find("another run is writing it"), std::string::npos) << again.err;
+    ASSERT_TRUE(fs::exists(tmp.path() / "cut_sky.mtx.partial"));
+    EXPECT_EQ(fs::file_size(tmp.path() / "cut_sky.mtx.partial"), kept);
+    again = RunCommand(run("cut", " -r") + " < all", tmp.path());
     EXPECT_EQ(again.status, 0) << again.err;
-    EXPECT_EQ(Body(tmp.path() / "cut.mtx"), Body(tmp.path() / "full.mtx"));
+    EXPECT_EQ(Body(tmp.path() / "cut_sky.mtx"), Body(tmp.path() / "full_sky.mtx"));
+    EXPECT_EQ(Body(tmp.path() / "cut_grey.mtx"), Body(tmp.path() / "full_grey.mtx"));
+    // One file under two names is refused before anything is written.
+    again = RunCommand(cmd + " -se ./twice.mtx -o twice.mtx -m sky room.rad < all", tmp.path());
+    EXPECT_EQ(again.status, 1);
+    EXPECT_NE(again.err.find("name the same output file"), std::string::npos) << again.err;
 }
 
 // A file-size limit stands in for a full disk (no mount needed): the write error is a message,

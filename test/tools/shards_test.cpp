@@ -126,6 +126,18 @@ TEST_F(Shards, MissingOrMismatchedShardsStopTheMerge) {
               std::string::npos)
         << r.err;
     EXPECT_FALSE(fs::exists(tmp_.path() / "merged.mtx"));
+    // A shard cut inside a record (-c 2, three rays) would merge a row too many: an error.
+    r = Run("head -n 3 sensors | rcontrib-gpu -first_record 4 " + kArgs + " > odd.mtx");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("the input ends 1 rays into a record of 2 (-c): a shard"),
+              std::string::npos)
+        << r.err;
+    // Thousands of shards merge with one open at a time.
+    r =
+        Run("for k in $(seq 1 100); do printf '#?RADIANCE\\nNCOLS=2\\nNCOMP=1\\nFORMAT=ascii"
+            "\\n\\n%d %d\\n' $k $k > m$k.txt; done; ulimit -n 40; rmtxcat -h m*.txt | wc -l");
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.out, "100\n") << r.err;
     r = Run("split_sensors.sh sensors 101 odd 2");
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.err.find("must be a positive multiple of RAYS_PER_RECORD (2)"), std::string::npos);
