@@ -131,10 +131,7 @@ int Main(int argc, char **argv) {
     std::vector<std::string> header;
     RcontribOptions o = ParseRcontribOptions(args, &header);
     if (o.engine.backend != "embree") ErrorExit("the replay measures the CPU (Embree) backend");
-    std::unique_ptr<tbb::global_control> threads;
-    if (o.threads > 0)
-        threads = std::make_unique<tbb::global_control>(
-            tbb::global_control::max_allowed_parallelism, o.threads);
+    const std::unique_ptr<tbb::global_control> threads = LimitThreads(o.threads);
     std::string octree_header;
     const FlatScene flat = ReadRcontribScene(o.scene, &octree_header);
     const std::vector<double> rays = ReadRays(std::cin);

@@ -71,4 +71,10 @@ std::string Comparable(const std::string &text) {
     return kept + text.substr(end + 1);
 }
 
+std::string MatrixBody(const std::filesystem::path &p) {
+    const std::string text = ReadFile(p);
+    const size_t end = text.find("\n\n");
+    return end == std::string::npos ? "" : text.substr(end + 2);
+}
+
 }  // namespace dayflux::test

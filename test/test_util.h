@@ -21,6 +21,17 @@ inline std::filesystem::path BinDir() {
     return FromEnvironment("DAYFLUX_TEST_BIN_DIR", DAYFLUX_BIN_DIR);
 }
 
+// A grey floor under a glowing sky dome: the smallest scene a run of rcontrib-gpu traces
+// (modifiers sky, a glow source, and grey, a plastic).
+inline constexpr const char *kFloorUnderSky =
+    "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
+    "grey polygon floor 0 0 12 -5 -5 -1 5 -5 -1 5 5 -1 -5 5 -1\n"
+    "void glow sky 0 0 4 1 1 1 0\nsky source dome 0 0 4 0 0 1 180\n";
+
+// The data of a RADIANCE matrix file after its header ("" without one): runs compared
+// without their header's dates.
+std::string MatrixBody(const std::filesystem::path &p);
+
 // A fresh folder under the system temp directory, removed with the object.
 class TempDir {
   public:

@@ -51,12 +51,15 @@ void TraceToOutputs(const RcontribOptions &o, ContribEngine &engine, RcontribOut
     }
 }
 
+std::unique_ptr<tbb::global_control> LimitThreads(int threads) {
+    if (threads <= 0) return nullptr;
+    return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                 threads);
+}
+
 void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &header_args,
                  const std::string &header_lines, RaySource rays) {
-    std::unique_ptr<tbb::global_control> threads;
-    if (o.threads > 0)
-        threads = std::make_unique<tbb::global_control>(
-            tbb::global_control::max_allowed_parallelism, o.threads);
+    const std::unique_ptr<tbb::global_control> threads = LimitThreads(o.threads);
     std::string header;
     const FlatScene flat = ReadRcontribScene(o.scene, &header);
     header += header_lines;

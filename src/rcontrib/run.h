@@ -3,14 +3,16 @@
 // rfluxmtx-gpu share it.
 #pragma once
 
+#include <tbb/global_control.h>
+
 #include <string>
 #include <vector>
 
 #include "raytrace/engine.h"
 #include "rcontrib/options.h"
 #include "rcontrib/outputs.h"
-#include "scene/flatten.h"
 #include "rcontrib/records.h"
+#include "scene/flatten.h"
 
 namespace dayflux {
 
@@ -18,6 +20,9 @@ namespace dayflux {
 // (after any octree's); rays: the input rays (by default the standard input, in the -f format).
 void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &header_args,
                  const std::string &header_lines = "", RaySource rays = nullptr);
+
+// -n: at most threads threads while the result lives (all cores for 0).
+std::unique_ptr<tbb::global_control> LimitThreads(int threads);
 
 // The scene files and octrees, in order, flattened; the octrees' headers in *octree_header.
 FlatScene ReadRcontribScene(const std::vector<std::string> &files, std::string *octree_header);

@@ -22,23 +22,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char *kRoom =
-    "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
-    "grey polygon floor 0 0 12 -5 -5 -1 5 -5 -1 5 5 -1 -5 5 -1\n"
-    "void glow sky 0 0 4 1 1 1 0\nsky source dome 0 0 4 0 0 1 180\n";
+const char *const kRoom = kFloorUnderSky;
 
 // n sensors looking up at different heights (one input ray each), text.
 std::string Rays(int n) {
     std::ostringstream s;
     for (int i = 0; i < n; ++i) s << "0 0 " << (i % 50) * 0.01 << " 0 0.3 1\n";
     return s.str();
-}
-
-// The body of a RADIANCE matrix file (its header dates differ between runs).
-std::string Body(const fs::path &p) {
-    const std::string text = ReadFile(p);
-    const size_t end = text.find("\n\n");
-    return end == std::string::npos ? "" : text.substr(end + 2);
 }
 
 const char *kArgs = "-seed 7 -ff -c 2 -ab 2 -ad 64 -lw 1e-4 -b 'if(Dz-.5,0,1)' -bn 2";
@@ -90,14 +80,14 @@ TEST_P(SignalStop, KeepsTheRecordsAndRecoveryFinishesTheRun) {
             << e.what();
     }
     EXPECT_FALSE(fs::exists(tmp.path() / "cut.mtx"));
-    const std::string full = Body(tmp.path() / "full.mtx");
+    const std::string full = MatrixBody(tmp.path() / "full.mtx");
     ASSERT_EQ(full.size(), 100u * 2 * 12);
-    EXPECT_EQ(Body(tmp.path() / "cut.mtx.partial"), full.substr(0, 20 * 2 * 12));
+    EXPECT_EQ(MatrixBody(tmp.path() / "cut.mtx.partial"), full.substr(0, 20 * 2 * 12));
     // Once more without -r: refused, the records kept.
     EXPECT_THROW(run("cut.mtx", false, -1), UserError);
     EXPECT_TRUE(fs::exists(tmp.path() / "cut.mtx.partial"));
     run("cut.mtx", true, -1);
-    EXPECT_EQ(Body(tmp.path() / "cut.mtx"), full);
+    EXPECT_EQ(MatrixBody(tmp.path() / "cut.mtx"), full);
     EXPECT_FALSE(fs::exists(tmp.path() / "cut.mtx.partial"));
 }
 
@@ -143,7 +133,7 @@ TEST(Faults, LostGpuKeepsTheRecordsWritten) {
         EXPECT_NE(std::string(e.what()).find("VK_ERROR_DEVICE_LOST"), std::string::npos);
         // Blocks in flight when the error came are not written: at most the 16 records of the
         // rays before it, and the message says how many the file holds.
-        const size_t records = Body(out + ".partial").size() / 12;
+        const size_t records = MatrixBody(out + ".partial").size() / 12;
         EXPECT_GE(records, 1u);
         EXPECT_LE(records, 16u);
         EXPECT_NE(
@@ -153,7 +143,7 @@ TEST(Faults, LostGpuKeepsTheRecordsWritten) {
             << e.what();
     }
     EXPECT_FALSE(fs::exists(out));
-    EXPECT_EQ(Body(out + ".partial").size() % 12, 0u);
+    EXPECT_EQ(MatrixBody(out + ".partial").size() % 12, 0u);
 }
 
 // The same through the program: SIGTERM while it waits for rays from a pipe the producer keeps
@@ -200,8 +190,8 @@ TEST(Faults, SigtermToTheProgramKeepsItsRecords) {
     EXPECT_EQ(fs::file_size(tmp.path() / "cut_sky.mtx.partial"), kept);
     again = RunCommand(run("cut", " -r") + " < all", tmp.path());
     EXPECT_EQ(again.status, 0) << again.err;
-    EXPECT_EQ(Body(tmp.path() / "cut_sky.mtx"), Body(tmp.path() / "full_sky.mtx"));
-    EXPECT_EQ(Body(tmp.path() / "cut_grey.mtx"), Body(tmp.path() / "full_grey.mtx"));
+    EXPECT_EQ(MatrixBody(tmp.path() / "cut_sky.mtx"), MatrixBody(tmp.path() / "full_sky.mtx"));
+    EXPECT_EQ(MatrixBody(tmp.path() / "cut_grey.mtx"), MatrixBody(tmp.path() / "full_grey.mtx"));
     // One file under two names is refused before anything is written.
     again = RunCommand(cmd + " -se ./twice.mtx -o twice.mtx -m sky room.rad < all", tmp.path());
     EXPECT_EQ(again.status, 1);
@@ -230,7 +220,7 @@ TEST(Faults, WriteErrorKeepsWhatWasWrittenForRecovery) {
     EXPECT_LT(kept, 48000u);
     r = RunCommand(cmd + " -r -o cut.mtx -m sky room.rad < rays", tmp.path());
     EXPECT_EQ(r.status, 0) << r.err;
-    EXPECT_EQ(Body(tmp.path() / "cut.mtx"), Body(tmp.path() / "full.mtx"));
+    EXPECT_EQ(MatrixBody(tmp.path() / "cut.mtx"), MatrixBody(tmp.path() / "full.mtx"));
 }
 
 // A full device on the standard output: every program says so and exits 1.

@@ -10,10 +10,7 @@
 namespace dayflux::test {
 namespace {
 
-const char *kRoom =
-    "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
-    "grey polygon floor 0 0 12 -5 -5 -1 5 -5 -1 5 5 -1 -5 5 -1\n"
-    "void glow sky 0 0 4 1 1 1 0\nsky source dome 0 0 4 0 0 1 180\n";
+const char *const kRoom = kFloorUnderSky;
 
 CommandResult Rcontrib(const TempDir &tmp, const std::string &rays, const std::string &args) {
     WriteFile(tmp.path() / "room.rad", kRoom);

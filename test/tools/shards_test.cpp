@@ -15,20 +15,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char *kRoom =
-    "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
-    "grey polygon floor 0 0 12 -5 -5 -1 5 -5 -1 5 5 -1 -5 5 -1\n"
-    "void glow sky 0 0 4 1 1 1 0\nsky source dome 0 0 4 0 0 1 180\n";
+const char *const kRoom = kFloorUnderSky;
 
 // Two rays a record (-c 2), so the shards' first records are half their first lines.
 const std::string kArgs =
     "-seed 5 -faf -c 2 -ab 2 -ad 64 -lw 1e-4 -b 'if(Dz-.5,0,1)' -bn 2 -m sky room.rad";
-
-std::string Body(const fs::path &p) {
-    const std::string text = ReadFile(p);
-    const size_t end = text.find("\n\n");
-    return end == std::string::npos ? "" : text.substr(end + 2);
-}
 
 class Shards : public ::testing::Test {
   protected:
@@ -40,7 +31,7 @@ class Shards : public ::testing::Test {
         WriteFile(tmp_.path() / "sensors", s.str());
         const CommandResult r = Run("rcontrib-gpu " + kArgs + " < sensors > whole.mtx");
         ASSERT_EQ(r.status, 0) << r.err;
-        whole_ = Body(tmp_.path() / "whole.mtx");
+        whole_ = MatrixBody(tmp_.path() / "whole.mtx");
         ASSERT_EQ(whole_.size(), 305u * 2 * 12);
     }
     CommandResult Run(const std::string &command) {
@@ -61,7 +52,7 @@ TEST_F(Shards, GnuParallelMergesToTheSingleRun) {
     r = Run("parallel -j 3 --halt now,fail=1 -q trace_shard.sh {} {.}.mtx " + kArgs +
             " ::: shards/shard_*.pts && merge_shards.sh shards merged.mtx");
     ASSERT_EQ(r.status, 0) << r.err;
-    EXPECT_TRUE(Body(tmp_.path() / "merged.mtx") == whole_);
+    EXPECT_TRUE(MatrixBody(tmp_.path() / "merged.mtx") == whole_);
     EXPECT_NE(ReadFile(tmp_.path() / "merged.mtx").find("NROWS=305\n"), std::string::npos);
 }
 
@@ -70,7 +61,7 @@ TEST_F(Shards, MakeMergesToTheSingleRun) {
     const CommandResult r = Run("make -s -j 3 -f '" + (Scripts() / "Makefile").string() +
                                 "' DIR=shards OUT=made.mtx ARGS=\"" + kArgs + "\"");
     ASSERT_EQ(r.status, 0) << r.err;
-    EXPECT_TRUE(Body(tmp_.path() / "made.mtx") == whole_);
+    EXPECT_TRUE(MatrixBody(tmp_.path() / "made.mtx") == whole_);
 }
 
 // The job array's script run as Slurm would run each task (no Slurm needed), then the merge.
@@ -81,7 +72,7 @@ TEST_F(Shards, SlurmArrayTasksMergeToTheSingleRun) {
         Scripts().string() + "' bash '" + (Scripts() / "shards.sbatch").string() + "' shards " +
         kArgs + " || exit 1; done && merge_shards.sh shards slurm.mtx");
     ASSERT_EQ(r.status, 0) << r.err;
-    EXPECT_TRUE(Body(tmp_.path() / "slurm.mtx") == whole_);
+    EXPECT_TRUE(MatrixBody(tmp_.path() / "slurm.mtx") == whole_);
 }
 
 // rfluxmtx-gpu passes -first_record on in pass-through mode (V from a sensor file), and refuses
@@ -94,7 +85,8 @@ TEST_F(Shards, RfluxmtxPassThroughShardIsTheSingleRunsTail) {
     const CommandResult r = Run("sed -n 301,610p sensors | " + rflux +
                                 "-first_record 300 - receiver.rad room.rad > tail.mtx");
     ASSERT_EQ(r.status, 0) << r.err;
-    const std::string all = Body(tmp_.path() / "all.mtx"), tail = Body(tmp_.path() / "tail.mtx");
+    const std::string all = MatrixBody(tmp_.path() / "all.mtx"),
+                      tail = MatrixBody(tmp_.path() / "tail.mtx");
     ASSERT_EQ(all.size(), 610u * 12);
     EXPECT_TRUE(tail == all.substr(300 * 12));
     const CommandResult refused =
