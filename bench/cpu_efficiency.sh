@@ -30,7 +30,7 @@ make -s --no-print-directory -C "$root/examples/reference-office" BIN="$root/${B
     echo "room DC,$threads,$ad,$line"
     m=$office/model
     line=$("$bin" -record_every 10 -n "$threads" -I+ -ab 6 -ad "$ad" -lw 5e-5 -faf -e MF:1 \
-        -f reinhart.cal -b rbin -bn Nrbins -m skyglow $m/materials.rad $m/office.rad \
-        $m/glass.rad $m/sky.rad < $m/sensors.pts | tail -n 1)
+        -f reinhart.cal -b rbin -bn Nrbins -m skyglow "$m/materials.rad" "$m/office.rad" \
+        "$m/glass.rad" "$m/sky.rad" < "$m/sensors.pts" | tail -n 1)
     echo "office DC,$threads,$ad,$line"
 } | tee "$csv"
