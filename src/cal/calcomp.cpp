@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstddef>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -38,6 +39,10 @@ constexpr int kMaxDepth = 2000;  // calls deeper than this are taken as recursio
 // freeing them recurses, and no real .cal file comes near (a chain a+b+c... is as deep as long).
 constexpr int kMaxHeight = 1000;
 constexpr int kMaxChannel = 100000;  // $N
+// The stack one evaluation may use: a definition that reaches itself through arg() or a chain
+// of deep expressions runs out of stack long before kMaxDepth calls (sooner in TBB's threads and
+// in sanitizer builds); real .cal files use a few kilobytes.
+constexpr std::ptrdiff_t kMaxStackBytes = 1 << 20;
 
 bool IsIdChar(int c) { return std::isalnum(c) || c == '_' || c == '.' || c == '`'; }
 
@@ -56,6 +61,14 @@ struct Evaluator {
     const Channels *channels;
     const FileLoc *where;
     int depth = 0;
+
+    // Fails when this evaluation's stack (from the evaluator, which lives on the caller's
+    // stack, to here) passes kMaxStackBytes.
+    void CheckStack(const std::string &what) const {
+        const char here = 0;
+        const std::ptrdiff_t used = reinterpret_cast<const char *>(this) - &here;
+        if (used > kMaxStackBytes || used < -kMaxStackBytes) Fail("recursion without end " + what);
+    }
 
     struct Frame {
         Frame(const Frame *c, const Node *const *a, int n, const std::string *nm)
@@ -90,6 +103,7 @@ struct Evaluator {
         if (d->constant && cx.have_constant[sym]) return cx.constant_value[sym];
         if (!d->constant && cx.variable_epoch[sym] == cx.epoch) return cx.variable_value[sym];
         if (++depth > kMaxDepth) Fail("recursion without end evaluating '" + cx.names[sym] + "'");
+        CheckStack("evaluating '" + cx.names[sym] + "'");
         const FileLoc *outer = where;
         where = &d->loc;
         const double v = Eval(d->body.get(), nullptr);
@@ -185,6 +199,7 @@ struct Evaluator {
         }
         if (nargs < static_cast<int>(d->params.size())) Fail(cx.names[sym] + ": too few arguments");
         if (++depth > kMaxDepth) Fail("recursion without end in '" + cx.names[sym] + "'");
+        CheckStack("in '" + cx.names[sym] + "'");
         const FileLoc *outer = where;
         where = &d->loc;
         const double v = Eval(d->body.get(), &frame);

@@ -103,6 +103,15 @@ TEST(Calcomp, ErrorsNameFileLineAndProblem) {
     cx.Load("u = v + 1;\nloop(n) = loop(n) + 1;", FileLoc{"u.cal", 1});
     EXPECT_EQ(ErrorOf([&] { Eval(cx, "u"); }), "u.cal:1: undefined variable 'v'");
     EXPECT_EQ(ErrorOf([&] { Eval(cx, "loop(1)"); }), "u.cal:2: recursion without end in 'loop'");
+    // A variable reaching itself through arg() (found by a 30-minute fuzz run, whose sanitizer
+    // build ran out of stack before kMaxDepth calls; the evaluator now bounds its stack too:
+    // fuzz/corpus/calcomp/self_through_arg.cal replays the finding).
+    cx.Load("self = arg(self) + 1;", FileLoc{"s.cal", 1});
+    ChannelArray object({0, 0, 1});
+    object.SetObjectArguments({2, .5, -1});
+    EXPECT_NE(
+        ErrorOf([&] { Eval(cx, "self", &object); }).find("recursion without end evaluating 'self'"),
+        std::string::npos);
     EXPECT_EQ(ErrorOf([&] { Eval(cx, "sqrt"); }),
               "expr:1: 'sqrt' is a function, used as a variable");
     EXPECT_EQ(ErrorOf([&] { Eval(cx, "Dx"); }), "expr:1: undefined variable 'Dx'");
