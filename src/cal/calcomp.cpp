@@ -61,6 +61,7 @@ struct Evaluator {
     const Channels *channels;
     const FileLoc *where;
     int depth = 0;
+    bool read_ray = false;  // the evaluation so far read a ray variable or an object argument
 
     // Fails when this evaluation's stack (from the evaluator, which lives on the caller's
     // stack, to here) passes kMaxStackBytes.
@@ -106,13 +107,19 @@ struct Evaluator {
         CheckStack("evaluating '" + cx.names[sym] + "'");
         const FileLoc *outer = where;
         where = &d->loc;
+        const bool outer_read_ray = read_ray;
+        read_ray = false;
         const double v = Eval(d->body.get(), nullptr);
+        const bool body_read_ray = read_ray;
+        read_ray = outer_read_ray || body_read_ray;
         where = outer;
         --depth;
-        if (d->constant)
-            cx.have_constant[sym] = 1, cx.constant_value[sym] = v;
-        else
+        // A constant (':') that reads the ray is not one: kept, its first ray's value would
+        // answer every later evaluation (RADIANCE evaluates it again; so do the specialised).
+        if (!d->constant)
             cx.variable_epoch[sym] = cx.epoch, cx.variable_value[sym] = v;
+        else if (!body_read_ray)
+            cx.have_constant[sym] = 1, cx.constant_value[sym] = v;
         return v;
     }
 
@@ -160,6 +167,7 @@ struct Evaluator {
             case Library::kArg: {
                 const std::vector<double> *args = channels ? channels->ObjectArguments() : nullptr;
                 if (!args) Fail("arg() used where there is no object");
+                read_ray = true;
                 const double a1 = a(1);
                 if (!(a1 >= -.5 && a1 + .5 < static_cast<double>(args->size()) + 1))
                     Fail("arg(" + FormatNumber(a1) + "): the object has " +
@@ -220,6 +228,7 @@ struct Evaluator {
                 if (!channels)
                     Fail("ray variable $" + std::to_string(n->index) +
                          " used where there is no ray");
+                read_ray = true;
                 return channels->Value(n->index);
             case Node::kCall:
                 return Call(n, f);
