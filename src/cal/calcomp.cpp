@@ -114,8 +114,8 @@ struct Evaluator {
         read_ray = outer_read_ray || body_read_ray;
         where = outer;
         --depth;
-        // A constant (':') that reads the ray is not one: kept, its first ray's value would
-        // answer every later evaluation (RADIANCE evaluates it again; so do the specialised).
+        // A constant (':') that reads the ray is not one: evaluated again each time, as the
+        // specialised evaluation does (RADIANCE keeps its first value: docs/compat.md).
         if (!d->constant)
             cx.variable_epoch[sym] = cx.epoch, cx.variable_value[sym] = v;
         else if (!body_read_ray)

@@ -107,8 +107,9 @@ TEST(Calcomp, ErrorsNameFileLineAndProblem) {
     // build ran out of stack before kMaxDepth calls; the evaluator now bounds its stack too:
     // fuzz/corpus/calcomp/self_through_arg.cal replays the finding).
     cx.Load("self = arg(self) + 1;", FileLoc{"s.cal", 1});
-    // A constant (':') that reads the ray is evaluated for each ray, not kept from the first
-    // (found by the same fuzz run: the interpreter answered from the first ray without one).
+    // A constant (':') that reads the ray is evaluated for each ray, as the specialised
+    // evaluation does (found by the same fuzz run: the interpreter kept the first ray's value,
+    // as RADIANCE does, and answered with it where there was no ray).
     cx.Load("twice : 2 * $1;", FileLoc{"c.cal", 1});
     ChannelArray one({1}), three({3});
     EXPECT_EQ(Eval(cx, "twice", &one), 2);
