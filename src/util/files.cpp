@@ -312,9 +312,8 @@ void OutputFile::Commit() {
         if (status != 0) ErrorExit("error running command '" + name_ + "'");
         return;
     }
-    // On failure the partial file stays until the destructor removes it, or KeepPartial() keeps
-    // what it holds.
-    // Renamed while the lock is held, so no other run can truncate the file in between.
+    // Renamed while the lock is held, so no other run can truncate the file in between. On a
+    // write error the partial file stays for the destructor to remove or KeepPartial() to keep.
     errno = 0;
     if (std::fflush(fp_) != 0 || std::ferror(fp_))
         ErrorExit("error writing to '" + name_ + "': " + std::strerror(errno));
