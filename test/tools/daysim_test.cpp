@@ -1,0 +1,169 @@
+// DAYSIM's programs: rtrace_dc-gpu against analytic answers and against rcontrib-gpu on the same
+// rays; bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+#include "test_util.h"
+
+namespace dayflux::test {
+namespace {
+
+constexpr const char *kUniformSky =
+    "void glow sky 0 0 4 1000 1000 1000 0\nsky source himmel 0 0 4 0 0 1 360\n";
+constexpr const char *kTwoSuns =
+    "void light solar1 0 0 3 1000 1000 1000\nsolar1 source sun 0 0 4 0 0 1 0.533\n"
+    "void light solar2 0 0 3 1000 1000 1000\nsolar2 source sun 0 0 4 0.6 0 0.8 0.533\n";
+
+std::vector<std::vector<double>> Lines(const std::string &text) {
+    std::vector<std::vector<double>> rows;
+    std::istringstream in(text);
+    std::string line;
+    while (std::getline(in, line)) {
+        std::istringstream words(line);
+        rows.emplace_back();
+        for (double v; words >> v;) rows.back().push_back(v);
+    }
+    return rows;
+}
+
+double SunSolidAngle() { return 2 * M_PI * (1 - std::cos(0.533 / 2 * M_PI / 180)); }
+
+TEST(RtraceDc, UniformSkyGivesPiInProjectedSolidAnglesOfItsRows) {
+    TempDir dir;
+    WriteFile(dir.path() / "sky.rad", kUniformSky);
+    const CommandResult r = RunCommand(
+        "echo '0 0 0 0 0 1' | rtrace_dc-gpu -h -I+ -oc -ab 1 -ad 4096 -aa 0 -lw 1e-5 -L 1000 "
+        "-N 148 -Dd -seed 3 sky.rad",
+        dir.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto rows = Lines(r.out);
+    ASSERT_EQ(rows.size(), 1u);
+    ASSERT_EQ(rows[0].size(), 148u);
+    double sum = 0;
+    for (double v : rows[0]) sum += v;
+    EXPECT_NEAR(sum, M_PI, 1e-6);  // every sample sees the sky
+    // Each row of patches: pi (sin^2 top - sin^2 bottom); the hemisphere's 64 x 64 strata in
+    // cos^2 and azimuth make a row's share exact to a stratum's width (1/4096 of pi).
+    const int start[9] = {0, 30, 60, 84, 108, 126, 138, 144, 145};
+    for (int row = 0; row < 8; ++row) {
+        const double lo = 12.0 * row * M_PI / 180, hi = std::min(12.0 * row + 12, 90.0) * M_PI / 180;
+        double got = 0;
+        for (int p = start[row]; p < start[row + 1]; ++p) got += rows[0][p];
+        const double want = M_PI * (std::pow(std::sin(hi), 2) - std::pow(std::sin(lo), 2));
+        EXPECT_NEAR(got, want, 2 * M_PI / 64) << "row " << row;
+    }
+    for (int p = 145; p < 148; ++p) EXPECT_EQ(rows[0][p], 0) << "ground patch " << p;
+}
+
+TEST(RtraceDc, SunsSortedByModifierGiveSolidAngleTimesCosine) {
+    TempDir dir;
+    WriteFile(dir.path() / "suns.rad", kTwoSuns);
+    const CommandResult r = RunCommand(
+        "printf '0 0 0 0 0 1\\n0 0 0 0 0 0\\n1 2 3 0 0 1\\n' | "
+        "rtrace_dc-gpu -h -I+ -oc -ab 0 -L 1000 -N 3 -Dm suns.rad",
+        dir.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto rows = Lines(r.out);
+    ASSERT_EQ(rows.size(), 3u);  // a zero ray gives a line of zeros, as in rtrace
+    for (int i : {0, 2}) {
+        ASSERT_EQ(rows[i].size(), 3u);
+        EXPECT_NEAR(rows[i][0], SunSolidAngle(), 1e-6 * SunSolidAngle());
+        EXPECT_NEAR(rows[i][1], SunSolidAngle() * 0.8, 1e-6 * SunSolidAngle());
+        EXPECT_EQ(rows[i][2], 0);
+    }
+    EXPECT_EQ(rows[1], std::vector<double>(3, 0.0));
+    // -L other than the suns' 1000: coefficients scale by 1000 / L.
+    const CommandResult half = RunCommand(
+        "echo '0 0 0 0 0 1' | rtrace_dc-gpu -h -I+ -oc -L 2000 -N 2 -Dm suns.rad", dir.path());
+    ASSERT_EQ(half.status, 0) << half.err;
+    EXPECT_NEAR(Lines(half.out)[0][0], SunSolidAngle() / 2, 1e-6 * SunSolidAngle());
+}
+
+TEST(RtraceDc, SensorUnitsChooseIrradianceOrRadiance) {
+    TempDir dir;
+    WriteFile(dir.path() / "sky.rad", kUniformSky);
+    WriteFile(dir.path() / "units.opt", "-U 2 1 0\n");
+    const CommandResult r = RunCommand(
+        "printf '0 0 0 0 0 1\\n0 0 0 0 0 1\\n' | rtrace_dc-gpu -h -oc -ab 1 -ad 256 -lw 1e-4 "
+        "-N 148 -Dd @units.opt sky.rad",
+        dir.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto rows = Lines(r.out);
+    ASSERT_EQ(rows.size(), 2u);
+    double irradiance = 0;
+    for (double v : rows[0]) irradiance += v;
+    EXPECT_NEAR(irradiance, M_PI, 1e-5);
+    // A radiance sensor looking up sees the zenith patch at the sky's luminance over -L.
+    EXPECT_NEAR(rows[1][144], 1, 1e-6);
+    // Fewer units than sensors: DAYSIM warns and skips the sensor, leaving a .dc a row short;
+    // we stop with the sensor's number.
+    const CommandResult few = RunCommand(
+        "printf '0 0 0 0 0 1\\n0 0 0 0 0 1\\n0 0 0 0 0 1\\n' | rtrace_dc-gpu -h -oc -ab 1 "
+        "-N 148 -Dd @units.opt sky.rad",
+        dir.path());
+    EXPECT_NE(few.status, 0);
+    EXPECT_NE(few.err.find("input ray 3: -U gives units for only 2 sensors"), std::string::npos)
+        << few.err;
+}
+
+// Each sensor's coefficients sum to what rcontrib-gpu finds for the whole sky with the same seed
+// (the bins only sort the same light), on a room whose light arrives after several bounces.
+TEST(RtraceDc, CoefficientsSumToTheTotalRcontribFinds) {
+    TempDir dir;
+    WriteFile(dir.path() / "scene.rad",
+              std::string(kUniformSky) +
+                  "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
+                  "grey polygon floor 0 0 12 -5 -5 -1 5 -5 -1 5 5 -1 -5 5 -1\n"
+                  "grey polygon wall 0 0 12 -5 2 -1 5 2 -1 5 2 3 -5 2 3\n");
+    WriteFile(dir.path() / "points.txt", "0 0 0 0 0 1\n1 1 0 0 1 0\n-2 0 -0.5 0 0 1\n");
+    const std::string common = "-I+ -ab 3 -ad 512 -lw 1e-4 -seed 7 -n 1";
+    const CommandResult dc = RunCommand(
+        "rtrace_dc-gpu -h -oc " + common + " -N 148 -Dd scene.rad < points.txt", dir.path());
+    const CommandResult rc = RunCommand(
+        "rcontrib-gpu -h -V+ " + common + " -m sky scene.rad < points.txt", dir.path());
+    ASSERT_EQ(dc.status, 0) << dc.err;
+    ASSERT_EQ(rc.status, 0) << rc.err;
+    const auto coefficients = Lines(dc.out), totals = Lines(rc.out);
+    ASSERT_EQ(coefficients.size(), 3u);
+    ASSERT_EQ(totals.size(), 3u);
+    for (int i = 0; i < 3; ++i) {
+        double sum = 0;
+        for (double v : coefficients[i]) sum += v;
+        EXPECT_NEAR(sum, totals[i][0] / 1000, 1e-6 * sum) << "sensor " << i;
+        EXPECT_GT(sum, 0.5);
+    }
+}
+
+TEST(RtraceDc, BadInput) {
+    TempDir dir;
+    WriteFile(dir.path() / "suns.rad", kTwoSuns +
+                                           std::string("void light lamp 0 0 3 10 10 10\n"
+                                                       "lamp sphere bulb 0 0 4 0 0 5 .1\n"));
+    // A light source not named solarK, and one beyond -N: warned, not counted.
+    const CommandResult r = RunCommand(
+        "echo '0 0 0 0 0 1' | rtrace_dc-gpu -h -I+ -oc -N 1 -Dm suns.rad", dir.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("light source 'lamp' is not named solarK"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("light source 'solar2' is coefficient 2 of only 1"), std::string::npos)
+        << r.err;
+    for (const char *bad : {"-N 0", "-N 148 -L 0", "-N 148 -ov", "-N 148 -af amb.dat", ""}) {
+        const CommandResult e = RunCommand(
+            std::string("echo '0 0 0 0 0 1' | rtrace_dc-gpu -h -I+ ") + bad + " suns.rad",
+            dir.path());
+        EXPECT_NE(e.status, 0) << bad;
+        EXPECT_NE(e.err.find("rtrace_dc-gpu: "), std::string::npos) << bad << ": " << e.err;
+    }
+    const CommandResult missing = RunCommand(
+        "echo '0 0 0 0 0 1' | rtrace_dc-gpu -h -I+ -N 2 nowhere.rad", dir.path());
+    EXPECT_NE(missing.status, 0);
+    EXPECT_NE(missing.err.find("nowhere.rad"), std::string::npos) << missing.err;
+    const CommandResult short_ray = RunCommand(
+        "echo '0 0 0 0 0' | rtrace_dc-gpu -h -I+ -N 2 suns.rad", dir.path());
+    EXPECT_NE(short_ray.status, 0);
+}
+
+}  // namespace
+}  // namespace dayflux::test
