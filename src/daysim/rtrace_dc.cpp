@@ -342,13 +342,25 @@ RtraceDcOptions ParseRtraceDcOptions(const std::vector<std::string> &args,
     std::vector<std::string> unused;
     o.trace = ParseRcontribOptions(pass, &unused);
     o.trace.contrib.irradiance = irradiance;
+    // With the ambient cache (-aa > 0) rtrace weighs an ambient sample by the surface's
+    // reflectance alone, so -lw cuts only deep, dim paths; rcontrib's estimator, which traces
+    // here, also divides a sample's weight by the sample count, and -lw would cut every ambient
+    // ray (with a positive -lr: rtrace_dc -aa 0 -lr 6 -lw 0.004 -ad 1000 finds no sky, as
+    // DAYSIM's does) or play roulette with them. So -lw is taken per sample (-lw / -ad) and a
+    // positive -lr becomes Russian roulette to that depth (docs/compat.md).
+    if (o.ambient_accuracy > 0) {
+        ContribOptions &c = o.trace.contrib;
+        c.limit_weight /= std::max(1, c.ambient_divisions);
+        if (c.limit_reflections > 0) c.limit_reflections = -c.limit_reflections;
+    }
     o.trace.modifiers.clear();
     o.trace.cal.push_back(CalCommand{false, kDaysimPatchCal});
     *header_args = expanded;
     return o;
 }
 
-void RunRtraceDc(const RtraceDcOptions &o, const std::vector<std::string> &header_args) {
+size_t RunRtraceDc(const RtraceDcOptions &o, const std::vector<std::string> &header_args,
+                   const std::string &rays_spec, OutputFile *given_out) {
     const std::unique_ptr<tbb::global_control> threads = LimitThreads(o.trace.threads);
     std::string octree_header;
     const FlatScene flat = ReadRcontribScene(o.trace.scene, &octree_header);
@@ -357,7 +369,9 @@ void RunRtraceDc(const RtraceDcOptions &o, const std::vector<std::string> &heade
     int columns = 0;
     for (const TrackedModifier &t : tracked) columns = std::max(columns, t.first_column + t.nbins);
 
-    OutputFile out("-");
+    std::unique_ptr<OutputFile> own_out;
+    if (!given_out) own_out = std::make_unique<OutputFile>("-");
+    OutputFile &out = given_out ? *given_out : *own_out;
     if (o.header) out.Write(Header(o, header_args, octree_header));
     Writer writer(o, &out);
     ReadSpec spec;
@@ -365,7 +379,7 @@ void RunRtraceDc(const RtraceDcOptions &o, const std::vector<std::string> &heade
     spec.format = o.in;
     spec.ncols = 1;
     spec.ncomp = 6;
-    MatrixReader in(InputSource::Open("-"), spec);
+    MatrixReader in(InputSource::Open(rays_spec), spec);
 
     const StopOnSignals stop;
     constexpr size_t kChunk = 4096;  // sensors traced between writes
@@ -388,7 +402,8 @@ void RunRtraceDc(const RtraceDcOptions &o, const std::vector<std::string> &heade
         std::fflush(out.Stream());
         first += n;
     }
-    out.Commit();
+    if (own_out) own_out->Commit();
+    return first;
 }
 
 }  // namespace dayflux

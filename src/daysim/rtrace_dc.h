@@ -10,6 +10,7 @@
 
 #include "matrix/formats.h"
 #include "rcontrib/options.h"
+#include "util/files.h"
 
 namespace dayflux {
 
@@ -34,8 +35,11 @@ struct RtraceDcOptions {
 RtraceDcOptions ParseRtraceDcOptions(const std::vector<std::string> &args,
                                      std::vector<std::string> *header_args);
 
-// Traces the rays on the standard input and writes each one's coefficients to the standard
-// output (ascii: N values "%e\t" and a newline; -ff/-fd: N floats or doubles).
-void RunRtraceDc(const RtraceDcOptions &o, const std::vector<std::string> &header_args);
+// Traces the rays of `rays` (a file, "-" for the standard input, or "!command") and writes each
+// one's coefficients (ascii: N values "%e\t" and a newline; -ff/-fd: N floats or doubles) to out,
+// or to the standard output when out is null. A given out is left for the caller to commit.
+// Returns the number of rays.
+size_t RunRtraceDc(const RtraceDcOptions &o, const std::vector<std::string> &header_args,
+                   const std::string &rays = "-", OutputFile *out = nullptr);
 
 }  // namespace dayflux
