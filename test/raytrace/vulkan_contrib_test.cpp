@@ -221,6 +221,42 @@ TEST_F(VulkanContrib, OneRandomStreamOnBothBackends) {
         << "backends " << std::sqrt(backends / scale) << ", seeds " << std::sqrt(seeds / scale);
 }
 
+// rtrace_dc-gpu on the GPU: DAYSIM's patch function compiled from calcomp into the shader, its
+// -V+ coefficients, with one random stream: the tutorial room's 148 diffuse coefficients as
+// Embree's to float rounding (far closer than two seeds).
+TEST_F(VulkanContrib, RtraceDcAsEmbree) {
+    const fs::path room = DataDir() / "daysim" / "room";
+    WriteFile(tmp_.path() / "sky148.rad",
+              "void glow sky 0 0 4 1000 1000 1000 0\nsky source himmel 0 0 4 0 0 1 360\n");
+    const std::string args = "-h -I+ -oc -ab 2 -ad 512 -lw 1e-3 -N 148 -Dd '" +
+                             (tmp_.path() / "sky148.rad").string() +
+                             "' room_material.rad room_geometry.rad < room.pts";
+    const auto run = [&](const std::string &how) {
+        const CommandResult r = RunCommand(kDevice + "rtrace_dc-gpu " + how + " " + args, room);
+        EXPECT_EQ(r.status, 0) << r.err;
+        EXPECT_EQ(r.err.find("using Embree"), std::string::npos) << r.err;
+        std::vector<double> v;
+        std::istringstream in(r.out);
+        for (double x; in >> x;) v.push_back(x);
+        return v;
+    };
+    const std::vector<double> gpu = run("-backend vulkan -seed 1"),
+                              cpu = run("-backend embree -seed 1"),
+                              other = run("-backend embree -seed 2");
+    ASSERT_EQ(gpu.size(), 10u * 148);
+    ASSERT_EQ(cpu.size(), gpu.size());
+    ASSERT_EQ(other.size(), gpu.size());
+    double backends = 0, seeds = 0, total = 0;
+    for (size_t i = 0; i < gpu.size(); ++i) {
+        backends += (gpu[i] - cpu[i]) * (gpu[i] - cpu[i]);
+        seeds += (other[i] - cpu[i]) * (other[i] - cpu[i]);
+        total += cpu[i];
+    }
+    EXPECT_GT(total, 1.0);
+    EXPECT_GT(seeds, 0);
+    EXPECT_LT(std::sqrt(backends), 0.2 * std::sqrt(seeds));
+}
+
 // -asub 2: each first-level cell sampled by 2 x 2 rays, one carrying its diffuse paths with 4
 // times its coefficient, the same on both backends (a wrong scale would move every entry lit
 // after a bounce).
