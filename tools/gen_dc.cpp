@@ -1,18 +1,20 @@
 // gen_dc: DAYSIM's daylight coefficients of a project file (src/daysim/gen_dc.h), traced by
 // rtrace_dc-gpu's engine in this process: `gen_dc project.hea [-dir|-dif|-paste] [-h]
 // [-ext str]`, with ours: [-backend embree|vulkan] [-device name] [-seed n] [-n threads].
+#include "daysim/gen_dc.h"
+
 #include <cstring>
 #include <string>
 
-#include "daysim/gen_dc.h"
 #include "util/errors.h"
 
 namespace dayflux {
 namespace {
 
 [[noreturn]] void Usage() {
-    ErrorExit("usage: gen_dc project.hea [-dir|-dif|-paste] [-h] [-ext str] [-backend b] "
-              "[-device d] [-seed n] [-n threads]");
+    ErrorExit(
+        "usage: gen_dc project.hea [-dir|-dif|-paste] [-h] [-ext str] [-backend b] "
+        "[-device d] [-seed n] [-n threads]");
 }
 
 int Main(int argc, char **argv) {

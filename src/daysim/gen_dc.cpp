@@ -23,19 +23,34 @@ std::string Fixed(double v) {
 
 // rtrace_dc's command line as gen_dc builds it (getOptionString), without the scene.
 std::vector<std::string> RtraceArgs(const DaysimRtraceSettings &s, const GenDcOptions &g) {
-    std::vector<std::string> a = {"rtrace_dc-gpu", "-h",   "-" + s.irradiance_switch,
-                                  "-oc",           "-aa",  Fixed(s.aa),
-                                  "-ab",           std::to_string(s.ab),
-                                  "-ad",           std::to_string(s.ad),
-                                  "-ar",           std::to_string(s.ar),
-                                  "-as",           std::to_string(s.as),
-                                  "-dj",           Fixed(s.dj),
-                                  "-dr",           std::to_string(s.dr),
-                                  "-ds",           Fixed(s.ds),
-                                  "-lr",           std::to_string(s.lr),
-                                  "-lw",           Fixed(s.lw),
-                                  "-ss",           "1.000000",
-                                  "-st",           Fixed(s.st)};
+    std::vector<std::string> a = {"rtrace_dc-gpu",
+                                  "-h",
+                                  "-" + s.irradiance_switch,
+                                  "-oc",
+                                  "-aa",
+                                  Fixed(s.aa),
+                                  "-ab",
+                                  std::to_string(s.ab),
+                                  "-ad",
+                                  std::to_string(s.ad),
+                                  "-ar",
+                                  std::to_string(s.ar),
+                                  "-as",
+                                  std::to_string(s.as),
+                                  "-dj",
+                                  Fixed(s.dj),
+                                  "-dr",
+                                  std::to_string(s.dr),
+                                  "-ds",
+                                  Fixed(s.ds),
+                                  "-lr",
+                                  std::to_string(s.lr),
+                                  "-lw",
+                                  Fixed(s.lw),
+                                  "-ss",
+                                  "1.000000",
+                                  "-st",
+                                  Fixed(s.st)};
     for (const std::string &w : SplitWords(s.additional)) a.push_back(w);
     a.insert(a.end(), {"-L", "1000.000000"});
     a.insert(a.end(), g.engine_args.begin(), g.engine_args.end());
@@ -50,10 +65,10 @@ class GenDc {
         sensors_ = p.Path(p.sensor_file) + g.extension;
         sensor_count_ = CountSensors(sensors_);
         if (!p.sensor_units.empty() && p.sensor_units.size() != sensor_count_)
-            ErrorExit(&p.sensor_units_loc,
-                      "sensor_file_unit gives " + std::to_string(p.sensor_units.size()) +
-                          " units for the " + std::to_string(sensor_count_) + " sensors of " +
-                          sensors_);
+            ErrorExit(&p.sensor_units_loc, "sensor_file_unit gives " +
+                                               std::to_string(p.sensor_units.size()) +
+                                               " units for the " + std::to_string(sensor_count_) +
+                                               " sensors of " + sensors_);
         std::filesystem::create_directories(p.tmp_directory.empty() ? "." : p.tmp_directory);
     }
 
@@ -80,7 +95,9 @@ class GenDc {
     std::string WriteSky() const {
         const std::string f = (std::filesystem::path(p_.tmp_directory) / "skyPatches.rad").string();
         OutputFile out(f);
-        out.Write("void glow sky\n0\n0\n4  1000 1000 1000  0\n\nsky source himmel\n0\n0\n4  0 0 1  360\n\n");
+        out.Write(
+            "void glow sky\n0\n0\n4  1000 1000 1000  0\n\nsky source himmel\n0\n0\n4  0 0 1  "
+            "360\n\n");
         out.Commit();
         return f;
     }
@@ -89,7 +106,8 @@ class GenDc {
         table_ = DaysimDirectSuns(*p_.latitude * (M_PI / 180.));
         const std::string f =
             p_.direct_radiance_file.empty()
-                ? (std::filesystem::path(p_.tmp_directory) / "direct_radiance_file.tmp.rad").string()
+                ? (std::filesystem::path(p_.tmp_directory) / "direct_radiance_file.tmp.rad")
+                      .string()
                 : p_.Path(p_.direct_radiance_file);
         OutputFile out(f);
         out.Write(DaysimSunScene(table_));
@@ -127,8 +145,9 @@ class GenDc {
         out.Write("# dayflux rtrace_dc-gpu\n# " + command + "\n");
         const size_t rows = RunRtraceDc(o, header, sensors_, &out);
         if (rows != sensor_count_)
-            ErrorExit(sensors_ + ": " + std::to_string(rows) + " sensors traced, but the file has " +
-                      std::to_string(sensor_count_) + " lines");
+            ErrorExit(sensors_ + ": " + std::to_string(rows) +
+                      " sensors traced, but the file has " + std::to_string(sensor_count_) +
+                      " lines");
         out.Commit();
     }
 
@@ -146,12 +165,13 @@ class GenDc {
 
     void Merge(const DaysimVariant &v) const {
         const std::string dif = Temp(v, "dif"), dir = Temp(v, "dir");
-        const std::unique_ptr<InputSource> dif_in = InputSource::Open(dif), dir_in = InputSource::Open(dir);
+        const std::unique_ptr<InputSource> dif_in = InputSource::Open(dif),
+                                           dir_in = InputSource::Open(dir);
         OutputFile out(p_.Path(v.dc) + g_.extension);
         char latitude[64];
         std::snprintf(latitude, sizeof latitude, "%.2f", p_.latitude.value_or(0));
-        out.Write("# merged daylight coefficients from " + dif + " and " + dir + ".\n# latitude: " +
-                  latitude + "\n");
+        out.Write("# merged daylight coefficients from " + dif + " and " + dir +
+                  ".\n# latitude: " + latitude + "\n");
         std::string a, b;
         size_t rows = 0;
         while (dir_in->ReadLine(&a)) {
@@ -184,26 +204,6 @@ class GenDc {
 };
 
 }  // namespace
-
-size_t CountSensors(const std::string &file) {
-    const std::unique_ptr<InputSource> in = InputSource::Open(file);
-    std::string line;
-    size_t n = 0;
-    while (true) {
-        const FileLoc loc = in->Loc();
-        if (!in->ReadLine(&line)) break;
-        const std::vector<std::string> w = SplitWords(line);
-        double v;
-        if (w.size() < 6)
-            ErrorExit(&loc, w.empty() ? "an empty line among the sensors (every line is a sensor)"
-                                      : "a sensor needs six numbers (x y z dx dy dz)");
-        for (int k = 0; k < 6; ++k)
-            if (!ParseNumber(w[k], &v)) ErrorExit(&loc, "'" + w[k] + "' is not a number");
-        ++n;
-    }
-    if (n == 0) ErrorExit(file + ": no sensors");
-    return n;
-}
 
 void RunGenDc(const DaysimProject &project, const GenDcOptions &options) {
     GenDc(project, options).Run();

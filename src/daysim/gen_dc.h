@@ -14,16 +14,12 @@ namespace dayflux {
 
 struct GenDcOptions {
     bool diffuse = true, direct = true, merge = true;  // -dif, -dir, -paste (all by default)
-    bool show_commands = false;                         // -h (DAYSIM's: print the commands)
-    std::string extension;                              // -ext: added to the sensor and dc names
+    bool show_commands = false;                        // -h (DAYSIM's: print the commands)
+    std::string extension;                             // -ext: added to the sensor and dc names
     // Ours: passed to rtrace_dc-gpu (-backend, -device, -seed, -n, -gpu_traversal).
     std::vector<std::string> engine_args;
 };
 
 void RunGenDc(const DaysimProject &project, const GenDcOptions &options);
-
-// The sensors of a sensor file (x y z dx dy dz per line; '#' lines and blank lines are errors, as
-// they would shift the rows of every file after).
-size_t CountSensors(const std::string &file);
 
 }  // namespace dayflux

@@ -14,30 +14,90 @@ namespace {
 // Keys of DAYSIM's other programs (metrics, lighting and blind control, glare, DDS, photon
 // maps): accepted and not used here.
 const std::set<std::string> &KeysNotUsedHere() {
-    static const std::set<std::string> keys = {
-        "AdaptiveZoneApplies", "DA_max_active_RGB", "DA_max_passive_RGB", "DDS_file",
-        "DDS_sensor_file", "DGP_Profiles", "DSP_active_RGB", "DSP_passive_RGB",
-        "DirectIrradianceGlareThreshold", "PNGScheduleExists", "Template_File",
-        "UDI_100_2000_active_RGB", "UDI_100_2000_passive_RGB", "UDI_100_active_RGB",
-        "UDI_100_passive_RGB", "UDI_2000_active_RGB", "UDI_2000_passive_RGB",
-        "ballast_driver_schedule", "bin_directory", "blind_control", "calc_grid",
-        "continuous_daylight_autonomy_active_RGB", "continuous_daylight_autonomy_passive_RGB",
-        "daylight_autonomy", "daylight_autonomy_active_RGB", "daylight_autonomy_passive_RGB",
-        "daylight_availability_active_RGB", "daylight_availability_passive_RGB", "daylight_factor",
-        "daylight_factor_RGB", "daylight_savings_time", "dgp_check_file", "dgp_image_x_size",
-        "dgp_image_y_size", "dgp_out_file", "dgp_profile_cut", "direct_glare_file",
-        "direct_radiance_file_2305", "direct_sunlight_file", "display_unit_index",
-        "electric_lighting", "electric_lighting_system", "first_weekday", "input_unit_index",
-        "luminaire_layout", "luminaire_schedule", "material_directory",
-        "minimum_illuminance_level", "occupancy", "occupancy_profile", "output_unit_index",
-        "percentage_of_visible_sky_file", "photosensor_control", "radiance_source_files",
-        "rshow_da", "rshow_df", "sDA_settings", "scene_rotation_angle", "sensor_file_info",
-        "target_illuminance", "thermal_simulation", "thermal_simulation_active",
-        "thermal_simulation_passive", "user_profile", "viewpoint_file", "wea_data_file",
-        "zone_description", "pmap_apD", "pmap_apc_bwidth", "pmap_apc_file", "pmap_apc_nphotons",
-        "pmap_apg_bwidth", "pmap_apg_file", "pmap_apg_nphotons", "pmap_apo", "pmap_t",
-        "sj", "dc_direct_resolution", "solar_pen", "perez_output", "horizon_data_out",
-        "horizon_data_in", "all_warnings", "ds_shortterm"};
+    static const std::set<std::string> keys = {"AdaptiveZoneApplies",
+                                               "DA_max_active_RGB",
+                                               "DA_max_passive_RGB",
+                                               "DDS_file",
+                                               "DDS_sensor_file",
+                                               "DGP_Profiles",
+                                               "DSP_active_RGB",
+                                               "DSP_passive_RGB",
+                                               "DirectIrradianceGlareThreshold",
+                                               "PNGScheduleExists",
+                                               "Template_File",
+                                               "UDI_100_2000_active_RGB",
+                                               "UDI_100_2000_passive_RGB",
+                                               "UDI_100_active_RGB",
+                                               "UDI_100_passive_RGB",
+                                               "UDI_2000_active_RGB",
+                                               "UDI_2000_passive_RGB",
+                                               "ballast_driver_schedule",
+                                               "bin_directory",
+                                               "blind_control",
+                                               "calc_grid",
+                                               "continuous_daylight_autonomy_active_RGB",
+                                               "continuous_daylight_autonomy_passive_RGB",
+                                               "daylight_autonomy",
+                                               "daylight_autonomy_active_RGB",
+                                               "daylight_autonomy_passive_RGB",
+                                               "daylight_availability_active_RGB",
+                                               "daylight_availability_passive_RGB",
+                                               "daylight_factor",
+                                               "daylight_factor_RGB",
+                                               "daylight_savings_time",
+                                               "dgp_check_file",
+                                               "dgp_image_x_size",
+                                               "dgp_image_y_size",
+                                               "dgp_out_file",
+                                               "dgp_profile_cut",
+                                               "direct_glare_file",
+                                               "direct_radiance_file_2305",
+                                               "direct_sunlight_file",
+                                               "display_unit_index",
+                                               "electric_lighting",
+                                               "electric_lighting_system",
+                                               "first_weekday",
+                                               "input_unit_index",
+                                               "luminaire_layout",
+                                               "luminaire_schedule",
+                                               "material_directory",
+                                               "minimum_illuminance_level",
+                                               "occupancy",
+                                               "occupancy_profile",
+                                               "output_unit_index",
+                                               "percentage_of_visible_sky_file",
+                                               "photosensor_control",
+                                               "radiance_source_files",
+                                               "rshow_da",
+                                               "rshow_df",
+                                               "sDA_settings",
+                                               "scene_rotation_angle",
+                                               "sensor_file_info",
+                                               "target_illuminance",
+                                               "thermal_simulation",
+                                               "thermal_simulation_active",
+                                               "thermal_simulation_passive",
+                                               "user_profile",
+                                               "viewpoint_file",
+                                               "wea_data_file",
+                                               "zone_description",
+                                               "pmap_apD",
+                                               "pmap_apc_bwidth",
+                                               "pmap_apc_file",
+                                               "pmap_apc_nphotons",
+                                               "pmap_apg_bwidth",
+                                               "pmap_apg_file",
+                                               "pmap_apg_nphotons",
+                                               "pmap_apo",
+                                               "pmap_t",
+                                               "sj",
+                                               "dc_direct_resolution",
+                                               "solar_pen",
+                                               "perez_output",
+                                               "horizon_data_out",
+                                               "horizon_data_in",
+                                               "all_warnings",
+                                               "ds_shortterm"};
     return keys;
 }
 
@@ -66,7 +126,8 @@ class HeaReader {
                 if (!Rtrace(key, block)) Fail(key, "is not an rtrace setting");
             } else if (!Project(key) && !Site(key) && !Scene(key) && !Both(key)) {
                 if (KeysNotUsedHere().count(key) == 0)
-                    Warning(&loc_, "unknown key '" + key + "' (ignored, as DAYSIM does: misspelled?)");
+                    Warning(&loc_,
+                            "unknown key '" + key + "' (ignored, as DAYSIM does: misspelled?)");
             }
             p_.where[key] = loc_;
         }
@@ -197,24 +258,40 @@ class HeaReader {
     }
 
     bool Rtrace(const std::string &key, DaysimRtraceSettings *s) {
-        if (key == "aa") s->aa = Number(key);
-        else if (key == "ab") s->ab = Integer(key);
-        else if (key == "ad") s->ad = Integer(key);
-        else if (key == "ar") s->ar = Integer(key);
-        else if (key == "as") s->as = Integer(key);
-        else if (key == "dj") s->dj = Number(key);
-        else if (key == "ds") s->ds = Number(key);
-        else if (key == "dp") s->dp = Number(key);
-        else if (key == "dr") s->dr = Integer(key);
-        else if (key == "lr") s->lr = Integer(key);
-        else if (key == "lw") s->lw = Number(key);
-        else if (key == "st") s->st = Number(key);
-        else if (key == "ss") Number(key);  // gen_dc always passes -ss 1 (DAYSIM's sj)
-        else if (key == "irradiance_switch") s->irradiance_switch = Word(key);
-        else if (key == "additional_rtrace_parameter") s->additional = Rest(key);
+        if (key == "aa")
+            s->aa = Number(key);
+        else if (key == "ab")
+            s->ab = Integer(key);
+        else if (key == "ad")
+            s->ad = Integer(key);
+        else if (key == "ar")
+            s->ar = Integer(key);
+        else if (key == "as")
+            s->as = Integer(key);
+        else if (key == "dj")
+            s->dj = Number(key);
+        else if (key == "ds")
+            s->ds = Number(key);
+        else if (key == "dp")
+            s->dp = Number(key);
+        else if (key == "dr")
+            s->dr = Integer(key);
+        else if (key == "lr")
+            s->lr = Integer(key);
+        else if (key == "lw")
+            s->lw = Number(key);
+        else if (key == "st")
+            s->st = Number(key);
+        else if (key == "ss")
+            Number(key);  // gen_dc always passes -ss 1 (DAYSIM's sj)
+        else if (key == "irradiance_switch")
+            s->irradiance_switch = Word(key);
+        else if (key == "additional_rtrace_parameter")
+            s->additional = Rest(key);
         else if (key == "calculation_mode") {
             if (Word(key) != "classic") Fail(key, "photon maps are not supported");
-        } else return false;
+        } else
+            return false;
         return true;
     }
 
@@ -263,6 +340,26 @@ void DaysimProject::Require(const std::string &key, bool present) const {
 std::string DaysimProject::Path(const std::string &name) const {
     if (name.empty() || name[0] == '/' || project_directory.empty()) return name;
     return (std::filesystem::path(project_directory) / name).string();
+}
+
+size_t CountSensors(const std::string &file) {
+    const std::unique_ptr<InputSource> in = InputSource::Open(file);
+    std::string line;
+    size_t n = 0;
+    while (true) {
+        const FileLoc loc = in->Loc();
+        if (!in->ReadLine(&line)) break;
+        const std::vector<std::string> w = SplitWords(line);
+        double v;
+        if (w.size() < 6)
+            ErrorExit(&loc, w.empty() ? "an empty line among the sensors (every line is a sensor)"
+                                      : "a sensor needs six numbers (x y z dx dy dz)");
+        for (int k = 0; k < 6; ++k)
+            if (!ParseNumber(w[k], &v)) ErrorExit(&loc, "'" + w[k] + "' is not a number");
+        ++n;
+    }
+    if (n == 0) ErrorExit(file + ": no sensors");
+    return n;
 }
 
 DaysimProject ReadDaysimProject(const std::string &file) {

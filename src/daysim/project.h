@@ -37,11 +37,11 @@ struct DaysimProject {
     // Degrees as the .hea gives them: latitude north, longitude and time_zone (the standard
     // meridian) west positive, as RADIANCE's programs take them.
     std::optional<double> latitude, longitude, time_zone;
-    double site_elevation = 0, ground_reflectance = 0.2;
-    int time_step = 60;
-    std::string weather;  // wea_data_short_file
+    double site_elevation = 0, ground_reflectance = 0;  // DAYSIM's defaults
+    int time_step = 5;      // minutes; DAYSIM's default when the key is missing (warned)
+    std::string weather;    // wea_data_short_file
     int weather_units = 1;  // 1 DNI/DHI W/m2, 2 global/diffuse horizontal W/m2, 3 lux
-    double direct_threshold = 2, diffuse_threshold = 2;  // lower_*_threshold, W/m2
+    double direct_threshold = 0, diffuse_threshold = 0;  // lower_*_threshold, W/m2
     int output_units = 2;
     // material_file and geometry_file (each may name several files)
     std::vector<std::string> material_files, geometry_files;
@@ -66,5 +66,9 @@ struct DaysimProject {
 // are accepted, keys DAYSIM does not know get a warning (a misspelled key is otherwise lost, as
 // DAYSIM skips the line).
 DaysimProject ReadDaysimProject(const std::string &file);
+
+// The sensors of a sensor file (x y z dx dy dz per line; '#' lines and blank lines are errors, as
+// they would shift the rows of every file after).
+size_t CountSensors(const std::string &file);
 
 }  // namespace dayflux

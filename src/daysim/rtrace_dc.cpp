@@ -49,7 +49,7 @@ class Parser {
     // after rtrace's defaults where they differ from rcontrib's.
     std::vector<std::string> Run() {
         const std::string prog = args_.empty() ? "rtrace_dc-gpu" : args_[0];
-        std::vector<std::string> pass = {prog,  "-dj", "0",  "-dr",  "2",   "-st", "0.15",
+        std::vector<std::string> pass = {prog,  "-dj", "0",   "-dr",  "2",   "-st",  "0.15",
                                          "-ab", "0",   "-ad", "1024", "-lw", "2e-3", "-lr",
                                          "-10", "-ds", "0.2", "-ss",  "1"};
         for (i_ = 1; i_ < args_.size(); ++i_) {
@@ -59,9 +59,11 @@ class Parser {
             pass.push_back(a);
             // rcontrib's options with values: copy them along (rcontrib's parser checks them).
             static const std::set<std::string> with_value = {
-                "-ab", "-ad",   "-lw",     "-lr",    "-st",          "-ss",         "-dj",
-                "-ds", "-dr",   "-n",      "-asub",  "-seed",        "-backend",    "-gpu_accum",
-                "-gpu_scratch", "-gpu_traversal",    "-device"};
+                "-ab",      "-ad",        "-lw",          "-lr",
+                "-st",      "-ss",        "-dj",          "-ds",
+                "-dr",      "-n",         "-asub",        "-seed",
+                "-backend", "-gpu_accum", "-gpu_scratch", "-gpu_traversal",
+                "-device"};
             if (with_value.count(a)) pass.push_back(Value(a));
         }
         pass.insert(pass.end(), {"-V+", "-m", kPlaceholderModifier});
@@ -94,7 +96,8 @@ class Parser {
         if (a == "-N") {
             o_.coefficients = Integer(a);
             if (o_.coefficients < 1 || o_.coefficients > kMaxCoefficients)
-                ErrorExit("-N " + args_[i_] + ": the number of coefficients must lie between 1 and " +
+                ErrorExit("-N " + args_[i_] +
+                          ": the number of coefficients must lie between 1 and " +
                           std::to_string(kMaxCoefficients));
         } else if (a == "-Dm" || a == "-Dd") {
             o_.by_direction = a == "-Dd";
@@ -115,8 +118,7 @@ class Parser {
     // rtrace's own options (not rcontrib's), and those with no effect here.
     bool Rtrace(const std::string &a) {
         if (a.rfind("-o", 0) == 0) {
-            if (a != "-oc")
-                ErrorExit(a + ": rtrace_dc writes daylight coefficients only (-oc)");
+            if (a != "-oc") ErrorExit(a + ": rtrace_dc writes daylight coefficients only (-oc)");
         } else if (a.rfind("-h", 0) == 0) {
             o_.header = Flag(a, o_.header);
         } else if (a.rfind("-f", 0) == 0 && a.size() >= 3 && a.size() <= 4) {
@@ -129,8 +131,7 @@ class Parser {
             o_.ambient_resolution = Integer(a);
         } else if (a == "-as") {
             o_.ambient_supersamples = Integer(a);
-        } else if (a == "-x" || a == "-y" || a == "-dt" || a == "-dc" || a == "-dp" ||
-                   a == "-aw") {
+        } else if (a == "-x" || a == "-y" || a == "-dt" || a == "-dc" || a == "-dp" || a == "-aw") {
             // -x/-y shape pictures, which rtrace_dc does not write; every source is tested for
             // shadow (as -dt 0, which -dc then does not affect); virtual sources need no pretest.
             Number(a);
@@ -142,7 +143,8 @@ class Parser {
                 Warning("-av: an ambient value belongs to no daylight coefficient (ignored)");
         } else if (a == "-me" || a == "-ma") {
             const double r = Number(a), g = Number(a), b = Number(a);
-            if (r != 0 || g != 0 || b != 0) ErrorExit(a + ": participating media are not supported");
+            if (r != 0 || g != 0 || b != 0)
+                ErrorExit(a + ": participating media are not supported");
         } else if (a == "-mg" || a == "-ms") {
             if (Number(a) != 0 && a == "-mg")
                 ErrorExit(a + ": participating media are not supported");

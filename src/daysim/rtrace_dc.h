@@ -15,13 +15,13 @@
 namespace dayflux {
 
 struct RtraceDcOptions {
-    RcontribOptions trace;  // the engine, rendering options and scene (rcontrib's parser)
-    int coefficients = 0;   // -N
-    bool by_direction = false;  // -Dd, else -Dm
+    RcontribOptions trace;           // the engine, rendering options and scene (rcontrib's parser)
+    int coefficients = 0;            // -N
+    bool by_direction = false;       // -Dd, else -Dm
     double source_luminance = 1000;  // -L
     // -U n u1 .. un: 1 irradiance, else radiance, per sensor; empty: -I for all.
     std::vector<int> sensor_units;
-    bool header = true;                           // -h
+    bool header = true;                                          // -h
     DataFormat in = DataFormat::Ascii, out = DataFormat::Ascii;  // -f
     // -aa -ar -as: the ambient cache's accuracy, resolution and super-samples (-aa 0: no cache).
     double ambient_accuracy = 0.1;

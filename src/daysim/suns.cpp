@@ -26,21 +26,27 @@ double TimeAtAltitude(double latitude, double sd, double alt) {
     return 12.0 / M_PI * std::acos((e - std::sin(alt)) / f);
 }
 // DAYSIM's declination: an older form of RADIANCE's, with a 368-day period (RADIANCE now has 365).
-double Declination(int day_of_year) {
+}  // namespace
+
+double DaysimDeclination(int day_of_year) {
     return 0.4093 * std::sin((2 * M_PI / 368) * (day_of_year - 81));
 }
+
+namespace {
 double Degrees(double r) { return r * (180.0 / M_PI); }
 
+// gen_dc keeps the declination and solar time in float, ds_illum in double (Real).
+template <typename Real>
 void AddDesignDay(double latitude, int month, DaysimSunTable *table) {
-    const float sd = static_cast<float>(Declination(DayOfYear(month, 21)));
+    const Real sd = static_cast<Real>(DaysimDeclination(DayOfYear(month, 21)));
     const double rise = TimeAtAltitude(latitude, sd, 2.0 * (M_PI / 180.));
     const double set = 24 - rise;
     for (int hour = 0; hour < 24; ++hour) {
-        float st = static_cast<float>(hour);
-        if (hour - 0.5 < rise && hour + 0.5 > rise) st = static_cast<float>(rise);
-        if (hour - 0.5 < set && hour + 0.5 > set) st = static_cast<float>(set);
+        Real st = static_cast<Real>(hour);
+        if (hour - 0.5 < rise && hour + 0.5 > rise) st = static_cast<Real>(rise);
+        if (hour - 0.5 < set && hour + 0.5 > set) st = static_cast<Real>(set);
         DaysimSunTable::Entry &e = table->calendar[month][hour];
-        e.solar_time = st;
+        e.solar_time = static_cast<float>(st);
         e.altitude = static_cast<float>(Degrees(Altitude(latitude, sd, st)));
         e.azimuth = static_cast<float>(Degrees(Azimuth(latitude, sd, st)));
         if (Degrees(Altitude(latitude, sd, st)) > 1.999) {
@@ -53,11 +59,16 @@ void AddDesignDay(double latitude, int month, DaysimSunTable *table) {
 
 }  // namespace
 
-DaysimSunTable DaysimDirectSuns(double latitude) {
+DaysimSunTable DaysimDirectSuns(double latitude, bool as_gen_dc) {
     DaysimSunTable table;
     for (int month = 1; month <= 12; ++month)
         for (int hour = 0; hour < 24; ++hour) table.calendar[month][hour].solar_time = hour;
-    for (int month : kDaysimDesignMonths) AddDesignDay(latitude, month, &table);
+    for (int month : kDaysimDesignMonths) {
+        if (as_gen_dc)
+            AddDesignDay<float>(latitude, month, &table);
+        else
+            AddDesignDay<double>(latitude, month, &table);
+    }
     return table;
 }
 

@@ -30,8 +30,12 @@ struct DaysimSunTable {
     Entry calendar[13][24];
 };
 
-// latitude in radians north.
-DaysimSunTable DaysimDirectSuns(double latitude);
+// latitude in radians north. as_gen_dc: gen_dc's float declination and solar times (the suns'
+// files); else ds_illum's double ones (its calendar, which numbers the same suns).
+DaysimSunTable DaysimDirectSuns(double latitude, bool as_gen_dc = true);
+
+// DAYSIM's solar declination (radians): an older form of RADIANCE's, with a 368-day period.
+double DaysimDeclination(int day_of_year);
 
 // The direction gen_dc writes for a sun (x east, y north, z up).
 void DaysimSunDirection(const DaysimSun &sun, double dir[3]);

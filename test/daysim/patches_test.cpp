@@ -1,11 +1,12 @@
 // DAYSIM's sky division: known patches, the calcomp form the engines evaluate, the centres.
+#include "daysim/patches.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
 #include "cal/calcomp.h"
-#include "daysim/patches.h"
 
 namespace dayflux {
 namespace {
@@ -24,18 +25,18 @@ int PatchAt(double altitude_deg, double azimuth_deg) {
 }
 
 TEST(DaysimPatches, StartEastGoCounterClockwiseGroundLast) {
-    EXPECT_EQ(PatchAt(5, 1), 0);      // just north of east
-    EXPECT_EQ(PatchAt(5, -1), 29);    // just south of east: the row's last patch
-    EXPECT_EQ(PatchAt(5, 90), 7);     // north: 30 x 1/4 = 7.5
-    EXPECT_EQ(PatchAt(5, 180), 15);   // west
-    EXPECT_EQ(PatchAt(13, 1), 30);    // second row
-    EXPECT_EQ(PatchAt(25, 1), 60);    // third row (24 patches)
+    EXPECT_EQ(PatchAt(5, 1), 0);       // just north of east
+    EXPECT_EQ(PatchAt(5, -1), 29);     // just south of east: the row's last patch
+    EXPECT_EQ(PatchAt(5, 90), 7);      // north: 30 x 1/4 = 7.5
+    EXPECT_EQ(PatchAt(5, 180), 15);    // west
+    EXPECT_EQ(PatchAt(13, 1), 30);     // second row
+    EXPECT_EQ(PatchAt(25, 1), 60);     // third row (24 patches)
     EXPECT_EQ(PatchAt(80, 359), 143);  // the last of the six in the top row
     EXPECT_EQ(PatchAt(85, 10), 144);   // zenith cap
     EXPECT_EQ(DaysimPatch(0, 0, 1), 144);
-    EXPECT_EQ(PatchAt(-5, 0), 145);   // ground 0-10 degrees below
-    EXPECT_EQ(PatchAt(-20, 0), 146);  // 10-30
-    EXPECT_EQ(PatchAt(-60, 0), 147);  // below 30
+    EXPECT_EQ(PatchAt(-5, 0), 145);        // ground 0-10 degrees below
+    EXPECT_EQ(PatchAt(-20, 0), 146);       // 10-30
+    EXPECT_EQ(PatchAt(-60, 0), 147);       // below 30
     EXPECT_EQ(DaysimPatch(1, 0, 0), 145);  // the horizon is ground
 }
 

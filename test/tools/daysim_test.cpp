@@ -50,7 +50,8 @@ TEST(RtraceDc, UniformSkyGivesPiInProjectedSolidAnglesOfItsRows) {
     // cos^2 and azimuth make a row's share exact to a stratum's width (1/4096 of pi).
     const int start[9] = {0, 30, 60, 84, 108, 126, 138, 144, 145};
     for (int row = 0; row < 8; ++row) {
-        const double lo = 12.0 * row * M_PI / 180, hi = std::min(12.0 * row + 12, 90.0) * M_PI / 180;
+        const double lo = 12.0 * row * M_PI / 180,
+                     hi = std::min(12.0 * row + 12, 90.0) * M_PI / 180;
         double got = 0;
         for (int p = start[row]; p < start[row + 1]; ++p) got += rows[0][p];
         const double want = M_PI * (std::pow(std::sin(hi), 2) - std::pow(std::sin(lo), 2));
@@ -123,8 +124,8 @@ TEST(RtraceDc, CoefficientsSumToTheTotalRcontribFinds) {
     const std::string common = "-I+ -ab 3 -ad 512 -lw 1e-4 -seed 7 -n 1";
     const CommandResult dc = RunCommand(
         "rtrace_dc-gpu -h -oc " + common + " -N 148 -Dd scene.rad < points.txt", dir.path());
-    const CommandResult rc = RunCommand(
-        "rcontrib-gpu -h -V+ " + common + " -m sky scene.rad < points.txt", dir.path());
+    const CommandResult rc =
+        RunCommand("rcontrib-gpu -h -V+ " + common + " -m sky scene.rad < points.txt", dir.path());
     ASSERT_EQ(dc.status, 0) << dc.err;
     ASSERT_EQ(rc.status, 0) << rc.err;
     const auto coefficients = Lines(dc.out), totals = Lines(rc.out);
@@ -140,12 +141,11 @@ TEST(RtraceDc, CoefficientsSumToTheTotalRcontribFinds) {
 
 TEST(RtraceDc, BadInput) {
     TempDir dir;
-    WriteFile(dir.path() / "suns.rad", kTwoSuns +
-                                           std::string("void light lamp 0 0 3 10 10 10\n"
-                                                       "lamp sphere bulb 0 0 4 0 0 5 .1\n"));
+    WriteFile(dir.path() / "suns.rad", kTwoSuns + std::string("void light lamp 0 0 3 10 10 10\n"
+                                                              "lamp sphere bulb 0 0 4 0 0 5 .1\n"));
     // A light source not named solarK, and one beyond -N: warned, not counted.
-    const CommandResult r = RunCommand(
-        "echo '0 0 0 0 0 1' | rtrace_dc-gpu -h -I+ -oc -N 1 -Dm suns.rad", dir.path());
+    const CommandResult r =
+        RunCommand("echo '0 0 0 0 0 1' | rtrace_dc-gpu -h -I+ -oc -N 1 -Dm suns.rad", dir.path());
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.err.find("light source 'lamp' is not named solarK"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("light source 'solar2' is coefficient 2 of only 1"), std::string::npos)
@@ -157,12 +157,12 @@ TEST(RtraceDc, BadInput) {
         EXPECT_NE(e.status, 0) << bad;
         EXPECT_NE(e.err.find("rtrace_dc-gpu: "), std::string::npos) << bad << ": " << e.err;
     }
-    const CommandResult missing = RunCommand(
-        "echo '0 0 0 0 0 1' | rtrace_dc-gpu -h -I+ -N 2 nowhere.rad", dir.path());
+    const CommandResult missing =
+        RunCommand("echo '0 0 0 0 0 1' | rtrace_dc-gpu -h -I+ -N 2 nowhere.rad", dir.path());
     EXPECT_NE(missing.status, 0);
     EXPECT_NE(missing.err.find("nowhere.rad"), std::string::npos) << missing.err;
-    const CommandResult short_ray = RunCommand(
-        "echo '0 0 0 0 0' | rtrace_dc-gpu -h -I+ -N 2 suns.rad", dir.path());
+    const CommandResult short_ray =
+        RunCommand("echo '0 0 0 0 0' | rtrace_dc-gpu -h -I+ -N 2 suns.rad", dir.path());
     EXPECT_NE(short_ray.status, 0);
 }
 
@@ -209,7 +209,8 @@ TEST_F(DaysimRoom, GenDcWritesDaysimsSunsAndHeaderAndMatchesItsCoefficients) {
                        0),
               0u)
         << dc.substr(0, 200);
-    const auto got = Dc("room.dc"), daysim = Dc("room.daysim.dc"), again = Dc("room.daysim_run2.dc");
+    const auto got = Dc("room.dc"), daysim = Dc("room.daysim.dc"),
+               again = Dc("room.daysim_run2.dc");
     ASSERT_EQ(got.size(), 10u);
     ASSERT_EQ(daysim.size(), 10u);
     for (const auto &row : got) ASSERT_EQ(row.size(), 209u);
@@ -266,6 +267,105 @@ TEST_F(DaysimRoom, GenDcBadProjects) {
     EXPECT_NE(r.status, 0);
     EXPECT_NE(r.err.find("room.pts:2: a sensor needs six numbers"), std::string::npos) << r.err;
     EXPECT_FALSE(std::filesystem::exists(dir_.path() / "room.dc"));
+}
+
+// ds_illum on DAYSIM's own coefficients and weather (the .wea from our epw2wea, which DAYSIM's
+// equals): DAYSIM's .ill byte for byte.
+TEST_F(DaysimRoom, DsIllumOnDaysimsCoefficientsIsDaysimsIll) {
+    const std::string epw = (DataDir() / ".." / ".." / "examples" / "reference-office" / "weather" /
+                             "USA_NY_New.York.City-Central.Park.94728_TMY_3.epw.xz")
+                                .string();
+    const CommandResult r = RunCommand("xz -dc '" + epw +
+                                           "' > w.epw && epw2wea w.epw room.wea && "
+                                           "cp room.daysim.dc room.dc && ds_illum room.hea && "
+                                           "xz -dc room.daysim.ill.xz | cmp - room.ill",
+                                       dir_.path());
+    EXPECT_EQ(r.status, 0) << r.out << r.err;
+}
+
+// Then gen_dc's coefficients through ds_illum: daylight autonomy (300 lux, 8-17 h) per sensor
+// within DAYSIM's own spread (two of its runs differ by 1.5 points on average, 6 at most here).
+TEST_F(DaysimRoom, GenDcThenDsIllumGiveDaysimsDaylightAutonomy) {
+    const std::string epw = (DataDir() / ".." / ".." / "examples" / "reference-office" / "weather" /
+                             "USA_NY_New.York.City-Central.Park.94728_TMY_3.epw.xz")
+                                .string();
+    const CommandResult r = RunCommand("xz -dc '" + epw +
+                                           "' > w.epw && epw2wea w.epw room.wea && "
+                                           "gen_dc room.hea && ds_illum room.hea && "
+                                           "xz -dc room.daysim.ill.xz > daysim.ill",
+                                       dir_.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto autonomy = [&](const std::string &file) {
+        std::vector<double> da(10, 0);
+        int steps = 0;
+        for (const auto &row : Lines(ReadFile(dir_.path() / file))) {
+            if (row.size() != 13 || row[2] < 8 || row[2] > 17) continue;
+            ++steps;
+            for (int i = 0; i < 10; ++i) da[i] += row[3 + i] >= 300;
+        }
+        for (double &d : da) d *= 100.0 / steps;
+        return da;
+    };
+    const std::vector<double> ours = autonomy("room.ill"), daysim = autonomy("daysim.ill");
+    double mean = 0;
+    for (int i = 0; i < 10; ++i) {
+        EXPECT_NEAR(ours[i], daysim[i], 8) << "sensor " << i;
+        mean += std::fabs(ours[i] - daysim[i]) / 10;
+    }
+    EXPECT_LT(mean, 3);
+    EXPECT_GT(daysim[0], 90);  // the data are what they should be
+}
+
+// ds_illum's other paths against DAYSIM (test/data/daysim/variants): weather units 2 and 3, all
+// four sensor units, the southern hemisphere, half-hour steps, the simple blinds model.
+TEST(DsIllum, DaysimsOtherPathsByteForByte) {
+    TempDir dir;
+    for (const auto &f : std::filesystem::directory_iterator(DataDir() / "daysim" / "variants"))
+        std::filesystem::copy(f.path(), dir.path() / f.path().filename());
+    const CommandResult r = RunCommand(
+        "ds_illum site.hea && ds_illum oslo.hea && xz -dc site.daysim.ill.xz | cmp - site.ill && "
+        "xz -dc site_down.daysim.ill.xz | cmp - site_down.ill && "
+        "xz -dc oslo.daysim.ill.xz | cmp - oslo.ill",
+        dir.path());
+    EXPECT_EQ(r.status, 0) << r.out << r.err;
+}
+
+TEST(DsIllum, BadInput) {
+    TempDir dir;
+    for (const auto &f : std::filesystem::directory_iterator(DataDir() / "daysim" / "variants"))
+        std::filesystem::copy(f.path(), dir.path() / f.path().filename());
+    const std::string dc = ReadFile(dir.path() / "site.dc");
+    // A row short of the latitude's columns: named with file and line; no .ill left.
+    WriteFile(dir.path() / "site.dc", dc.substr(0, dc.rfind('\t', dc.size() - 3) + 1) + "\n");
+    CommandResult r = RunCommand("ds_illum site.hea", dir.path());
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.err.find("site.dc:7: 210 coefficients where the latitude gives 211"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "site.ill"));
+    // A row missing.
+    WriteFile(dir.path() / "site.dc", dc.substr(0, dc.rfind('\n', dc.size() - 2) + 1));
+    r = RunCommand("ds_illum site.hea", dir.path());
+    EXPECT_NE(r.err.find("5 rows of coefficients for 6 sensors"), std::string::npos) << r.err;
+    WriteFile(dir.path() / "site.dc", dc);
+    // Lux in a file the project says is in W/m2: the first impossible value, with its line.
+    std::string hea = ReadFile(dir.path() / "oslo.hea");
+    hea.replace(hea.find("wea_data_short_file_units 3"), 27, "wea_data_short_file_units 1");
+    WriteFile(dir.path() / "oslo.hea", hea);
+    r = RunCommand("ds_illum oslo.hea", dir.path());
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.err.find("weather_data_file_units 3 where the project says 1"), std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("oslo.wea:11: direct 0, diffuse 4390: more than the sun gives"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "oslo.ill"));
+    // A key missing, and one misspelt.
+    WriteFile(dir.path() / "bad.hea", "latitude 40\nlongitude 74\ntimezone 75\n");
+    r = RunCommand("ds_illum bad.hea", dir.path());
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.err.find("bad.hea:3: unknown key 'timezone'"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("bad.hea: the key 'time_zone' is missing"), std::string::npos) << r.err;
 }
 
 }  // namespace
