@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # The flagship example: a year of daylight in the reference office, ending in sDA, ASE and
 # pictures. A first argument dc, 3phase or 5phase picks the method (daylight coefficients by
-# default); the rest go to make (OFFICES=2, BLINDS=1, AD=..., OUT=...); see Makefile.
+# default; daysim runs ../daysim/run.sh); the rest go to make (OFFICES=2, BLINDS=1, AD=...,
+# OUT=...); see Makefile.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+if [ "${1:-}" = daysim ]; then shift && exec "$here/../daysim/run.sh" "$@"; fi
 method=dc
 case ${1:-} in dc | 3phase | 5phase) method=$1 && shift ;; esac
 for a in "$@"; do case $a in METHOD=*) method=${a#METHOD=} ;; esac; done

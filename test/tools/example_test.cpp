@@ -151,5 +151,46 @@ TEST(ReferenceOfficeExample, ThreeAndFivePhaseAgreeWithDaylightCoefficients) {
     EXPECT_NE(r.err.find("needs the blinds' BSDF"), std::string::npos) << r.err;
 }
 
+// DAYSIM's method (examples/daysim: gen_dc, ds_illum, dcmetrics) on the same tiny office: each
+// sensor's year of light as the daylight-coefficient run's within what the two sky models
+// allow (DAYSIM's Perez sky at 145 patch centres, its sun shared between four of ~61 suns:
+// 5-10 % lower here, about the noise of -ad 512 at the back), the same sensors, metrics written.
+TEST(DaysimExample, TinyRunAgreesWithDaylightCoefficients) {
+    const fs::path examples = DataDir() / ".." / ".." / "examples";
+    TempDir tmp;
+    const std::string settings =
+        "make -s --no-print-directory BIN='" + BinDir().string() + "' NX=3 NY=5 AB=3 AD=512 ";
+    CommandResult r = RunCommand(settings + "-C '" + (examples / "reference-office").string() +
+                                     "' METHOD=dc OUT='" + (tmp.path() / "dc").string() + "'",
+                                 tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    r = RunCommand(settings + "-C '" + (examples / "daysim").string() + "' OUT='" +
+                       (tmp.path() / "daysim").string() + "'",
+                   tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::vector<double> dc = AnnualSums(tmp.path() / "dc" / "total.ill");
+    std::vector<double> daysim(dc.size(), 0.0);
+    std::istringstream ill(ReadFile(tmp.path() / "daysim" / "office.ill"));
+    int hours = 0;
+    for (std::string line; std::getline(ill, line); ++hours) {
+        std::istringstream words(line);
+        double month, day, hour, v;
+        words >> month >> day >> hour;
+        for (size_t i = 0; words >> v; ++i) {
+            ASSERT_LT(i, daysim.size());
+            daysim[i] += v;
+        }
+    }
+    EXPECT_EQ(hours, 8760);
+    double sum_dc = 0, sum_daysim = 0;
+    for (size_t i = 0; i < dc.size(); ++i) {
+        sum_dc += dc[i], sum_daysim += daysim[i];
+        EXPECT_NEAR(daysim[i] / dc[i], 1, 0.3) << "sensor " << i;
+    }
+    EXPECT_NEAR(sum_daysim / sum_dc, 0.95, 0.08);
+    const std::string metrics = ReadFile(tmp.path() / "daysim" / "metrics.txt");
+    EXPECT_NE(metrics.find("office0            15"), std::string::npos) << metrics;
+}
+
 }  // namespace
 }  // namespace dayflux::test
