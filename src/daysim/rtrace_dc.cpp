@@ -13,6 +13,7 @@
 #include "daysim/patches.h"
 #include "matrix/reader.h"
 #include "raytrace/engine.h"
+#include "raytrace/sensor_cache.h"
 #include "rcontrib/run.h"
 #include "util/errors.h"
 #include "util/files.h"
@@ -125,6 +126,8 @@ class Parser {
             Formats(a);
         } else if (a.rfind("-I", 0) == 0) {
             o_.trace.contrib.irradiance = Flag(a, o_.trace.contrib.irradiance);
+        } else if (a == "-cache_report") {
+            o_.report_cache = true;
         } else if (a == "-aa") {
             o_.ambient_accuracy = Number(a);
         } else if (a == "-ar") {
@@ -241,20 +244,35 @@ class Engines {
             const std::vector<TrackedModifier> &tracked)
         : o_(o), flat_(flat), tracked_(tracked) {}
 
+    // With -aa above 0, irradiance sensors go through the sensor cache
+    // (raytrace/sensor_cache.h), rtrace's ambient cache at the sensors.
     ContribEngine *For(bool irradiance) {
         std::unique_ptr<ContribEngine> &e = engines_[irradiance];
         if (!e) {
-            ContribOptions c = o_.trace.contrib;
-            c.irradiance = irradiance;
-            c.contributions = true;
-            e = CreateContribEngine(
-                flat_, c, tracked_, [this](int) { return MakeCalContext(o_.trace, ""); },
-                o_.trace.engine);
+            e = Create(irradiance, false);
+            if (irradiance && o_.ambient_accuracy > 0 && o_.trace.contrib.ambient_bounces > 0) {
+                SensorCacheOptions c;
+                c.accuracy = o_.ambient_accuracy;
+                c.resolution = o_.ambient_resolution;
+                c.seed = o_.trace.contrib.seed;
+                e = WithSensorCache(std::move(e), Create(true, true), flat_, c, o_.report_cache);
+            }
         }
         return e.get();
     }
 
   private:
+    // direct_only: -ab 0 (the sensor cache's direct light).
+    std::unique_ptr<ContribEngine> Create(bool irradiance, bool direct_only) const {
+        ContribOptions c = o_.trace.contrib;
+        c.irradiance = irradiance;
+        c.contributions = true;
+        if (direct_only) c.ambient_bounces = 0;
+        return CreateContribEngine(
+            flat_, c, tracked_, [this](int) { return MakeCalContext(o_.trace, ""); },
+            o_.trace.engine);
+    }
+
     const RtraceDcOptions &o_;
     const FlatScene &flat_;
     const std::vector<TrackedModifier> &tracked_;
@@ -317,7 +335,8 @@ void TraceChunk(const RtraceDcOptions &o, Engines &engines, const std::vector<do
     for (size_t i = 0; i < n; ++i) {
         const bool zero = rays[6 * i + 3] == 0 && rays[6 * i + 4] == 0 && rays[6 * i + 5] == 0;
         if (zero) continue;  // rtrace's bogus ray: a line of zeros
-        ContribEngine *e = engines.For(Irradiance(o, first + i));
+        const bool irradiance = Irradiance(o, first + i);
+        ContribEngine *e = engines.For(irradiance);
         if (!runs.empty() && runs.back().engine == e && runs.back().end == i &&
             runs.back().end - runs.back().begin < e->BatchRays())
             ++runs.back().end;
@@ -384,7 +403,7 @@ size_t RunRtraceDc(const RtraceDcOptions &o, const std::vector<std::string> &hea
     MatrixReader in(InputSource::Open(rays_spec), spec);
 
     const StopOnSignals stop;
-    constexpr size_t kChunk = 4096;  // sensors traced between writes
+    constexpr size_t kChunk = 16384;  // sensors traced between writes (and sharing a cache)
     std::vector<double> rays, records;
     uint64_t first = 0;
     bool more = true;

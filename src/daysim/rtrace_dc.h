@@ -27,6 +27,7 @@ struct RtraceDcOptions {
     double ambient_accuracy = 0.1;
     int ambient_resolution = 256;
     int ambient_supersamples = 512;
+    bool report_cache = false;  // -cache_report (ours): the sensor cache's records on stderr
 };
 
 // rtrace_dc's command line (after expanding @file arguments): rtrace's options with rtrace's

@@ -236,8 +236,11 @@ class Parser {
             if (Flag(a, false)) ErrorExit(a + ": rays limited to their length are not supported");
         } else if (a.rfind("-u", 0) == 0 || a.rfind("-bv", 0) == 0) {
             // random/back-face flags: our sampling is always repeatable for a given -seed
-        } else if (a == "-aa" || a == "-as" || a == "-dt" || a == "-ar" || a == "-aw" ||
-                   a == "-dc" || a == "-dp") {
+        } else if (a == "-ar") {
+            // rcontrib has no cache; -sensor_cache (ours) takes it as rtrace does
+            o_.ambient_resolution = Integer(a);
+        } else if (a == "-aa" || a == "-as" || a == "-dt" || a == "-aw" || a == "-dc" ||
+                   a == "-dp") {
             // forced by rcontrib (-aa 0 -as 0 -dt 0, making -dc moot), or the pretest of
             // virtual sources (-dp), which we do not need (docs/compat.md)
             Value(a);
@@ -257,6 +260,10 @@ class Parser {
             // continuing its diffuse paths (docs/compat.md).
             o_.contrib.ambient_subsamples = Integer(a);
             if (o_.contrib.ambient_subsamples < 1) ErrorExit("-asub: a whole number of 1 or more");
+        } else if (a == "-sensor_cache") {
+            o_.sensor_cache = Number(a);
+            if (!(o_.sensor_cache >= 0 && o_.sensor_cache < 10))
+                ErrorExit("-sensor_cache: an accuracy (as -aa) of 0 or more");
         } else if (a == "-seed") {
             o_.contrib.seed = static_cast<uint64_t>(Number(a));
         } else if (a == "-first_record") {
@@ -327,6 +334,10 @@ RcontribOptions ParseRcontribOptions(const std::vector<std::string> &args,
     if (o.scene.empty()) Usage(prog);
     if (o.modifiers.empty()) ErrorExit("no modifiers given (-m or -M)");
     if (o.accumulate < 0) ErrorExit("-c must not be negative");
+    if (o.sensor_cache > 0 && (!o.contrib.irradiance || o.accumulate != 1))
+        ErrorExit("-sensor_cache: for sensors (-I+), one ray a record (-c 1)");
+    if (o.sensor_cache > 0 && !o.stderr_file.empty())
+        ErrorExit("-sensor_cache with -se: the replicas would interpolate differently");
     if (o.first_record >= 0 && o.accumulate == 0)
         ErrorExit("-first_record with -c 0: one record of every ray cannot be split into shards");
     int col = 0;

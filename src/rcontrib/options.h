@@ -43,6 +43,10 @@ struct RcontribOptions {
     // -first_record (ours): the input's first record is this record of a larger run (a shard),
     // so its random numbers are those the whole run would draw for it; -1: not given.
     long first_record = -1;
+    // -sensor_cache ACC (ours): an irradiance cache over the sensors (-I+), rtrace's ambient
+    // cache at the sensors with -aa ACC and -ar (raytrace/sensor_cache.h); 0: none (rcontrib's).
+    double sensor_cache = 0;
+    int ambient_resolution = 256;  // -ar, used by -sensor_cache only
     EngineOptions engine;       // -backend, -device, -gpu_traversal, -gpu_accum
     std::vector<std::string> scene;
 };

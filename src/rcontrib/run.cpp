@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "raytrace/engine.h"
+#include "raytrace/sensor_cache.h"
 #include "rcontrib/outputs.h"
 #include "scene/flatten.h"
 #include "scene/octree.h"
@@ -63,9 +64,21 @@ void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &heade
     std::string header;
     const FlatScene flat = ReadRcontribScene(o.scene, &header);
     header += header_lines;
-    const std::unique_ptr<ContribEngine> engine = CreateContribEngine(
-        flat, o.contrib, TrackedModifiers(o),
-        [&o](int k) { return MakeCalContext(o, o.modifiers[k].params); }, o.engine);
+    const auto create = [&](const ContribOptions &c) {
+        return CreateContribEngine(
+            flat, c, TrackedModifiers(o),
+            [&o](int k) { return MakeCalContext(o, o.modifiers[k].params); }, o.engine);
+    };
+    std::unique_ptr<ContribEngine> engine = create(o.contrib);
+    if (o.sensor_cache > 0 && o.contrib.ambient_bounces > 0) {
+        ContribOptions direct = o.contrib;
+        direct.ambient_bounces = 0;
+        SensorCacheOptions c;
+        c.accuracy = o.sensor_cache;
+        c.resolution = o.ambient_resolution;
+        c.seed = o.contrib.seed;
+        engine = WithSensorCache(std::move(engine), create(direct), flat, c, o.progress);
+    }
     RcontribOutputs outputs(o, engine->Columns(), header_args, header, engine->Label());
     TraceToOutputs(o, *engine, outputs, std::move(rays));
 }
