@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <random>
 
 #include "cal/calcomp.h"
@@ -62,6 +64,16 @@ TEST(DaysimPatches, CalcompFormMatchesNative) {
         std::copy(d.begin(), d.end(), ray.values().begin());
         EXPECT_EQ(bin.Evaluate(cx, &ray), DaysimPatch(d[0], d[1], d[2]));
     }
+}
+
+// lib/daysim.cal (for rcontrib users) holds the same definitions the engines evaluate.
+TEST(DaysimPatches, LibraryFileHasTheEnginesDefinitions) {
+    std::ifstream in(std::string(DAYFLUX_LIB_DIR) + "/daysim.cal");
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string file = text.str();
+    ASSERT_NE(file.find("Ndsbins : 148;"), std::string::npos);
+    EXPECT_EQ(file.substr(file.size() - std::string(kDaysimPatchCal).size()), kDaysimPatchCal);
 }
 
 TEST(DaysimPatches, EveryDirectionLandsInItsPatch) {

@@ -255,6 +255,16 @@ TEST_F(VulkanContrib, RtraceDcAsEmbree) {
     EXPECT_GT(total, 1.0);
     EXPECT_GT(seeds, 0);
     EXPECT_LT(std::sqrt(backends), 0.2 * std::sqrt(seeds));
+    // The sensor cache (-aa) on the GPU: its records traced in runs of consecutive sensors, the
+    // same records and interpolation as on the CPU (the same shader: nothing new to compile).
+    const std::vector<double> gpu_cached = run("-backend vulkan -seed 1 -aa 0.2 -ar 16"),
+                              cpu_cached = run("-backend embree -seed 1 -aa 0.2 -ar 16");
+    ASSERT_EQ(gpu_cached.size(), gpu.size());
+    double cached = 0;
+    for (size_t i = 0; i < gpu.size(); ++i)
+        cached += (gpu_cached[i] - cpu_cached[i]) * (gpu_cached[i] - cpu_cached[i]);
+    EXPECT_LT(std::sqrt(cached), 0.2 * std::sqrt(seeds));
+    EXPECT_NE(gpu_cached, gpu);  // -ar 16 makes records cover neighbours
 }
 
 // -asub 2: each first-level cell sampled by 2 x 2 rays, one carrying its diffuse paths with 4

@@ -340,6 +340,37 @@ TEST_F(DaysimRoom, GenDcWritesDaysimsSunsAndHeaderAndMatchesItsCoefficients) {
     }
 }
 
+// Two shading variants (shading 2: name, scene, .dc, .ill each): the second puts a black panel
+// before the window. gen_dc traces each variant with its own scene, ds_illum writes each .ill.
+TEST_F(DaysimRoom, ShadingVariantsEachWithTheirScene) {
+    std::string hea = ReadFile(dir_.path() / "room.hea");
+    hea.replace(hea.find("shading 1 room room.dc room.ill"), 31,
+                "shading 2\nopen open.rad open.dc open.ill\npanel panel.rad panel.dc panel.ill");
+    WriteFile(dir_.path() / "two.hea", hea);
+    WriteFile(dir_.path() / "open.rad", "# nothing added\n");
+    WriteFile(dir_.path() / "panel.rad",
+              "void plastic black 0 0 5 0 0 0 0 0\n"
+              "black polygon panel 0 0 12 -1 -0.5 0 7 -0.5 0 7 -0.5 3.5 -1 -0.5 3.5\n");
+    const std::string epw =
+        (DataDir() / ".." / ".." / "examples" / "reference-office" / "weather" /
+         "USA_NY_New.York.City-Central.Park.94728_TMY_3.epw.xz")
+            .string();
+    const CommandResult r = RunCommand("xz -dc '" + epw + "' > w.epw && epw2wea w.epw room.wea && "
+                                       "gen_dc two.hea && ds_illum two.hea",
+                                       dir_.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto open = Dc("open.dc"), panel = Dc("panel.dc");
+    ASSERT_EQ(open.size(), 10u);
+    ASSERT_EQ(panel.size(), 10u);
+    for (size_t i = 0; i < 10; ++i) {
+        EXPECT_LT(Sum(panel[i], 0, 148), 0.5 * Sum(open[i], 0, 148)) << "sensor " << i;
+        // The sun only after bounces around the panel's edges.
+        EXPECT_LT(Sum(panel[i], 148, 209), 0.01 * Sum(open[i], 148, 209)) << "sensor " << i;
+    }
+    EXPECT_EQ(Lines(ReadFile(dir_.path() / "open.ill")).size(), 8760u);
+    EXPECT_EQ(Lines(ReadFile(dir_.path() / "panel.ill")).size(), 8760u);
+}
+
 TEST_F(DaysimRoom, GenDcBadProjects) {
     const std::string hea = ReadFile(dir_.path() / "room.hea");
     const auto run_with = [&](const std::string &text) {
