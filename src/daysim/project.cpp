@@ -346,14 +346,19 @@ size_t CountSensors(const std::string &file) {
     const std::unique_ptr<InputSource> in = InputSource::Open(file);
     std::string line;
     size_t n = 0;
+    FileLoc blank;  // the first blank line since the last sensor: an error if a sensor follows
     while (true) {
         const FileLoc loc = in->Loc();
         if (!in->ReadLine(&line)) break;
         const std::vector<std::string> w = SplitWords(line);
+        if (w.empty()) {
+            if (blank.file.empty()) blank = loc;
+            continue;
+        }
+        if (!blank.file.empty())
+            ErrorExit(&blank, "an empty line among the sensors (every line is a sensor)");
         double v;
-        if (w.size() < 6)
-            ErrorExit(&loc, w.empty() ? "an empty line among the sensors (every line is a sensor)"
-                                      : "a sensor needs six numbers (x y z dx dy dz)");
+        if (w.size() < 6) ErrorExit(&loc, "a sensor needs six numbers (x y z dx dy dz)");
         for (int k = 0; k < 6; ++k)
             if (!ParseNumber(w[k], &v)) ErrorExit(&loc, "'" + w[k] + "' is not a number");
         ++n;

@@ -398,6 +398,10 @@ TEST_F(DaysimRoom, GenDcBadProjects) {
     r = run_with(hea + "ab two\n");
     EXPECT_NE(r.err.find("bad.hea:41: 'ab' has a bad number 'two'"), std::string::npos) << r.err;
     std::filesystem::remove(dir_.path() / "room.dc");  // from the first run (only warned)
+    WriteFile(dir_.path() / "room.pts", "1 2 0.8 0 0 1\n\n1 2 0.8 0 0 1\n");
+    r = RunCommand("gen_dc room.hea", dir_.path());
+    EXPECT_NE(r.err.find("room.pts:2: an empty line among the sensors"), std::string::npos)
+        << r.err;
     WriteFile(dir_.path() / "room.pts", "1 2 0.8 0 0 1\n1 2 0.8 0 0\n");
     r = RunCommand("gen_dc room.hea", dir_.path());
     EXPECT_NE(r.status, 0);
