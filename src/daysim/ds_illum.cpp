@@ -1,5 +1,7 @@
 #include "daysim/ds_illum.h"
 
+#include <tbb/parallel_for.h>
+
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -467,6 +469,41 @@ double Sum(const std::vector<float> &dc, const std::vector<float> &sky,
     return sum;
 }
 
+// The reader checks the values against the file's own units; DAYSIM takes the project's, so
+// check them against those too.
+void CheckUnits(const DaysimProject &p, const std::string &name, const WeatherRecord &rec) {
+    if (p.weather_units == 3 || (rec.dir <= 1500 && rec.dif <= 1500)) return;
+    const FileLoc loc{name, rec.line};
+    ErrorExit(&loc, "direct " + FormatNumber(rec.dir) + ", diffuse " + FormatNumber(rec.dif) +
+                        ": more than the sun gives in W/m2 (lux? the project says "
+                        "wea_data_short_file_units " +
+                        std::to_string(p.weather_units) + ")");
+}
+
+// A step's line of the .ill (and of the blinds-down file, with down).
+void Lines(const DaysimStepSky &s, const WeatherRecord &r,
+           const std::vector<std::vector<float>> &dc, const std::vector<int> &units, bool down,
+           std::string *line, std::string *line_down) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%d %d %.3f ", r.month, r.day, r.hour);
+    *line = *line_down = buf;
+    for (size_t j = 0; j < dc.size(); ++j) {
+        const bool watts = units[j] >= 2;
+        if (s.dark) {
+            *line += " 0", *line_down += " 0";
+            continue;
+        }
+        const std::vector<float> &values = watts ? s.radiance : s.luminance;
+        const char *format = watts ? " %.2f" : " %.0f";
+        std::snprintf(buf, sizeof buf, format, Sum(dc[j], values, s.luminance, s.direct));
+        *line += buf;
+        if (!down) continue;
+        std::snprintf(buf, sizeof buf, format, 0.25 * Sum(dc[j], values, s.luminance, false));
+        *line_down += buf;
+    }
+    *line += '\n', *line_down += '\n';
+}
+
 }  // namespace
 
 void RunDsIllum(const DaysimProject &p, const DsIllumOptions &options) {
@@ -504,39 +541,27 @@ void RunDsIllum(const DaysimProject &p, const DsIllumOptions &options) {
         std::unique_ptr<OutputFile> down;
         if (!v.ill_blinds_down.empty())
             down = std::make_unique<OutputFile>(p.Path(v.ill_blinds_down) + options.extension);
+        // Steps are read in blocks, their lines made in parallel and written in order.
+        constexpr size_t kBlock = 256;
+        std::vector<WeatherRecord> block;
+        std::vector<std::string> lines(kBlock), lines_down(kBlock);
         WeatherRecord rec;
-        std::string line, line_down;
-        char buf[64];
-        while (weather.Next(&rec)) {
-            // The reader checks the values against the file's own units; DAYSIM takes the
-            // project's, so check them against those too.
-            if (p.weather_units != 3 && (rec.dir > 1500 || rec.dif > 1500)) {
-                const FileLoc loc{weather.Name(), rec.line};
-                ErrorExit(&loc, "direct " + FormatNumber(rec.dir) + ", diffuse " +
-                                    FormatNumber(rec.dif) +
-                                    ": more than the sun gives in W/m2 (lux? the project says "
-                                    "wea_data_short_file_units " +
-                                    std::to_string(p.weather_units) + ")");
+        bool more = true;
+        while (more) {
+            block.clear();
+            while (block.size() < kBlock && (more = weather.Next(&rec))) {
+                CheckUnits(p, weather.Name(), rec);
+                block.push_back(rec);
             }
-            const DaysimStepSky s = sky.Step(rec.month, rec.day, rec.hour, rec.dir, rec.dif);
-            std::snprintf(buf, sizeof buf, "%d %d %.3f ", rec.month, rec.day, rec.hour);
-            line = line_down = buf;
-            for (size_t j = 0; j < sensors; ++j) {
-                const bool watts = units[j] >= 2;
-                if (s.dark) {
-                    line += " 0", line_down += " 0";
-                    continue;
-                }
-                const std::vector<float> &values = watts ? s.radiance : s.luminance;
-                const char *format = watts ? " %.2f" : " %.0f";
-                std::snprintf(buf, sizeof buf, format, Sum(dc[j], values, s.luminance, s.direct));
-                line += buf;
-                std::snprintf(buf, sizeof buf, format,
-                              0.25 * Sum(dc[j], values, s.luminance, false));
-                line_down += buf;
+            tbb::parallel_for(size_t(0), block.size(), [&](size_t k) {
+                const WeatherRecord &r = block[k];
+                const DaysimStepSky s = sky.Step(r.month, r.day, r.hour, r.dir, r.dif);
+                Lines(s, r, dc, units, down != nullptr, &lines[k], &lines_down[k]);
+            });
+            for (size_t k = 0; k < block.size(); ++k) {
+                out.Write(lines[k]);
+                if (down) down->Write(lines_down[k]);
             }
-            out.Write(line + "\n");
-            if (down) down->Write(line_down + "\n");
         }
         out.Commit();
         if (down) down->Commit();
