@@ -6,7 +6,9 @@
 #   3. the reference office (examples/reference-office's model; small: 1425 sensors, large:
 #      14250) V, DC and C_ds on the GPU by both traversals, beside Embree on the same machine:
 #      wall seconds, and each GPU matrix's difference from Embree's at the same seed (the two run
-#      one estimator with one random stream, so this is float rounding, not noise).
+#      one estimator with one random stream, so this is float rounding, not noise); and DAYSIM's
+#      diffuse run (rtrace_dc-gpu -Dd, DAYSIM's settings) without (DSdif) and with (DSdifC, -aa
+#      0.1) the sensor cache.
 # Writes OUT/gpu.csv (model,case,program,sensors,wall_s,rel_rms_vs_embree), OUT/summary.txt and
 # the logs. On an H100 machine (16 cores for Embree), 2026-11-25: MODELS=small with the tests
 # 441 s, MODELS=large TESTS=0 402 s (96 s of it C_ds on the GPU): two calls within the device
@@ -70,6 +72,7 @@ fi
 V_ARGS="-I+ -ab 8 -ad $v_ad -lw 2e-5 -faf -f klems_full.cal -b kbin(0,1,0,0,0,1) -bn Nkbins -m glass_mat"
 DC_ARGS="-I+ -ab 6 -ad $dc_ad -lw 5e-5 -faf -e MF:1 -f reinhart.cal -b rbin -bn Nrbins -m skyglow"
 CDS_ARGS="-I+ -ab 0 -dc 1 -dt 0 -dj 0 -faf -e MF:6 -f reinhart.cal -b rbin -bn Nrbins -m solar"
+DS_ARGS="-I+ -oc -ff -ab 5 -ad 1000 -ar 300 -dj 0 -st 0.15 -L 1000 -N 148 -Dd"
 export RAYPATH=.:$root/lib
 programs=("embree|-backend embree" "vulkan-rayquery|-device $DEVICE -gpu_traversal rayquery"
           "vulkan-bvh|-device $DEVICE -gpu_traversal bvh")
@@ -89,17 +92,26 @@ for model in $MODELS; do
     # V: the window's glass a glow receiver; DC: the example's sky (and ground) glow.
     sed 's/^void glass glass_mat .*$/void glow glass_mat 0 0 4 1 1 1 0/' \
         "$dir/model/materials.rad" > "$dir/vmaterials.rad"
-    for case in V DC Cds; do
+    printf 'void glow sky 0 0 4 1000 1000 1000 0\nsky source himmel 0 0 4 0 0 1 360\n' \
+        > "$dir/sky148.rad"
+    for case in V DC Cds DSdif DSdifC; do
+        program=$RCONTRIB
         case $case in
             V) args="$V_ARGS vmaterials.rad model/office.rad model/glass.rad" ;;
             DC) args="$DC_ARGS model/materials.rad model/office.rad model/glass.rad model/sky.rad" ;;
             Cds) args="$CDS_ARGS model/materials.rad model/office.rad model/glass.rad model/suns.rad" ;;
+            DSdif | DSdifC)
+                program=$BUILD/bin/rtrace_dc-gpu
+                # (the same -lw per sample both ways: rtrace_dc-gpu divides it by -ad with -aa)
+                args="$DS_ARGS $([ $case = DSdifC ] && echo -aa 0.1 -lw 0.004 -lr 6 ||
+                                  echo -aa 0 -lw 4e-6 -lr -6)"
+                args="$args sky148.rad model/materials.rad model/office.rad model/glass.rad" ;;
         esac
         for p in "${programs[@]}"; do
             name=${p%%|*}
             out=$dir/$case-$name.fmx
             if [[ $name == vulkan* ]]; then  # compile the shader first: not what is measured
-                (cd "$dir" && head -2 sensors.pts | "$RCONTRIB" ${p#*|} -seed 1 $args \
+                (cd "$dir" && head -2 sensors.pts | "$program" ${p#*|} -seed 1 $args \
                     > /dev/null 2> "$dir/err")
                 if grep -q "using Embree" "$dir/err"; then
                     printf "%-6s %-4s %-16s %8s %10s %12s\n" "$model" "$case" "$name" "$sensors" \
@@ -111,7 +123,7 @@ for model in $MODELS; do
             fi
             # bash's own clock: the device machine's image has no /usr/bin/time
             t0=$(date +%s.%N)
-            (cd "$dir" && "$RCONTRIB" ${p#*|} -seed 1 $args < sensors.pts > "$out" \
+            (cd "$dir" && "$program" ${p#*|} -seed 1 $args < sensors.pts > "$out" \
                 2> "$dir/err") || { cat "$dir/err"; exit 1; }
             awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.2f\n", b - a }' > "$dir/time"
             diff=$([ "$name" = embree ] && echo 0 ||

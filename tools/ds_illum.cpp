@@ -2,6 +2,7 @@
 // weather (src/daysim/ds_illum.h): `ds_illum project.hea [-ext str]`.
 #include "daysim/ds_illum.h"
 
+#include <cstdio>
 #include <string>
 
 #include "util/errors.h"
@@ -10,6 +11,11 @@ namespace dayflux {
 namespace {
 
 int Main(int argc, char **argv) {
+    // DAYSIM's gen_dc records `rtrace_dc -version` in its files' headers.
+    if (argc == 2 && std::string(argv[1]) == "-version") {
+        std::puts("dayflux ds_illum (DAYSIM's ds_illum, DAYSIM 5.2's options and formats)");
+        return 0;
+    }
     if (argc < 2 || argv[1][0] == '-') ErrorExit("usage: ds_illum project.hea [-ext str]");
     DsIllumOptions o;
     for (int i = 2; i < argc; ++i) {

@@ -3,6 +3,7 @@
 // [-ext str]`, with ours: [-backend embree|vulkan] [-device name] [-seed n] [-n threads].
 #include "daysim/gen_dc.h"
 
+#include <cstdio>
 #include <cstring>
 #include <string>
 
@@ -18,6 +19,11 @@ namespace {
 }
 
 int Main(int argc, char **argv) {
+    // DAYSIM's gen_dc records `rtrace_dc -version` in its files' headers.
+    if (argc == 2 && std::string(argv[1]) == "-version") {
+        std::puts("dayflux gen_dc (DAYSIM's gen_dc, DAYSIM 5.2's options and formats)");
+        return 0;
+    }
     if (argc < 2 || argv[1][0] == '-') Usage();
     GenDcOptions g;
     bool some = false;

@@ -368,8 +368,8 @@ void DaysimSkyModel::Impl::Direct(int jd, double hour, double sun_lum, double su
             if (calendar.calendar[month][j].solar_time < t &&
                 t < calendar.calendar[month][j + 1].solar_time)
                 return std::make_pair(j, t);
-        ErrorExit("ds_illum: no design-day hours around solar time " + FormatNumber(t) +
-                  " on day " + std::to_string(jd) + " (the sun does not set at this latitude)");
+        ErrorExit("no design-day hours around solar time " + FormatNumber(t) + " on day " +
+                  std::to_string(jd) + " (the sun does not set at this latitude)");
     };
     const auto [h0, t0] = bracket(span->month0);
     const auto [h1, t1] = bracket(span->month1);

@@ -174,10 +174,12 @@ class GenDc {
                   ".\n# latitude: " + latitude + "\n");
         std::string a, b;
         size_t rows = 0;
+        int dif_line = 0;
         while (dir_in->ReadLine(&a)) {
+            ++dif_line;
             if (!dif_in->ReadLine(&b))
                 ErrorExit(dif + ": fewer lines than " + dir + " (run gen_dc -dif again)");
-            const FileLoc line_loc{dif, dif_in->Line() - 1};
+            const FileLoc line_loc{dif, dif_line};
             if (!a.empty() && a[0] == '#') {
                 if (b.empty() || b[0] != '#')
                     ErrorExit(&line_loc, "a comment line expected beside " + dir + "'s");

@@ -1,5 +1,6 @@
 #include "daysim/project.h"
 
+#include <cmath>
 #include <filesystem>
 #include <set>
 #include <sstream>
@@ -110,6 +111,7 @@ class HeaReader {
     void Run() {
         std::string line;
         DaysimRtraceSettings *block = nullptr;  // inside <direct_rtrace> or <diffuse_rtrace>
+        FileLoc opened;
         while (true) {
             loc_ = in_->Loc();
             if (!in_->ReadLine(&line)) break;
@@ -117,9 +119,9 @@ class HeaReader {
             if (words_.empty()) continue;
             const std::string key = words_[0];
             if (key == "<direct_rtrace>" || key == "<direct-rtrace>") {
-                block = &p_.direct;
+                block = &p_.direct, opened = loc_;
             } else if (key == "<diffuse_rtrace>" || key == "<diffuse-rtrace>") {
-                block = &p_.diffuse;
+                block = &p_.diffuse, opened = loc_;
             } else if (key.rfind("</", 0) == 0 && block) {
                 block = nullptr;
             } else if (block) {
@@ -131,7 +133,7 @@ class HeaReader {
             }
             p_.where[key] = loc_;
         }
-        if (block) ErrorExit(&loc_, "an rtrace block is not closed");
+        if (block) ErrorExit(&opened, "this rtrace block is not closed");
     }
 
   private:
@@ -152,12 +154,13 @@ class HeaReader {
     double Number(const std::string &key, size_t k = 1) {
         double v;
         const std::string w = Word(key, k);
-        if (!ParseNumber(w, &v)) Fail(key, "has a bad number '" + w + "'");
+        if (!ParseNumber(w, &v) || !std::isfinite(v)) Fail(key, "has a bad number '" + w + "'");
         return v;
     }
     int Integer(const std::string &key, size_t k = 1) {
         const double v = Number(key, k);
-        if (v != static_cast<int>(v)) Fail(key, "needs a whole number, not " + words_[k]);
+        if (std::fabs(v) > 1e9 || v != std::floor(v))
+            Fail(key, "needs a whole number, not " + words_[k]);
         return static_cast<int>(v);
     }
 
@@ -200,7 +203,7 @@ class HeaReader {
             p_.ground_reflectance = Number(key);
         } else if (key == "time_step") {
             p_.time_step = Integer(key);
-            if (60 % p_.time_step != 0 || p_.time_step < 1)
+            if (p_.time_step < 1 || 60 % p_.time_step != 0)
                 Fail(key, "must divide 60 minutes (60, 30, 20, 15, 12, 10, 6, 5, 4, 3, 2, 1)");
         } else if (key == "wea_data_short_file") {
             p_.weather = Word(key);
@@ -360,7 +363,8 @@ size_t CountSensors(const std::string &file) {
         double v;
         if (w.size() < 6) ErrorExit(&loc, "a sensor needs six numbers (x y z dx dy dz)");
         for (int k = 0; k < 6; ++k)
-            if (!ParseNumber(w[k], &v)) ErrorExit(&loc, "'" + w[k] + "' is not a number");
+            if (!ParseNumber(w[k], &v) || !(std::fabs(v) <= 1e12))
+                ErrorExit(&loc, "'" + w[k] + "' is not a coordinate");
         ++n;
     }
     if (n == 0) ErrorExit(file + ": no sensors");

@@ -14,6 +14,7 @@
 #include "matrix/reader.h"
 #include "raytrace/engine.h"
 #include "raytrace/sensor_cache.h"
+#include "rcontrib/records.h"
 #include "rcontrib/run.h"
 #include "util/errors.h"
 #include "util/files.h"
@@ -57,15 +58,28 @@ class Parser {
             const std::string a = args_[i_];
             if (a.size() < 2 || a[0] != '-') break;
             if (Daysim(a) || Rtrace(a)) continue;
-            pass.push_back(a);
-            // rcontrib's options with values: copy them along (rcontrib's parser checks them).
+            // Rendering options and ours, for rcontrib's parser (which checks their values);
+            // nothing else, so that no value is taken for a scene file.
             static const std::set<std::string> with_value = {
                 "-ab",      "-ad",        "-lw",          "-lr",
                 "-st",      "-ss",        "-dj",          "-ds",
                 "-dr",      "-n",         "-asub",        "-seed",
                 "-backend", "-gpu_accum", "-gpu_scratch", "-gpu_traversal",
                 "-device"};
-            if (with_value.count(a)) pass.push_back(Value(a));
+            const bool flag = a.rfind("-i", 0) == 0 || a.rfind("-u", 0) == 0 ||
+                              a.rfind("-bv", 0) == 0 || a.rfind("-ld", 0) == 0 ||
+                              a.rfind("-w", 0) == 0 || a.rfind("-progress", 0) == 0 ||
+                              a == "-no_commands";
+            if (a == "-sj") {  // DAYSIM's Windows gen_dc passes the specular jitter so
+                pass.insert(pass.end(), {"-ss", Value(a)});
+            } else if (with_value.count(a)) {
+                pass.push_back(a);
+                pass.push_back(Value(a));
+            } else if (flag && a.size() <= 10) {
+                pass.push_back(a);
+            } else {
+                ErrorExit("unknown option '" + a + "'");
+            }
         }
         pass.insert(pass.end(), {"-V+", "-m", kPlaceholderModifier});
         if (i_ >= args_.size()) Usage(prog);
@@ -82,7 +96,7 @@ class Parser {
     double Number(const std::string &opt) {
         double v;
         const std::string w = Value(opt);
-        if (!ParseNumber(w, &v)) ErrorExit(opt + ": bad number '" + w + "'");
+        if (!ParseNumber(w, &v) || !std::isfinite(v)) ErrorExit(opt + ": bad number '" + w + "'");
         return v;
     }
     int Integer(const std::string &opt) {
@@ -104,7 +118,8 @@ class Parser {
             o_.by_direction = a == "-Dd";
         } else if (a == "-L") {
             o_.source_luminance = Number(a);
-            if (o_.source_luminance == 0) ErrorExit("-L: the sources' luminance must not be zero");
+            if (o_.source_luminance == 0 || !std::isfinite(o_.source_luminance))
+                ErrorExit("-L: the sources' luminance must be a number other than zero");
         } else if (a == "-U") {
             const int n = Integer(a);
             if (n < 0) ErrorExit("-U: a negative sensor count");
@@ -403,7 +418,7 @@ size_t RunRtraceDc(const RtraceDcOptions &o, const std::vector<std::string> &hea
     MatrixReader in(InputSource::Open(rays_spec), spec);
 
     const StopOnSignals stop;
-    constexpr size_t kChunk = 16384;  // sensors traced between writes (and sharing a cache)
+    constexpr size_t kChunk = 16384;  // sensors traced between writes (a cache: per 4096)
     std::vector<double> rays, records;
     uint64_t first = 0;
     bool more = true;
@@ -411,6 +426,7 @@ size_t RunRtraceDc(const RtraceDcOptions &o, const std::vector<std::string> &hea
         rays.clear();
         double ray[6];
         while (rays.size() < 6 * kChunk && (more = in.ReadRow(ray))) {
+            CheckInputRay(ray, first + rays.size() / 6 + 1);
             rays.insert(rays.end(), ray, ray + 6);
             if (ray[3] == 0 && ray[4] == 0 && ray[5] == 0) break;  // flushes, as in rtrace
         }

@@ -133,9 +133,10 @@ void TraceRuns(ContribEngine &engine, const double *rays, const uint64_t *keys,
 }  // namespace
 
 SensorCacheStats TraceWithSensorCache(ContribEngine &full, ContribEngine &direct,
-                                      const FlatScene &scene, const double *all_rays, size_t n,
-                                      const uint64_t *all_keys, int replica,
-                                      const SensorCacheOptions &o, double *all_records) {
+                                      const FlatScene &scene, const Backend &caster,
+                                      const double *all_rays, size_t n, const uint64_t *all_keys,
+                                      int replica, const SensorCacheOptions &o,
+                                      double *all_records) {
     const size_t width = 3 * static_cast<size_t>(full.Columns());
     std::fill(all_records, all_records + n * width, 0.0);
     // Zero rays are no sensors.
@@ -160,8 +161,6 @@ SensorCacheStats TraceWithSensorCache(ContribEngine &full, ContribEngine &direct
     for (size_t i = 0; i < n; ++i) sensors[i] = SensorOf(rays + 6 * i);
 
     // 1. Radii.
-    const std::unique_ptr<Backend> backend = CreateEmbreeBackend();
-    backend->Commit(scene);
     const double size = SceneSize(scene);
     const double min_radius = o.resolution > 0 ? size / o.resolution : 0;
     const double max_radius =
@@ -169,7 +168,7 @@ SensorCacheStats TraceWithSensorCache(ContribEngine &full, ContribEngine &direct
     std::vector<double> radius(n);
     tbb::parallel_for(size_t(0), n, [&](size_t i) {
         const double r =
-            Radius(*backend, sensors[i], o.radius_rays, o.seed * 0x632be59bd9b4e019ull + keys[i]);
+            Radius(caster, sensors[i], o.radius_rays, o.seed * 0x632be59bd9b4e019ull + keys[i]);
         radius[i] = std::clamp(r, min_radius, max_radius);
     });
 
@@ -230,8 +229,11 @@ class SensorCachedEngine : public ContribEngine {
         : full_(std::move(full)),
           direct_(std::move(direct)),
           scene_(scene),
+          caster_(CreateEmbreeBackend()),
           o_(o),
-          report_(report) {}
+          report_(report) {
+        caster_->Commit(scene_);
+    }
     ~SensorCachedEngine() override {
         if (report_)
             std::fprintf(stderr, "%s: sensor cache: %zu records for %zu sensors\n",
@@ -245,7 +247,7 @@ class SensorCachedEngine : public ContribEngine {
                double *records) override {
         std::vector<uint64_t> keys(n);
         for (size_t i = 0; i < n; ++i) keys[i] = first_index + i;
-        const SensorCacheStats s = TraceWithSensorCache(*full_, *direct_, scene_, rays, n,
+        const SensorCacheStats s = TraceWithSensorCache(*full_, *direct_, scene_, *caster_, rays, n,
                                                         keys.data(), replica, o_, records);
         records_ += s.records, sensors_ += s.sensors;
     }
@@ -253,6 +255,7 @@ class SensorCachedEngine : public ContribEngine {
   private:
     std::unique_ptr<ContribEngine> full_, direct_;
     const FlatScene &scene_;
+    std::unique_ptr<Backend> caster_;
     SensorCacheOptions o_;
     bool report_;
     std::atomic<size_t> records_{0}, sensors_{0};

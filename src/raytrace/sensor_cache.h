@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "raytrace/backend.h"
 #include "raytrace/engine.h"
 #include "scene/flatten.h"
 
@@ -39,13 +40,17 @@ struct SensorCacheStats {
 // keys[i], its index in the run) into records (engine.Columns() x 3 doubles each), with `full`
 // (the run's engine, -I+) and `direct` (the same scene and bins with -ab 0).
 // A zero direction is no sensor: its record stays 0. replica: as ContribEngine::Trace's.
+// caster: the scene committed to a CPU ray caster (for the records' radii).
 SensorCacheStats TraceWithSensorCache(ContribEngine &full, ContribEngine &direct,
-                                      const FlatScene &scene, const double *rays, size_t n,
+                                      const FlatScene &scene, const Backend &caster,
+                                      const double *rays, size_t n,
                                       const uint64_t *keys, int replica,
                                       const SensorCacheOptions &options, double *records);
 
-// An engine that traces each batch of sensors (BatchRays(): thousands) through the cache: for
-// rcontrib-gpu's -sensor_cache (ours) and rtrace_dc-gpu's -aa. The scene must outlive it;
+// An engine that traces each batch of sensors (BatchRays(): thousands) through the cache, the
+// records of a batch shared by its sensors only: for rcontrib-gpu's -sensor_cache (ours) and
+// rtrace_dc-gpu's -aa. It overwrites the records it is given (it is for one ray a record). The
+// scene must outlive it;
 // report: the records made of how many sensors, summed over the batches, on stderr at the end.
 std::unique_ptr<ContribEngine> WithSensorCache(std::unique_ptr<ContribEngine> full,
                                                std::unique_ptr<ContribEngine> direct,

@@ -338,6 +338,11 @@ RcontribOptions ParseRcontribOptions(const std::vector<std::string> &args,
         ErrorExit("-sensor_cache: for sensors (-I+), one ray a record (-c 1)");
     if (o.sensor_cache > 0 && !o.stderr_file.empty())
         ErrorExit("-sensor_cache with -se: the replicas would interpolate differently");
+    // Sensors share records within the blocks of one input: a shard or a recovered run would
+    // group them otherwise, and not merge into the whole run's matrix.
+    if (o.sensor_cache > 0 && (o.first_record >= 0 || o.recover))
+        ErrorExit("-sensor_cache with -first_record or -r: shards would share records otherwise "
+                  "than the whole run");
     if (o.first_record >= 0 && o.accumulate == 0)
         ErrorExit("-first_record with -c 0: one record of every ray cannot be split into shards");
     int col = 0;

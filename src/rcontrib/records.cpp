@@ -19,6 +19,17 @@
 
 namespace dayflux {
 
+// One bad line must not end a long run deep inside the engine (Embree asserts on such rays, a GPU
+// gives garbage): NaN, infinity and coordinates beyond any scene are refused.
+void CheckInputRay(const double ray[6], uint64_t number) {
+    constexpr double kLargest = 1e12;  // metres: far beyond any scene, well within float
+    for (int k = 0; k < 6; ++k)
+        if (!(std::fabs(ray[k]) <= kLargest))
+            ErrorExit("input ray " + std::to_string(number) + ": " +
+                      (k < 3 ? "origin" : "direction") + " value " + FormatNumber(ray[k]) +
+                      (std::isfinite(ray[k]) ? " is out of range" : " is not a number"));
+}
+
 namespace {
 
 // A block of input rays traced together. It holds the pieces (segments) of the records it
@@ -86,7 +97,7 @@ class RayReader {
                 done_ = true;
                 break;
             }
-            CheckRay(ray, next_ray_ + b->rays.size() / 6 + skipped_ + 1);
+            CheckInputRay(ray, next_ray_ + b->rays.size() / 6 + skipped_ + 1);
             const bool zero = ray[3] == 0 && ray[4] == 0 && ray[5] == 0;
             if (zero && o_.accumulate <= 0) {
                 if (!warned_dummy_) Warning("dummy ray(s) ignored during accumulation");
@@ -125,16 +136,6 @@ class RayReader {
         Warning(std::string("the input rays look like text, but -f") +
                 (format == DataFormat::Float ? "f" : "d") +
                 " reads them as binary numbers (-fa reads text)");
-    }
-    // One bad line must not end a long run deep inside the engine (Embree asserts on such
-    // rays, a GPU gives garbage): NaN, infinity and coordinates beyond any scene are refused.
-    static void CheckRay(const double ray[6], uint64_t number) {
-        constexpr double kLargest = 1e12;  // metres: far beyond any scene, well within float
-        for (int k = 0; k < 6; ++k)
-            if (!(std::fabs(ray[k]) <= kLargest))
-                ErrorExit("input ray " + std::to_string(number) + ": " +
-                          (k < 3 ? "origin" : "direction") + " value " + FormatNumber(ray[k]) +
-                          (std::isfinite(ray[k]) ? " is out of range" : " is not a number"));
     }
     static ReadSpec Spec(DataFormat format) {
         ReadSpec rs;

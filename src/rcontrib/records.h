@@ -19,6 +19,9 @@ namespace dayflux {
 // rays: where the input rays come from (origin and direction into ray; false at the end of
 // input); by default the standard input in the -f format.
 using RaySource = std::function<bool(double ray[6])>;
+
+// Errors (naming input ray `number`, from 1) on NaN, infinity or a coordinate beyond 1e12.
+void CheckInputRay(const double ray[6], uint64_t number);
 void TraceRecords(const RcontribOptions &o, ContribEngine &engine, RcontribOutputs &outputs,
                   RaySource rays = nullptr);
 

@@ -54,8 +54,10 @@ TEST(RtraceDc, UniformSkyGivesPiInProjectedSolidAnglesOfItsRows) {
     double sum = 0;
     for (double v : rows[0]) sum += v;
     EXPECT_NEAR(sum, M_PI, 1e-6);  // every sample sees the sky
-    // Each row of patches: pi (sin^2 top - sin^2 bottom); the hemisphere's 64 x 64 strata in
-    // cos^2 and azimuth make a row's share exact to a stratum's width (1/4096 of pi).
+    // Each row of patches: pi (sin^2 top - sin^2 bottom), within the strata's noise: a row's
+    // edges cut the 64 x 64 strata (in cos^2 theta and azimuth), whose samples fall either side,
+    // up to a few strata of pi / 4096 each side (measured: under 2 % of a row; the top rows'
+    // bound 10 %).
     const int start[9] = {0, 30, 60, 84, 108, 126, 138, 144, 145};
     for (int row = 0; row < 8; ++row) {
         const double lo = 12.0 * row * M_PI / 180,
@@ -63,7 +65,7 @@ TEST(RtraceDc, UniformSkyGivesPiInProjectedSolidAnglesOfItsRows) {
         double got = 0;
         for (int p = start[row]; p < start[row + 1]; ++p) got += rows[0][p];
         const double want = M_PI * (std::pow(std::sin(hi), 2) - std::pow(std::sin(lo), 2));
-        EXPECT_NEAR(got, want, 2 * M_PI / 64) << "row " << row;
+        EXPECT_NEAR(got, want, std::max(0.02 * want, 16 * M_PI / 4096)) << "row " << row;
     }
     for (int p = 145; p < 148; ++p) EXPECT_EQ(rows[0][p], 0) << "ground patch " << p;
 }
@@ -158,7 +160,9 @@ TEST(RtraceDc, BadInput) {
     EXPECT_NE(r.err.find("light source 'lamp' is not named solarK"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("light source 'solar2' is coefficient 2 of only 1"), std::string::npos)
         << r.err;
-    for (const char *bad : {"-N 0", "-N 148 -L 0", "-N 148 -ov", "-N 148 -af amb.dat", ""}) {
+    for (const char *bad :
+         {"-N 0", "-N 148 -L 0", "-N 148 -L nan", "-N 148 -ov", "-N 148 -af amb.dat", "",
+          "-N 148 -se err.txt", "-N 148 -first_record 5", "-N 148 -sensor_cache 0.1"}) {
         const CommandResult e = RunCommand(
             std::string("echo '0 0 0 0 0 1' | rtrace_dc-gpu -h -I+ ") + bad + " suns.rad",
             dir.path());
@@ -197,7 +201,8 @@ TEST(RtraceDc, SensorCacheWithinItsAccuracy) {
         return s;
     };
     const std::vector<double> reference = sums("-ad 8192 -aa 0 -lw 1e-7 -seed 5");
-    const std::vector<double> plain = sums("-ad 1024 -aa 0 -lw 1e-6");  // = -aa's -lw per sample
+    // -aa takes -lw per sample: 1e-3 / 1024.
+    const std::vector<double> plain = sums("-ad 1024 -aa 0 -lw 9.765625e-07");
     ASSERT_EQ(reference.size(), 100u);
     const auto errors = [&](const std::vector<double> &s, double *mean) {
         double rms = 0;
@@ -275,6 +280,11 @@ TEST(RtraceDc, RcontribSensorCacheIsTheSame) {
         RunCommand("rcontrib-gpu -sensor_cache 0.1 -ab 1 -m sky" + scene, dir.path());
     EXPECT_NE(bad.status, 0);
     EXPECT_NE(bad.err.find("-sensor_cache: for sensors (-I+)"), std::string::npos) << bad.err;
+    // Shards would group the sensors otherwise than the whole run: refused.
+    const CommandResult shard = RunCommand(
+        "rcontrib-gpu -I+ -sensor_cache 0.1 -first_record 5 -ab 1 -m sky" + scene, dir.path());
+    EXPECT_NE(shard.err.find("-sensor_cache with -first_record or -r"), std::string::npos)
+        << shard.err;
 }
 
 // The tutorial room as a DAYSIM project (test/data/daysim/room) in a fresh folder.
@@ -333,6 +343,24 @@ TEST_F(DaysimRoom, GenDcWritesDaysimsSunsAndHeaderAndMatchesItsCoefficients) {
             << "sensor " << i;
     }
     EXPECT_NEAR(ours_total, daysim_total, 0.03 * daysim_total);
+    // Patch by patch (summed over the sensors): DAYSIM's order, not merely its totals. The
+    // window faces -Y (south), so the patches east to north to west (0-14 of the lowest row) see
+    // nothing; a permuted order would not correlate.
+    std::vector<double> ours_patch(148, 0), daysim_patch(148, 0);
+    for (size_t i = 0; i < got.size(); ++i)
+        for (int k = 0; k < 148; ++k) ours_patch[k] += got[i][k], daysim_patch[k] += daysim[i][k];
+    double sxy = 0, sxx = 0, syy = 0, mx = 0, my = 0;
+    for (int k = 0; k < 148; ++k) mx += ours_patch[k] / 148, my += daysim_patch[k] / 148;
+    for (int k = 0; k < 148; ++k) {
+        sxy += (ours_patch[k] - mx) * (daysim_patch[k] - my);
+        sxx += (ours_patch[k] - mx) * (ours_patch[k] - mx);
+        syy += (daysim_patch[k] - my) * (daysim_patch[k] - my);
+    }
+    EXPECT_GT(sxy / std::sqrt(sxx * syy), 0.9);
+    for (int k = 0; k < 15; ++k) {
+        EXPECT_EQ(daysim_patch[k], 0) << k;
+        EXPECT_EQ(ours_patch[k], 0) << k;
+    }
     for (size_t k = 148; k < 209; ++k) {
         double a = 0, b = 0;
         for (size_t i = 0; i < got.size(); ++i) a += got[i][k], b += daysim[i][k];
@@ -351,12 +379,12 @@ TEST_F(DaysimRoom, ShadingVariantsEachWithTheirScene) {
     WriteFile(dir_.path() / "panel.rad",
               "void plastic black 0 0 5 0 0 0 0 0\n"
               "black polygon panel 0 0 12 -1 -0.5 0 7 -0.5 0 7 -0.5 3.5 -1 -0.5 3.5\n");
-    const std::string epw =
-        (DataDir() / ".." / ".." / "examples" / "reference-office" / "weather" /
-         "USA_NY_New.York.City-Central.Park.94728_TMY_3.epw.xz")
-            .string();
-    const CommandResult r = RunCommand("xz -dc '" + epw + "' > w.epw && epw2wea w.epw room.wea && "
-                                       "gen_dc two.hea && ds_illum two.hea",
+    const std::string epw = (DataDir() / ".." / ".." / "examples" / "reference-office" / "weather" /
+                             "USA_NY_New.York.City-Central.Park.94728_TMY_3.epw.xz")
+                                .string();
+    const CommandResult r = RunCommand("xz -dc '" + epw +
+                                           "' > w.epw && epw2wea w.epw room.wea && "
+                                           "gen_dc two.hea && ds_illum two.hea",
                                        dir_.path());
     ASSERT_EQ(r.status, 0) << r.err;
     const auto open = Dc("open.dc"), panel = Dc("panel.dc");
@@ -483,6 +511,13 @@ TEST(DsIllum, BadInput) {
               std::string::npos)
         << r.err;
     EXPECT_FALSE(std::filesystem::exists(dir.path() / "site.ill"));
+    // time_step 0 (a division by zero in a careless reader), and not a number.
+    for (const char *bad : {"time_step 0", "time_step 1e12", "longitude nan"}) {
+        WriteFile(dir.path() / "bad.hea", ReadFile(dir.path() / "site.hea") + bad + "\n");
+        r = RunCommand("ds_illum bad.hea", dir.path());
+        EXPECT_EQ(r.status, 1) << bad;
+        EXPECT_NE(r.err.find("bad.hea:19: '"), std::string::npos) << bad << ": " << r.err;
+    }
     // A row missing.
     WriteFile(dir.path() / "site.dc", dc.substr(0, dc.rfind('\n', dc.size() - 2) + 1));
     r = RunCommand("ds_illum site.hea", dir.path());
