@@ -72,7 +72,7 @@ fi
 V_ARGS="-I+ -ab 8 -ad $v_ad -lw 2e-5 -faf -f klems_full.cal -b kbin(0,1,0,0,0,1) -bn Nkbins -m glass_mat"
 DC_ARGS="-I+ -ab 6 -ad $dc_ad -lw 5e-5 -faf -e MF:1 -f reinhart.cal -b rbin -bn Nrbins -m skyglow"
 CDS_ARGS="-I+ -ab 0 -dc 1 -dt 0 -dj 0 -faf -e MF:6 -f reinhart.cal -b rbin -bn Nrbins -m solar"
-DS_ARGS="-I+ -oc -ff -ab 5 -ad 1000 -ar 300 -dj 0 -st 0.15 -L 1000 -N 148 -Dd"
+DS_ARGS="-I+ -oc -faf -ab 5 -ad 1000 -ar 300 -dj 0 -st 0.15 -L 1000 -N 148 -Dd"
 export RAYPATH=.:$root/lib
 programs=("embree|-backend embree" "vulkan-rayquery|-device $DEVICE -gpu_traversal rayquery"
           "vulkan-bvh|-device $DEVICE -gpu_traversal bvh")
