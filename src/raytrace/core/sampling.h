@@ -65,22 +65,15 @@ inline void SinCosQuarter(double x, double *s, double *c) {
 inline real2 SquareToDisk(real sx, real sy) {
     real a = 2. * sx - 1., b = 2. * sy - 1.;
 #ifdef __cplusplus
+    // The four cases are two: |a| > |b| turns by pi/4 (b/a) with radius a, else by pi/4 (a/b)
+    // with radius b (the signs place the quadrant). Chosen by selects, not branches: which case
+    // a sample falls in is random, and a mispredicted branch costs more than the arithmetic.
+    const bool by_a = std::fabs(a) > std::fabs(b);
+    const double num = by_a ? b : a, den = by_a ? a : b;
+    if (den == 0.) return real2(0, 0);
     double s, c;
-    if (a > -b) {
-        if (a > b) {  // phi = pi/4 (b/a)
-            SinCosQuarter(kPi / 4. * (b / a), &s, &c);
-            return real2(a * c, a * s);
-        }
-        SinCosQuarter(kPi / 4. * (a / b), &s, &c);  // phi = pi/2 - pi/4 (a/b)
-        return real2(b * s, b * c);
-    }
-    if (a < b) {  // phi = pi + pi/4 (b/a), r = -a
-        SinCosQuarter(kPi / 4. * (b / a), &s, &c);
-        return real2(a * c, a * s);
-    }
-    if (b == 0.) return real2(0, 0);
-    SinCosQuarter(kPi / 4. * (a / b), &s, &c);  // phi = 3 pi/2 - pi/4 (a/b), r = -b
-    return real2(b * s, b * c);
+    SinCosQuarter(kPi / 4. * (num / den), &s, &c);
+    return real2(den * (by_a ? c : s), den * (by_a ? s : c));
 #else
     real r, phi;
     if (a > -b) {
