@@ -43,9 +43,10 @@ bool Flag(const std::string &a, bool current) {
     return !current;
 }
 
-class Parser {
+class Parser : public OptionCursor {
   public:
-    Parser(std::vector<std::string> args, RtraceDcOptions *o) : args_(std::move(args)), o_(*o) {}
+    Parser(std::vector<std::string> args, RtraceDcOptions *o)
+        : OptionCursor(std::move(args)), o_(*o) {}
 
     // The options rtrace_dc reads itself; the rest (rendering and ours) for rcontrib's parser,
     // after rtrace's defaults where they differ from rcontrib's.
@@ -89,23 +90,6 @@ class Parser {
     }
 
   private:
-    std::string Value(const std::string &opt) {
-        if (i_ + 1 >= args_.size()) ErrorExit(opt + ": missing argument");
-        return args_[++i_];
-    }
-    double Number(const std::string &opt) {
-        double v;
-        const std::string w = Value(opt);
-        if (!ParseNumber(w, &v) || !std::isfinite(v)) ErrorExit(opt + ": bad number '" + w + "'");
-        return v;
-    }
-    int Integer(const std::string &opt) {
-        const double v = Number(opt);
-        if (v != std::floor(v) || std::fabs(v) > 1e9)
-            ErrorExit(opt + ": '" + args_[i_] + "' is not a whole number");
-        return static_cast<int>(v);
-    }
-
     // DAYSIM's options: -N -Dm -Dd -L -U.
     bool Daysim(const std::string &a) {
         if (a == "-N") {
@@ -192,8 +176,6 @@ class Parser {
         o_.out = format(a.size() == 4 ? a[3] : a[2]);
     }
 
-    std::vector<std::string> args_;
-    size_t i_ = 1;
     RtraceDcOptions &o_;
 };
 

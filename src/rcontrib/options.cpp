@@ -55,9 +55,10 @@ std::string Environment(const char *name) {
 }
 
 // The options in order, one group of them per function, each saying whether it took `a`.
-class Parser {
+class Parser : public OptionCursor {
   public:
-    Parser(std::vector<std::string> args, RcontribOptions *o) : args_(std::move(args)), o_(*o) {
+    Parser(std::vector<std::string> args, RcontribOptions *o)
+        : OptionCursor(std::move(args)), o_(*o) {
         o_.engine.device = Environment("DAYFLUX_VULKAN_DEVICE");
         if (const std::string t = Environment("DAYFLUX_GPU_TRAVERSAL"); !t.empty())
             o_.engine.traversal = Traversal("DAYFLUX_GPU_TRAVERSAL=", t);
@@ -88,18 +89,6 @@ class Parser {
     }
 
   private:
-    std::string Value(const std::string &opt) {
-        if (i_ + 1 >= args_.size()) ErrorExit(opt + ": missing argument");
-        return args_[++i_];
-    }
-    double Number(const std::string &opt) {
-        double v;
-        const std::string w = Value(opt);
-        if (!ParseNumber(w, &v)) ErrorExit(opt + ": bad number '" + w + "'");
-        return v;
-    }
-    int Integer(const std::string &opt) { return static_cast<int>(Number(opt)); }
-
     // addmodifier(): -bn is evaluated now, with what is defined so far (the value remembered for
     // the modifiers after it, since -M may name thousands); a name may be tracked once.
     void AddModifier(const std::string &name) {
@@ -304,8 +293,6 @@ class Parser {
         return true;
     }
 
-    std::vector<std::string> args_;
-    size_t i_ = 0;
     RcontribOptions &o_;
     std::string binv_ = "0", bn_ = "1", params_, ospec_;
     bool ospec_after_last_modifier_ = false;
@@ -341,8 +328,9 @@ RcontribOptions ParseRcontribOptions(const std::vector<std::string> &args,
     // Sensors share records within the blocks of one input: a shard or a recovered run would
     // group them otherwise, and not merge into the whole run's matrix.
     if (o.sensor_cache > 0 && (o.first_record >= 0 || o.recover))
-        ErrorExit("-sensor_cache with -first_record or -r: shards would share records otherwise "
-                  "than the whole run");
+        ErrorExit(
+            "-sensor_cache with -first_record or -r: shards would share records otherwise "
+            "than the whole run");
     if (o.first_record >= 0 && o.accumulate == 0)
         ErrorExit("-first_record with -c 0: one record of every ray cannot be split into shards");
     int col = 0;

@@ -1,5 +1,6 @@
 #include "util/options.h"
 
+#include <cmath>
 #include <fstream>
 #include <string>
 
@@ -14,6 +15,24 @@ double OptionNumber(int argc, char **argv, int *i, void (*usage)(const char *)) 
     if (!ParseNumber(argv[++*i], &v))
         ErrorExit(std::string(argv[*i - 1]) + ": '" + argv[*i] + "' is not a number");
     return v;
+}
+
+std::string OptionCursor::Value(const std::string &opt) {
+    if (i_ + 1 >= args_.size()) ErrorExit(opt + ": missing argument");
+    return args_[++i_];
+}
+
+double OptionCursor::Number(const std::string &opt) {
+    double v;
+    const std::string w = Value(opt);
+    if (!ParseNumber(w, &v) || !std::isfinite(v)) ErrorExit(opt + ": bad number '" + w + "'");
+    return v;
+}
+
+int OptionCursor::Integer(const std::string &opt) {
+    const double v = Number(opt);
+    if (std::fabs(v) > 1e9) ErrorExit(opt + ": " + args_[i_] + " is out of range");
+    return static_cast<int>(v);
 }
 
 std::vector<std::string> ExpandOptionFiles(const std::vector<std::string> &args) {

@@ -47,15 +47,16 @@ inline real3 RandomTangent(real3 n, real r0, real r1, real r2, real r3) {
 #ifdef __cplusplus
 // sin and cos of x in [-pi/4, pi/4] by their Taylor series to x^17 and x^18 (the first terms
 // left out are below 1e-19 there): within an ulp or two of libm's, at a fraction of the cost
-// of a general sincos, which the CPU's hemispheres call once per sample.
+// of a general sincos, which the CPU's hemispheres call once per sample. (Its literals are
+// floating point: glslang reads skipped lines too, and refuses integers beyond 32 bits.)
 inline void SinCosQuarter(double x, double *s, double *c) {
     const double x2 = x * x;
-    *s = x * (1 + x2 * (-1. / 6 + x2 * (1. / 120 + x2 * (-1. / 5040 + x2 * (1. / 362880 +
-         x2 * (-1. / 39916800 + x2 * (1. / 6227020800 + x2 * (-1. / 1307674368000 +
-         x2 * (1. / 355687428096000)))))))));
-    *c = 1 + x2 * (-1. / 2 + x2 * (1. / 24 + x2 * (-1. / 720 + x2 * (1. / 40320 +
-         x2 * (-1. / 3628800 + x2 * (1. / 479001600 + x2 * (-1. / 87178291200 +
-         x2 * (1. / 20922789888000 + x2 * (-1. / 6402373705728000)))))))));
+    *s = x * (1 + x2 * (-1. / 6. + x2 * (1. / 120. + x2 * (-1. / 5040. + x2 * (1. / 362880. +
+         x2 * (-1. / 39916800. + x2 * (1. / 6227020800. + x2 * (-1. / 1307674368000. +
+         x2 * (1. / 355687428096000.)))))))));
+    *c = 1 + x2 * (-1. / 2. + x2 * (1. / 24. + x2 * (-1. / 720. + x2 * (1. / 40320. +
+         x2 * (-1. / 3628800. + x2 * (1. / 479001600. + x2 * (-1. / 87178291200. +
+         x2 * (1. / 20922789888000. + x2 * (-1. / 6402373705728000.)))))))));
 }
 #endif
 
