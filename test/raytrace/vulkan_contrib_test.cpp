@@ -223,7 +223,9 @@ TEST_F(VulkanContrib, OneRandomStreamOnBothBackends) {
 
 // rtrace_dc-gpu on the GPU: DAYSIM's patch function compiled from calcomp into the shader, its
 // -V+ coefficients, with one random stream: the tutorial room's 148 diffuse coefficients as
-// Embree's to float rounding (far closer than two seeds).
+// Embree's to float rounding (far closer than two seeds). (The sensor cache on a GPU needs a
+// second shader, -ab 0, which lavapipe takes a minute to compile: it is left to bench/gpu.sh's
+// DSdifC case; the cache's arithmetic is the CPU's on either engine.)
 TEST_F(VulkanContrib, RtraceDcAsEmbree) {
     const fs::path room = DataDir() / "daysim" / "room";
     WriteFile(tmp_.path() / "sky148.rad",
@@ -255,16 +257,6 @@ TEST_F(VulkanContrib, RtraceDcAsEmbree) {
     EXPECT_GT(total, 1.0);
     EXPECT_GT(seeds, 0);
     EXPECT_LT(std::sqrt(backends), 0.2 * std::sqrt(seeds));
-    // The sensor cache (-aa) on the GPU: its records traced in runs of consecutive sensors, the
-    // same records and interpolation as on the CPU (the same shader: nothing new to compile).
-    const std::vector<double> gpu_cached = run("-backend vulkan -seed 1 -aa 0.2 -ar 16"),
-                              cpu_cached = run("-backend embree -seed 1 -aa 0.2 -ar 16");
-    ASSERT_EQ(gpu_cached.size(), gpu.size());
-    double cached = 0;
-    for (size_t i = 0; i < gpu.size(); ++i)
-        cached += (gpu_cached[i] - cpu_cached[i]) * (gpu_cached[i] - cpu_cached[i]);
-    EXPECT_LT(std::sqrt(cached), 0.2 * std::sqrt(seeds));
-    EXPECT_NE(gpu_cached, gpu);  // -ar 16 makes records cover neighbours
 }
 
 // -asub 2: each first-level cell sampled by 2 x 2 rays, one carrying its diffuse paths with 4
