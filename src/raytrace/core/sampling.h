@@ -44,58 +44,32 @@ inline real3 RandomTangent(real3 n, real r0, real r1, real r2, real r3) {
     return normalize(cross(e, n));
 }
 
-#ifdef __cplusplus
 // sin and cos of x in [-pi/4, pi/4] by their Taylor series to x^17 and x^18 (the first terms
-// left out are below 1e-19 there): within an ulp or two of libm's, at a fraction of the cost
-// of a general sincos, which the CPU's hemispheres call once per sample. (Its literals are
-// floating point: glslang reads skipped lines too, and refuses integers beyond 32 bits.)
-inline void SinCosQuarter(double x, double *s, double *c) {
-    const double x2 = x * x;
-    *s = x * (1 + x2 * (-1. / 6. + x2 * (1. / 120. + x2 * (-1. / 5040. + x2 * (1. / 362880. +
-         x2 * (-1. / 39916800. + x2 * (1. / 6227020800. + x2 * (-1. / 1307674368000. +
-         x2 * (1. / 355687428096000.)))))))));
-    *c = 1 + x2 * (-1. / 2. + x2 * (1. / 24. + x2 * (-1. / 720. + x2 * (1. / 40320. +
-         x2 * (-1. / 3628800. + x2 * (1. / 479001600. + x2 * (-1. / 87178291200. +
-         x2 * (1. / 20922789888000. + x2 * (-1. / 6402373705728000.)))))))));
+// left out are below 1e-19 there): within an ulp or two of libm's double sincos at a fraction of
+// its cost (the CPU's hemispheres take one a sample), and as good in the GPU's float. (The
+// literals are floating point: glslang refuses integers beyond 32 bits.)
+inline void SinCosQuarter(real x, OUT(real) s, OUT(real) c) {
+    real x2 = x * x;
+    s = x * (1. + x2 * (-1. / 6. + x2 * (1. / 120. + x2 * (-1. / 5040. + x2 * (1. / 362880. +
+        x2 * (-1. / 39916800. + x2 * (1. / 6227020800. + x2 * (-1. / 1307674368000. +
+        x2 * (1. / 355687428096000.)))))))));
+    c = 1. + x2 * (-1. / 2. + x2 * (1. / 24. + x2 * (-1. / 720. + x2 * (1. / 40320. +
+        x2 * (-1. / 3628800. + x2 * (1. / 479001600. + x2 * (-1. / 87178291200. +
+        x2 * (1. / 20922789888000. + x2 * (-1. / 6402373705728000.)))))))));
 }
-#endif
 
-// Shirley-Chiu: unit square to unit disk, area-preserving (RADIANCE's square2disk()). Each of
-// its four cases turns by pi/4 times a ratio in [-1, 1] about one axis; the C++ side takes the
-// sine and cosine of that part alone (SinCosQuarter), the GLSL side the whole angle's.
+// Shirley-Chiu: unit square to unit disk, area-preserving (RADIANCE's square2disk()). Its four
+// cases are two: |a| > |b| turns by pi/4 (b/a) with radius a, else by pi/4 (a/b) with radius
+// b (the signs place the quadrant), so only a quarter turn's sine and cosine are needed. The
+// case is chosen by selects, not branches: which one a sample falls in is random.
 inline real2 SquareToDisk(real sx, real sy) {
     real a = 2. * sx - 1., b = 2. * sy - 1.;
-#ifdef __cplusplus
-    // The four cases are two: |a| > |b| turns by pi/4 (b/a) with radius a, else by pi/4 (a/b)
-    // with radius b (the signs place the quadrant). Chosen by selects, not branches: which case
-    // a sample falls in is random, and a mispredicted branch costs more than the arithmetic.
-    const bool by_a = std::fabs(a) > std::fabs(b);
-    const double num = by_a ? b : a, den = by_a ? a : b;
-    if (den == 0.) return real2(0, 0);
-    double s, c;
-    SinCosQuarter(kPi / 4. * (num / den), &s, &c);
+    bool by_a = abs(a) > abs(b);
+    real num = by_a ? b : a, den = by_a ? a : b;
+    if (den == 0.) return real2(0., 0.);
+    real s, c;
+    SinCosQuarter(kPi / 4. * (num / den), s, c);
     return real2(den * (by_a ? c : s), den * (by_a ? s : c));
-#else
-    real r, phi;
-    if (a > -b) {
-        if (a > b) {
-            r = a;
-            phi = kPi / 4. * (b / a);
-        } else {
-            r = b;
-            phi = kPi / 4. * (2. - a / b);
-        }
-    } else {
-        if (a < b) {
-            r = -a;
-            phi = kPi / 4. * (4. + b / a);
-        } else {
-            r = -b;
-            phi = b != 0. ? kPi / 4. * (6. - a / b) : 0.;
-        }
-    }
-    return real2(r * cos(phi), r * sin(phi));
-#endif
 }
 
 #ifdef __cplusplus
