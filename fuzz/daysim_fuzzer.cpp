@@ -1,6 +1,8 @@
-// DAYSIM project files (.hea) read by ReadDaysimProject, and where they hold a site, the suns
-// and skies ds_illum makes from them (DaysimDirectSuns, DaysimSkyModel over a year of steps).
-// The reader takes a path, so each input is written to a scratch file.
+// DAYSIM's text inputs, each input read as all three: a project file (.hea, ReadDaysimProject,
+// and where it holds a site the suns and skies ds_illum makes from it: DaysimDirectSuns,
+// DaysimSkyModel over a year of steps), a sensor file (CountSensors) and a .dc file
+// (ReadDaysimDc, two sensors of 150 columns). The readers take paths, so each input is written
+// to a scratch file.
 #include <cmath>
 
 #include "daysim/ds_illum.h"
@@ -20,5 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             for (double hour = 0.5; hour < 24; hour += 2)
                 sky.Step(month, 21, hour, 400 + 20 * month, 90 + 5 * month);
     });
+    dayflux::fuzz::ExpectUserErrors([&] { dayflux::CountSensors(path); });
+    dayflux::fuzz::ExpectUserErrors([&] { dayflux::ReadDaysimDc(path, 2, 150); });
     return 0;
 }

@@ -425,8 +425,10 @@ DaysimStepSky DaysimSkyModel::Step(int month, int day, double hour, double dir, 
 
 namespace {
 
-// A .dc file's coefficients, a row per sensor, as floats.
-std::vector<std::vector<float>> ReadDc(const std::string &file, size_t sensors, int columns) {
+}  // namespace
+
+std::vector<std::vector<float>> ReadDaysimDc(const std::string &file, size_t sensors,
+                                             int columns) {
     const std::unique_ptr<InputSource> in = InputSource::Open(file);
     std::vector<std::vector<float>> rows;
     std::string line;
@@ -453,6 +455,8 @@ std::vector<std::vector<float>> ReadDc(const std::string &file, size_t sensors, 
                   std::to_string(sensors) + " sensors (run gen_dc again?)");
     return rows;
 }
+
+namespace {
 
 // One sensor's value at a step: the products rounded to float, summed in double, in DAYSIM's
 // order and with its choices (negative diffuse coefficients after the first left out; suns
@@ -531,7 +535,7 @@ void RunDsIllum(const DaysimProject &p, const DsIllumOptions &options) {
     const DaysimSkyModel sky(p, columns);
 
     for (const DaysimVariant &v : p.variants) {
-        const auto dc = ReadDc(p.Path(v.dc) + options.extension, sensors, columns);
+        const auto dc = ReadDaysimDc(p.Path(v.dc) + options.extension, sensors, columns);
         WeatherReader weather(p.Path(p.weather));
         if (weather.Header().units != p.weather_units)
             Warning(weather.Name() + ": weather_data_file_units " +

@@ -20,6 +20,11 @@ struct DsIllumOptions {
 
 void RunDsIllum(const DaysimProject &project, const DsIllumOptions &options);
 
+// A .dc file's coefficients, a row per sensor ('#' lines skipped): exactly `sensors` rows of
+// `columns` numbers, else an error naming the file and line.
+std::vector<std::vector<float>> ReadDaysimDc(const std::string &file, size_t sensors,
+                                             int columns);
+
 // One time step's sky as ds_illum builds it: luminance (cd/m2) and radiance (W/m2 sr) of the
 // 148 diffuse patches and of the direct coefficients the sun is shared between (index 148 + k),
 // zero where the step is dark.
