@@ -44,11 +44,14 @@ inline real3 RandomTangent(real3 n, real r0, real r1, real r2, real r3) {
     return normalize(cross(e, n));
 }
 
-// sin and cos of x in [-pi/4, pi/4] by their Taylor series to x^17 and x^18 (the first terms
-// left out are below 1e-19 there): within an ulp or two of libm's double sincos at a fraction of
-// its cost (the CPU's hemispheres take one a sample), and as good in the GPU's float. (The
-// literals are floating point: glslang refuses integers beyond 32 bits.)
+// sin and cos of x in [-pi/4, pi/4]: on the CPU by their Taylor series to x^17 and x^18 (the
+// first terms left out are below 1e-19 there), within an ulp or two of libm's double sincos at a
+// fraction of its cost (the hemispheres take one a sample); on the GPU by its own sin and cos,
+// whose float is more exact than a float series (the collision rule below is sensitive to
+// that: a series in float moved -ad 90000 runs 4e-4 away from Embree's, against 5e-6). (The
+// literals are floating point: glslang lexes skipped lines and refuses integers beyond 32 bits.)
 inline void SinCosQuarter(real x, OUT(real) s, OUT(real) c) {
+#ifdef __cplusplus
     real x2 = x * x;
     s = x * (1. + x2 * (-1. / 6. + x2 * (1. / 120. + x2 * (-1. / 5040. + x2 * (1. / 362880. +
         x2 * (-1. / 39916800. + x2 * (1. / 6227020800. + x2 * (-1. / 1307674368000. +
@@ -56,6 +59,10 @@ inline void SinCosQuarter(real x, OUT(real) s, OUT(real) c) {
     c = 1. + x2 * (-1. / 2. + x2 * (1. / 24. + x2 * (-1. / 720. + x2 * (1. / 40320. +
         x2 * (-1. / 3628800. + x2 * (1. / 479001600. + x2 * (-1. / 87178291200. +
         x2 * (1. / 20922789888000. + x2 * (-1. / 6402373705728000.)))))))));
+#else
+    s = sin(x);
+    c = cos(x);
+#endif
 }
 
 // Shirley-Chiu: unit square to unit disk, area-preserving (RADIANCE's square2disk()). Its four
