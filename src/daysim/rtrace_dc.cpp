@@ -161,16 +161,9 @@ class Parser : public OptionCursor {
 
     void Formats(const std::string &a) {
         const auto format = [&](char c) {
-            switch (c) {
-                case 'a':
-                    return DataFormat::Ascii;
-                case 'f':
-                    return DataFormat::Float;
-                case 'd':
-                    return DataFormat::Double;
-                default:
-                    ErrorExit(a + ": unknown format (a, f or d)");
-            }
+            const std::optional<DataFormat> f = FormatFromLetter(c, false);
+            if (!f) ErrorExit(a + ": unknown format (a, f or d)");
+            return *f;
         };
         o_.in = format(a[2]);
         o_.out = format(a.size() == 4 ? a[3] : a[2]);

@@ -22,6 +22,22 @@ std::string_view FormatName(DataFormat format) {
     return "unknown";
 }
 
+std::optional<DataFormat> FormatFromLetter(char letter, bool rgbe_allowed) {
+    switch (letter) {
+        case 'a':
+            return DataFormat::Ascii;
+        case 'f':
+            return DataFormat::Float;
+        case 'd':
+            return DataFormat::Double;
+        case 'c':
+            if (rgbe_allowed) return DataFormat::RGBE;
+            return std::nullopt;
+        default:
+            return std::nullopt;
+    }
+}
+
 std::optional<DataFormat> FormatFromName(std::string_view name) {
     for (DataFormat f : {DataFormat::RGBE, DataFormat::XYZE, DataFormat::Float, DataFormat::Ascii,
                          DataFormat::Double})

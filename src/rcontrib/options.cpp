@@ -143,19 +143,9 @@ class Parser : public OptionCursor {
             o_.force_open = Flag(a.substr(0, 1) + a.substr(2), o_.force_open);
         } else if (a[1] == 'f' && a.size() >= 3) {
             const auto format = [&](char c, bool output) {
-                switch (c) {
-                    case 'a':
-                        return DataFormat::Ascii;
-                    case 'f':
-                        return DataFormat::Float;
-                    case 'd':
-                        return DataFormat::Double;
-                    case 'c':
-                        if (output) return DataFormat::RGBE;
-                        [[fallthrough]];
-                    default:
-                        ErrorExit("bad format option '" + a + "'");
-                }
+                const std::optional<DataFormat> f = FormatFromLetter(c, output);
+                if (!f) ErrorExit("bad format option '" + a + "'");
+                return *f;
             };
             o_.in = format(a[2], false);
             o_.out = a.size() > 3 ? format(a[3], true) : o_.in;
