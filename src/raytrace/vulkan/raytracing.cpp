@@ -758,7 +758,16 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
         cpci.stage.module = p.module;
         cpci.stage.pName = "main";
         cpci.layout = p.layout;
-        VK_CHECK(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &cpci, nullptr, &p.pipeline));
+        if (const VkResult r =
+                vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &cpci, nullptr, &p.pipeline);
+            r != VK_SUCCESS)
+            // NVIDIA's driver answers VK_ERROR_UNKNOWN to a shader whose private arrays pass
+            // about 16 KiB an invocation (docs/benchmarks.md): the likely cause, named.
+            ErrorExit(std::string("Vulkan: the driver refused the compute pipeline (") +
+                      ResultName(r) + ") on " + d.name +
+                      ": the shader's private arrays may be too large for it (NVIDIA's takes about "
+                      "16 KiB an invocation); -gpu_scratch on (the default on GPUs) keeps them in "
+                      "buffers");
         it = d.pipelines.emplace(key, std::move(p)).first;
     }
     const Pipeline &p = it->second;
