@@ -1,7 +1,10 @@
 #include "raytrace/engine.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <atomic>
+#include <utility>
 #include <vector>
 
 #include "raytrace/core/tables.h"
@@ -74,6 +77,24 @@ std::string DescribeGpuDevices() {
 #else
     return "this build has no Vulkan backend\n";
 #endif
+}
+
+void ContribEngine::TraceKeyed(const double *rays, size_t n, const uint64_t *keys, int replica,
+                               double *records) {
+    const size_t width = 3 * static_cast<size_t>(Columns());
+    const size_t batch = std::max<size_t>(1, BatchRays());
+    std::vector<std::pair<size_t, size_t>> runs;  // [begin, end)
+    for (size_t k = 0; k < n; ++k) {
+        if (!runs.empty() && runs.back().second == k && k - runs.back().first < batch &&
+            keys[k] == keys[k - 1] + 1)
+            ++runs.back().second;
+        else
+            runs.push_back({k, k + 1});
+    }
+    tbb::parallel_for(size_t(0), runs.size(), [&](size_t r) {
+        const auto [begin, end] = runs[r];
+        Trace(rays + 6 * begin, end - begin, keys[begin], replica, records + begin * width);
+    });
 }
 
 void TraceReplicas(ContribEngine &engine, const double *rays, size_t n, uint64_t first_index,

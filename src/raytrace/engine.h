@@ -59,6 +59,11 @@ class ContribEngine {
     // from several threads at once.
     virtual void Trace(const double *rays, size_t n, uint64_t first_index, int replica,
                        double *records) = 0;
+    // As Trace, ray i's numbers keyed by keys[i] (ascending, not consecutive: the sensor cache's
+    // records). Here, one Trace per run of consecutive keys, the runs side by side; a GPU
+    // engine takes them in one dispatch.
+    virtual void TraceKeyed(const double *rays, size_t n, const uint64_t *keys, int replica,
+                            double *records);
 };
 
 // make_context(k) gives a calcomp context with every -e/-f and tracked modifier k's -p applied,

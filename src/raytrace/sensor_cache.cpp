@@ -107,27 +107,17 @@ double Error(const Sensor &s, const Sensor &r, double radius) {
     return std::sqrt(dist2) / radius + std::sqrt(std::max(0.0, 1 - dot));
 }
 
-// Traces sensors `which` (ascending) into out (one record each, in that order), in runs of
-// consecutive keys of at most the engine's batch.
-void TraceRuns(ContribEngine &engine, const double *rays, const uint64_t *keys,
+// Traces sensors `which` (ascending) into out (one record each, in that order), each with its
+// own key, so that its random numbers are the ones it would draw in a whole run.
+void TraceSome(ContribEngine &engine, const double *rays, const uint64_t *keys,
                const std::vector<size_t> &which, int replica, double *out) {
-    const size_t width = 3 * static_cast<size_t>(engine.Columns());
-    const size_t batch = std::max<size_t>(1, engine.BatchRays());
-    std::vector<std::pair<size_t, size_t>> runs;  // [begin, end) into which
+    std::vector<double> some(6 * which.size());
+    std::vector<uint64_t> some_keys(which.size());
     for (size_t k = 0; k < which.size(); ++k) {
-        if (!runs.empty() && runs.back().second == k && k - runs.back().first < batch &&
-            keys[which[k]] == keys[which[k - 1]] + 1)
-            ++runs.back().second;
-        else
-            runs.push_back({k, k + 1});
+        std::copy(rays + 6 * which[k], rays + 6 * which[k] + 6, &some[6 * k]);
+        some_keys[k] = keys[which[k]];
     }
-    tbb::parallel_for(size_t(0), runs.size(), [&](size_t r) {
-        const auto [begin, end] = runs[r];
-        std::vector<double> local(6 * (end - begin));
-        for (size_t k = begin; k < end; ++k)
-            std::copy(rays + 6 * which[k], rays + 6 * which[k] + 6, &local[6 * (k - begin)]);
-        engine.Trace(local.data(), end - begin, keys[which[begin]], replica, out + begin * width);
-    });
+    engine.TraceKeyed(some.data(), which.size(), some_keys.data(), replica, out);
 }
 
 }  // namespace
@@ -185,14 +175,14 @@ SensorCacheStats TraceWithSensorCache(ContribEngine &full, ContribEngine &direct
     }
     stats.records = chosen.size();
 
-    // 3. The records traced, and everyone's direct light: in runs of sensors with consecutive
-    // keys (one Trace call each, so a GPU gets them together), each keeping its own random numbers.
+    // 3. The records traced, and everyone's direct light, each sensor keeping its own random
+    // numbers (a GPU takes the records, scattered over the sensors, in one dispatch).
     std::vector<double> direct_part(n * width, 0.0);
     std::vector<double> chosen_records(chosen.size() * width, 0.0);
     std::vector<size_t> all(n);
     for (size_t i = 0; i < n; ++i) all[i] = i;
-    TraceRuns(full, rays, keys, chosen, replica, chosen_records.data());
-    TraceRuns(direct, rays, keys, all, replica, direct_part.data());
+    TraceSome(full, rays, keys, chosen, replica, chosen_records.data());
+    TraceSome(direct, rays, keys, all, replica, direct_part.data());
 
     // 4. Interpolation.
     std::vector<int> record_of(n, -1);

@@ -11,7 +11,7 @@ namespace dayflux::core {
 
 // Set 0 bindings. Binding 0 is the scene: the acceleration structure with ray queries, else our
 // own BVH's nodes (PackedBvhNode), with its primitive list at kBindingBvhPrims (GpuDevice::Run).
-CONST int kBindingRays = 1;       // vec4 org (xyz, recentred), vec4 dir per input ray
+CONST int kBindingRays = 1;       // vec4 org (xyz, recentred), vec4 dir (w: key offset)
 CONST int kBindingPositions = 2;  // float xyz per vertex, recentred
 CONST int kBindingIndices = 3;    // uint, 3 per triangle
 CONST int kBindingTriangles = 4;  // PackedTriangle per triangle

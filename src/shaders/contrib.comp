@@ -219,9 +219,12 @@ void main() {
         stack_base = local_task * uint(STACK_SIZE + 1);
         rows_base = local_task * uint(2 * MAXN + DEEP_LEVELS * 2 * DEEP_N);
 #endif
-        if (rays[2 * ray_in + 1].w >= 0)  // a zero direction: counts, contributes nothing
+        // dir.w: the ray's key less first_ray, or -1 for a zero direction (counts, contributes
+        // nothing)
+        float key_offset = rays[2 * ray_in + 1].w;
+        if (key_offset >= 0)
             TraceInput(rays[2 * ray_in].xyz, normalize(rays[2 * ray_in + 1].xyz),
-                       uint(tasks.first_ray) + ray_in, uint(tasks.replica), slice,
+                       uint(tasks.first_ray) + uint(key_offset), uint(tasks.replica), slice,
                        uint(tasks.slices));
     }
     // Items that did not fit the stack are lost: the host says how many.

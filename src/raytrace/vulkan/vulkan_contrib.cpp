@@ -172,6 +172,25 @@ class VulkanContribEngine : public ContribEngine {
     // how many devices there are. One call at a time: the devices are not shared.
     void Trace(const double *rays, size_t n, uint64_t first_index, int replica,
                double *records) override {
+        TraceAll(rays, n, first_index, nullptr, replica, records);
+    }
+    // The rays' keys as offsets from the first in the rays' buffer (shaders/contrib.comp), where
+    // a float holds them exactly.
+    void TraceKeyed(const double *rays, size_t n, const uint64_t *keys, int replica,
+                    double *records) override {
+        if (n > 0 && keys[n - 1] - keys[0] < kMaxKeySpan)
+            TraceAll(rays, n, keys[0], keys, replica, records);
+        else
+            ContribEngine::TraceKeyed(rays, n, keys, replica, records);
+    }
+
+  private:
+    static constexpr uint64_t kMaxKeySpan = uint64_t(1) << 24;
+
+    // keys: each ray's (ascending, within kMaxKeySpan of first_index, its first), or null for
+    // first_index + i.
+    void TraceAll(const double *rays, size_t n, uint64_t first_index, const uint64_t *keys,
+                  int replica, double *records) {
         if (n == 0) return;
         std::lock_guard<std::mutex> lock(mutex_);
         const size_t nd = devices_.size(), record = 3 * static_cast<size_t>(columns_);
@@ -180,8 +199,8 @@ class VulkanContribEngine : public ContribEngine {
             const size_t lo = n * k / nd, hi = n * (k + 1) / nd;
             if (hi == lo) continue;
             const auto run = [&, k, lo, hi] {
-                TraceOn(devices_[k], rays + 6 * lo, hi - lo, first_index + lo, replica,
-                        records + lo * record);
+                TraceOn(devices_[k], rays + 6 * lo, hi - lo, keys ? keys[lo] : first_index + lo,
+                        keys ? keys + lo : nullptr, replica, records + lo * record);
             };
             if (nd == 1)
                 run();
@@ -198,11 +217,10 @@ class VulkanContribEngine : public ContribEngine {
         WarnCoreReports(reports, lost);
     }
 
-  private:
     size_t AccumBytes() const { return float_accumulators_ ? sizeof(float) : sizeof(double); }
     core::GpuTasks Tasks(size_t n, int slices, uint64_t first_index, int replica) const;
-    void TraceOn(DeviceState &dev, const double *rays, size_t n, uint64_t first_index, int replica,
-                 double *records) const;
+    void TraceOn(DeviceState &dev, const double *rays, size_t n, uint64_t first_index,
+                 const uint64_t *keys, int replica, double *records) const;
 
     std::vector<DeviceState> devices_;
     std::string names_;
@@ -244,13 +262,16 @@ core::GpuTasks VulkanContribEngine::Tasks(size_t n, int slices, uint64_t first_i
 }
 
 void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n,
-                                  uint64_t first_index, int replica, double *records) const {
+                                  uint64_t first_index, const uint64_t *keys, int replica,
+                                  double *records) const {
     std::vector<core::vec4> in(2 * n);
     for (size_t i = 0; i < n; ++i) {
         const double *r = rays + 6 * i;
         const bool zero = r[3] == 0 && r[4] == 0 && r[5] == 0;
+        const uint64_t offset = keys ? keys[i] - first_index : i;
+        CHECK(offset < kMaxKeySpan);
         in[2 * i] = core::vec4(r[0] - centre_[0], r[1] - centre_[1], r[2] - centre_[2], 0);
-        in[2 * i + 1] = core::vec4(r[3], r[4], r[5], zero ? -1 : 0);
+        in[2 * i + 1] = core::vec4(r[3], r[4], r[5], zero ? -1.f : float(offset));
     }
     // -I rays split their first hemisphere's rows between several tasks, enough to keep the
     // device busy; other rays are one task each.
