@@ -102,8 +102,9 @@ void RunStack() {
 
 // Traces input ray `index` (org, dir of unit length) of replica `replica` (-se), adding its
 // contributions through AddToRecord. A sensor's first hemisphere (-I) may be shared between
-// tasks: this one traces its rows of slice `slice` of `slices` (the direct part with slice 0),
-// replaying the directions of the rows before them without tracing them.
+// tasks: this one traces its rows of slice `slice` of `slices`, replaying the directions of the
+// rows before them without tracing them, and its share of the light sources (thousands of suns
+// for C_ds), their samples keyed as in one task.
 void TraceInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint slices) {
     top = 0;
     pushed0 = 0u;
@@ -146,9 +147,17 @@ void TraceInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint
     // that the ambient value is irradiance (RADIANCE offsets it by 1e-4 along the normal).
     real3 point = org + 1e-4 * dir;
     real3 lamb = real3(kPi);
-    if (slice == 0u) {
+    int per_slice = (NSOURCES + int(slices) - 1) / int(slices);
+    int source_first = int(slice) * per_slice;
+    if (source_first < NSOURCES) {
+        rng = Key(cell_key, 0u, 17u, 5u);  // slice 0's: the direct item turns alike in all
         PushDirect(r, lamb, 1.0, 0.0, 0.0, false, point, dir, real3(0), 0.0);
-        RunStack();
+        if (top > 0) {
+            STACK(top - 1).next = source_first;
+            STACK(top - 1).end = min(NSOURCES, source_first + per_slice);
+            RunStack();
+        }
+        rng = Key(cell_key, slice, 17u, 5u);
     }
     PushHemisphere(r, lamb, point, dir);
     if (top == 0) return;
