@@ -12,12 +12,15 @@
 # Writes OUT/gpu.csv (model,case,program,sensors,wall_s,rel_rms_vs_embree), OUT/summary.txt and
 # the logs. On an H100 machine (16 cores for Embree), 2026-11-25: MODELS=small with the tests
 # 441 s, MODELS=large TESTS=0 402 s (96 s of it C_ds on the GPU): two calls within the device
-# tool's 10 minutes.
+# tool's 10 minutes. On an H200, 2026-11-26: MODELS=small TEST_SHARDS=6 178 s (the tests 116 s
+# of it), MODELS=large TESTS=0 CASES="V DC DSdif DSdifC" about 200 s, C_ds large 60 s more.
 #
 # usage: bench/gpu.sh    (from the repository root)
 # environment: BUILD (build: a build tree, or bench/gpu_bundle.sh's copy), DEVICE (0; llvmpipe
 #   here), OUT (bench/results/gpu), MODELS ("small large"), QUICK (1: every 30th sensor and low
-#   settings, for lavapipe), TESTS (0 skips step 2)
+#   settings, for lavapipe), TESTS (0 skips step 2), TEST_SHARDS (1: test processes side by side,
+#   each compiling its own pipelines: NVIDIA's compiler is most of step 2), CASES ("V DC Cds
+#   DSdif DSdifC")
 # On the device machine (device/README.md): bench/gpu_bundle.sh here, then, there, with .gpu and
 # .gl carried: for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig; BUILD=.gpu bench/gpu.sh
 set -euo pipefail
@@ -28,6 +31,8 @@ OUT=$(realpath -m "${OUT:-$root/bench/results/gpu}")
 MODELS=${MODELS:-"small large"}
 QUICK=${QUICK:-0}
 TESTS=${TESTS:-1}
+TEST_SHARDS=${TEST_SHARDS:-1}
+CASES=${CASES:-"V DC Cds DSdif DSdifC"}
 RCONTRIB=$BUILD/bin/rcontrib-gpu
 if [ -f "$BUILD/gpu.tar.xz" ] && [ ! -x "$RCONTRIB" ]; then  # bench/gpu_bundle.sh's archive
     tar -C "$BUILD" -xJf "$BUILD/gpu.tar.xz"
@@ -54,11 +59,19 @@ if [ "$TESTS" != 0 ]; then
     echo "== Vulkan tests on device $DEVICE" | tee -a "$summary"
     t0=$(date +%s)
     set +e
-    DAYFLUX_VULKAN_DEVICE=$DEVICE GALLIVM_PERF=${GALLIVM_PERF-nopt} \
-        DAYFLUX_TEST_DATA_DIR=$root/test/data DAYFLUX_TEST_BIN_DIR=$BUILD/bin \
-        "$BUILD/test/dayflux_tests" --gtest_filter='*Vulkan*' > "$OUT/tests.log" 2>&1
-    status=$?
+    pids=()
+    for ((shard = 0; shard < TEST_SHARDS; shard++)); do
+        DAYFLUX_VULKAN_DEVICE=$DEVICE GALLIVM_PERF=${GALLIVM_PERF-nopt} \
+            DAYFLUX_TEST_DATA_DIR=$root/test/data DAYFLUX_TEST_BIN_DIR=$BUILD/bin \
+            GTEST_TOTAL_SHARDS=$TEST_SHARDS GTEST_SHARD_INDEX=$shard \
+            "$BUILD/test/dayflux_tests" --gtest_filter='*Vulkan*' > "$OUT/tests$shard.log" 2>&1 &
+        pids+=($!)
+    done
+    status=0
+    for pid in "${pids[@]}"; do wait "$pid" || status=$?; done
     set -e
+    cat "$OUT"/tests[0-9]*.log > "$OUT/tests.log"
+    rm -f "$OUT"/tests[0-9]*.log
     grep -E "^\[  (PASSED|FAILED|SKIPPED) " "$OUT/tests.log" | tee -a "$summary" || true
     echo "exit status $status, $(($(date +%s) - t0)) s" | tee -a "$summary"
 fi
@@ -94,7 +107,7 @@ for model in $MODELS; do
         "$dir/model/materials.rad" > "$dir/vmaterials.rad"
     printf 'void glow sky 0 0 4 1000 1000 1000 0\nsky source himmel 0 0 4 0 0 1 360\n' \
         > "$dir/sky148.rad"
-    for case in V DC Cds DSdif DSdifC; do
+    for case in $CASES; do
         program=$RCONTRIB
         case $case in
             V) args="$V_ARGS vmaterials.rad model/office.rad model/glass.rad" ;;
