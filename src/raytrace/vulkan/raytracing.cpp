@@ -118,9 +118,11 @@ struct GpuDevice::Impl {
     Buffer blas_storage, tlas_storage, box_storage;
 
     std::unordered_map<size_t, Pipeline> pipelines;
-    std::vector<Buffer> run_buffers;      // grown as needed, reused across runs
-    std::vector<Buffer> scratch_buffers;  // likewise, device-local
-    std::vector<Buffer> resident;         // Resident(): device-local, with the data's own sizes
+    std::vector<Buffer> run_buffers;       // grown as needed, reused across runs
+    std::vector<Buffer> scratch_buffers;   // likewise, device-local
+    std::vector<Buffer> accum_buffers;     // likewise, device-local (Binding::accumulator)
+    std::vector<Buffer> readback_buffers;  // their host-visible copies
+    std::vector<Buffer> resident;          // Resident(): device-local, with the data's own sizes
     std::vector<VkDeviceSize> resident_size;
 
     ~Impl() {
@@ -130,6 +132,8 @@ struct GpuDevice::Impl {
             for (auto &[key, p] : pipelines) DestroyPipeline(p);
             for (Buffer &b : run_buffers) Destroy(b);
             for (Buffer &b : scratch_buffers) Destroy(b);
+            for (Buffer &b : accum_buffers) Destroy(b);
+            for (Buffer &b : readback_buffers) Destroy(b);
             for (Buffer &b : resident) Destroy(b);
             if (fence) vkDestroyFence(device, fence, nullptr);
             if (pool) vkDestroyCommandPool(device, pool, nullptr);
@@ -775,6 +779,8 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
     // Storage buffers, kept between runs and grown when too small.
     if (d.run_buffers.size() < nb) d.run_buffers.resize(nb);
     if (d.scratch_buffers.size() < nb) d.scratch_buffers.resize(nb);
+    if (d.accum_buffers.size() < nb) d.accum_buffers.resize(nb);
+    if (d.readback_buffers.size() < nb) d.readback_buffers.resize(nb);
     for (uint32_t i = 0; i < nb; ++i) {
         if (const uint64_t size = bindings[i].scratch) {
             if (size > d.limits.maxStorageBufferRange)
@@ -799,6 +805,20 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
             ErrorExit("Vulkan: a buffer of " + std::to_string(size) + " bytes exceeds " + d.name +
                       "'s maxStorageBufferRange of " +
                       std::to_string(d.limits.maxStorageBufferRange));
+        if (bindings[i].accumulator) {
+            CHECK(size % 4 == 0);  // vkCmdFillBuffer's unit
+            Buffer &b = d.accum_buffers[i], &back = d.readback_buffers[i];
+            if (!b.buffer || b.size < size) {
+                d.Destroy(b);
+                d.Destroy(back);
+                b = d.Create(size,
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                                 VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                             false);
+                back = d.Create(size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+            }
+            continue;
+        }
         Buffer &b = d.run_buffers[i];
         if (!b.buffer || b.size < size) {
             d.Destroy(b);
@@ -843,9 +863,10 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
         const VkDeviceSize size = bi.scratch ? bi.scratch
                                   : bi.host  ? bi.host->size()
                                              : d.resident_size[bi.resident];
-        const VkBuffer buffer = bi.scratch ? d.scratch_buffers[i].buffer
-                                : bi.host  ? d.run_buffers[i].buffer
-                                           : d.resident[bi.resident].buffer;
+        const VkBuffer buffer = bi.scratch       ? d.scratch_buffers[i].buffer
+                                : bi.accumulator ? d.accum_buffers[i].buffer
+                                : bi.host        ? d.run_buffers[i].buffer
+                                                 : d.resident[bi.resident].buffer;
         infos[i] = {buffer, 0, size > 0 ? size : 16};
         writes[i + first].dstSet = set;
         writes[i + first].dstBinding = i + first;
@@ -865,22 +886,51 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
                   std::to_string(local_size_x) + " exceed " + d.name + "'s work group limits");
 
     VkCommandBuffer cb = d.BeginCommands();
+    const auto barrier = [&](VkPipelineStageFlags from, VkAccessFlags written,
+                             VkPipelineStageFlags to, VkAccessFlags used) {
+        VkMemoryBarrier b{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        b.srcAccessMask = written;
+        b.dstAccessMask = used;
+        vkCmdPipelineBarrier(cb, from, to, 0, 1, &b, 0, nullptr, 0, nullptr);
+    };
+    const auto accumulators = [&](const auto &each) {
+        for (uint32_t i = 0; i < nb; ++i)
+            if (bindings[i].accumulator && !bindings[i].host->empty()) each(i);
+    };
+    bool any_accumulator = false;
+    accumulators([&](uint32_t i) {
+        vkCmdFillBuffer(cb, d.accum_buffers[i].buffer, 0, bindings[i].host->size(), 0);
+        any_accumulator = true;
+    });
+    if (any_accumulator)
+        barrier(VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &set, 0, nullptr);
     vkCmdDispatch(cb, gx, static_cast<uint32_t>(gy), 1);
+    if (any_accumulator) {
+        barrier(VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+        accumulators([&](uint32_t i) {
+            const VkBufferCopy region{0, 0, bindings[i].host->size()};
+            vkCmdCopyBuffer(cb, d.accum_buffers[i].buffer, d.readback_buffers[i].buffer, 1,
+                            &region);
+        });
+    }
     // A fence makes device writes available but not visible to the host; this barrier does.
-    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-    barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
-                         &barrier, 0, nullptr, 0, nullptr);
+    barrier(VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+            VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+            VK_ACCESS_HOST_READ_BIT);
     d.SubmitAndWait(cb);
     vkDestroyDescriptorPool(dev, dpool, nullptr);
 
-    for (uint32_t i = 0; i < nb; ++i)
-        if (bindings[i].host && bindings[i].read_back && !bindings[i].host->empty())
-            std::memcpy(bindings[i].host->data(), d.run_buffers[i].mapped,
-                        bindings[i].host->size());
+    for (uint32_t i = 0; i < nb; ++i) {
+        const Binding &bi = bindings[i];
+        if (!bi.host || !bi.read_back || bi.host->empty()) continue;
+        const Buffer &from = bi.accumulator ? d.readback_buffers[i] : d.run_buffers[i];
+        std::memcpy(bi.host->data(), from.mapped, bi.host->size());
+    }
 }
 
 }  // namespace dayflux::vk

@@ -69,18 +69,22 @@ class GpuDevice {
     // device-local memory, where shaders read it fastest on a discrete GPU. Returns its handle.
     int Resident(const std::vector<uint8_t> &data);
     // A buffer as Run binds it: a host vector copied in before the run and, with read_back, out
-    // after it; a resident buffer; or scratch, `scratch` bytes on the device that the shader
-    // alone reads and writes (their contents undefined at the start).
+    // after it (host-visible memory, which the shader reads across the bus on a discrete GPU);
+    // an accumulator, a host vector's size of zeros in device memory that the shader adds to,
+    // copied into the vector after the run; a resident buffer; or scratch, `scratch` bytes on
+    // the device that the shader alone reads and writes (their contents undefined at the start).
     struct Binding {
         std::vector<uint8_t> *host = nullptr;
         bool read_back = true;
         int resident = -1;
         uint64_t scratch = 0;
+        bool accumulator = false;
     };
-    static Binding In(std::vector<uint8_t> *host) { return {host, false, -1, 0}; }
-    static Binding InOut(std::vector<uint8_t> *host) { return {host, true, -1, 0}; }
-    static Binding OnDevice(int handle) { return {nullptr, false, handle, 0}; }
-    static Binding Scratch(uint64_t bytes) { return {nullptr, false, -1, bytes}; }
+    static Binding In(std::vector<uint8_t> *host) { return {host, false, -1, 0, false}; }
+    static Binding InOut(std::vector<uint8_t> *host) { return {host, true, -1, 0, false}; }
+    static Binding Accumulator(std::vector<uint8_t> *host) { return {host, true, -1, 0, true}; }
+    static Binding OnDevice(int handle) { return {nullptr, false, handle, 0, false}; }
+    static Binding Scratch(uint64_t bytes) { return {nullptr, false, -1, bytes, false}; }
     // The scratch one run may bind in all: a quarter of the device's local memory, at most
     // 2 GiB (a CPU device's, such as lavapipe's, 256 MiB: it is the machine's memory).
     uint64_t ScratchBudget() const;

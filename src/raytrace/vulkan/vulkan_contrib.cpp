@@ -290,10 +290,15 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
                      : std::min({dev.device->ScratchBudget() / (stack_bytes + rows_bytes),
                                  dev.device->MaxBufferBytes() / stack_bytes,
                                  dev.device->MaxBufferBytes() / rows_bytes});
+    // The accumulators live in device memory (a whole record a task: 5185 x 3 for C_ds), as
+    // much of it as the scratch may take, so that a run holds thousands of tasks.
+    const uint64_t accum_budget =
+        std::min(dev.device->IsCpu() ? kAccumBudget : dev.device->ScratchBudget() / 2,
+                 dev.device->MaxBufferBytes());
     const size_t per_run = std::clamp<size_t>(
-        std::min<uint64_t>(kAccumBudget / (record * AccumBytes()), scratch_tasks), 1,
+        std::min<uint64_t>(accum_budget / (record * AccumBytes()), scratch_tasks), 1,
         kMaxTasksPerRun);
-    std::vector<uint8_t> ray_bytes = Bytes(in);
+    std::vector<uint8_t> ray_bytes = Bytes(in), accum;
     for (size_t offset = 0; offset < total; offset += per_run) {
         const size_t count = std::min(per_run, total - offset);
         core::GpuTasks tasks = Tasks(n, slices, first_index, replica);
@@ -302,12 +307,13 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         tasks.count = static_cast<int>(count);
         std::vector<uint8_t> task_bytes(sizeof tasks);
         std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
-        std::vector<uint8_t> accum(count * record * AccumBytes(), 0), stats(16, 0);
+        accum.resize(count * record * AccumBytes());  // zeroed on the device
+        std::vector<uint8_t> stats(16, 0);
         using G = vk::GpuDevice;
         std::vector<G::Binding> buffers = {G::In(&ray_bytes),         G::OnDevice(dev.positions),
                                            G::OnDevice(dev.indices),  G::OnDevice(dev.triangles),
                                            G::OnDevice(dev.surfaces), G::OnDevice(dev.sources),
-                                           G::InOut(&accum),          G::In(&task_bytes),
+                                           G::Accumulator(&accum),    G::In(&task_bytes),
                                            G::InOut(&stats),          G::OnDevice(dev.shapes)};
         std::vector<uint8_t> none;
         if (!dev.device->RayQueries()) {  // our BVH at binding 0, its entries after the rest
