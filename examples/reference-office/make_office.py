@@ -71,6 +71,12 @@ def main():
     ]
     geo = ["# Reference office geometry, written by make_office.py\n"]
     blinds = ["# Exterior blinds of the reference office, written by make_office.py\n"]
+    # The first window's glass and slats as genBSDF takes a system (three- and five-phase with
+    # blinds): x along the window (from its east jamb), y up (from the sill), z towards the room,
+    # the glass at z = 0 and the slats beyond it (a rotation of the office's axes).
+    system = ["# The glazing and blinds of one window for genBSDF, written by make_office.py\n",
+              mat[-2], mat[-1]]
+    frame = ["# The blinds' head boxes and guides, written by make_office.py\n"]
     glass = ["# The glazing of the reference office, written by make_office.py\n"]
     window = [
         "# The window for rfluxmtx (V and D of the three-phase method), written by make_office.py:\n",
@@ -132,12 +138,20 @@ def main():
                     if side == "top":
                         pts.reverse()
                     polygon(blinds, "blind_mat", f"{n}_slat{i}_{side}", pts)
+                    if k == 0:
+                        polygon(system, "blind_mat", f"slat{i}_{side}",
+                                [(wx1 - x, z - wz0, y + T / 2) for x, y, z in pts])
+            if k == 0:
+                polygon(system, "glass_mat", "pane", [(wx1 - x, z - wz0, y + T / 2) for x, y, z in pane])
             z_low = wz1 - count * spacing - dz
-            box_faces(blinds, "blind_mat", f"{n}_headbox", wx0 - 0.02, wx1 + 0.02, y_out, -T - 0.001,
-                      wz1, wz1 + 0.06)
-            for side, x in (("w", wx0 - 0.02), ("e", wx1)):
-                box_faces(blinds, "blind_mat", f"{n}_guide_{side}", x, x + 0.02, y_out, -T - 0.001,
-                          z_low, wz1)
+            # The head box and guides also go to blinds_frame.rad: outside the slats' BSDF, the
+            # three- and five-phase methods' D matrices see them as geometry.
+            for out in (blinds, frame):
+                box_faces(out, "blind_mat", f"{n}_headbox", wx0 - 0.02, wx1 + 0.02, y_out,
+                          -T - 0.001, wz1, wz1 + 0.06)
+                for side, x in (("w", wx0 - 0.02), ("e", wx1)):
+                    box_faces(out, "blind_mat", f"{n}_guide_{side}", x, x + 0.02, y_out,
+                              -T - 0.001, z_low, wz1)
 
     sky = [
         "# The sky and ground as one glow sphere, binned by reinhart.cal (bin 0 is the ground)\n",
@@ -194,6 +208,8 @@ def main():
     write("glass.rad", glass)
     write("window.rad", window)
     write("blinds.rad", blinds)
+    write("blinds_system.rad", system)
+    write("blinds_frame.rad", frame)
     write("skydome.rad", skydome)
     write("sky.rad", sky)
     write("suns.rad", suns)

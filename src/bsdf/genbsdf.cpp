@@ -327,7 +327,11 @@ GenBsdfOptions ParseGenBsdfOptions(const std::vector<std::string> &args) {
         if (a.size() < 2 || (a[0] != '-' && a[0] != '+') || a == "-") break;
         const bool plus = a[0] == '+';
         const std::string name = a.substr(1);
-        if (name[0] == 'm') {
+        if (a == "-backend" || a == "-device" || a == "-seed" || a == "-gpu_traversal" ||
+            a == "-gpu_accum" || a == "-gpu_scratch") {  // ours, for rfluxmtx-gpu (before -b...)
+            o.engine_options.push_back(a);
+            o.engine_options.push_back(value(a));
+        } else if (name[0] == 'm') {
             if (plus) ErrorExit("+mgf: MGF input is not supported; give RADIANCE scene files");
         } else if (a == "-r") {
             for (const std::string &w : SplitWords(value(a))) o.rfluxmtx_options.push_back(w);
@@ -369,10 +373,6 @@ GenBsdfOptions ParseGenBsdfOptions(const std::vector<std::string> &args) {
             if (!(o.dim[0] < o.dim[1] && o.dim[2] < o.dim[3] && o.dim[4] <= o.dim[5]))
                 ErrorExit(a + ": need xmin < xmax, ymin < ymax, zmin <= zmax");
             o.has_dim = true;
-        } else if (a == "-backend" || a == "-device" || a == "-seed" || a == "-gpu_traversal" ||
-                   a == "-gpu_accum" || a == "-gpu_scratch") {  // ours, for rfluxmtx-gpu
-            o.engine_options.push_back(a);
-            o.engine_options.push_back(value(a));
         } else {
             ErrorExit("unknown option '" + a + "'; " + usage);
         }

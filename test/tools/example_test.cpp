@@ -146,9 +146,28 @@ TEST(ReferenceOfficeExample, ThreeAndFivePhaseAgreeWithDaylightCoefficients) {
     };
     EXPECT_EQ(ase_hours(csv["5phase"]), ase_hours(csv["dc"]));
     EXPECT_NE(ase_hours(csv["3phase"]), ase_hours(csv["dc"]));
-    const CommandResult r = RunCommand(common + "3phase BLINDS=1", tmp.path());
-    EXPECT_NE(r.status, 0);
-    EXPECT_NE(r.err.find("needs the blinds' BSDF"), std::string::npos) << r.err;
+    // With the exterior blinds: T the glass and slats' BSDF from genBSDF (at low settings), the
+    // five-phase sun traced through the slats. The blinds take over a third of the year's light
+    // in both methods; the five-phase run keeps more of it than the DC run, whose head box and
+    // guides close the cavity behind the slats (not in a plane's BSDF: docs/methods.md; 1.27
+    // times at the example's settings, 1.43 here).
+    const std::string blinds = "BLINDS=1 GENBSDF_OPTS=\"-c 50 -r '-ab 2 -ad 64 -lw 1e-3'\"";
+    for (const char *method : {"dc", "5phase"}) {
+        const CommandResult r = RunCommand(common + method + " " + blinds, tmp.path());
+        ASSERT_EQ(r.status, 0) << method << " with blinds: " << r.err;
+    }
+    const std::vector<double> dc_blinds = AnnualSums(out / "total.ill"),
+                              five_blinds = AnnualSums(out / "total5.ill");
+    ASSERT_EQ(dc_blinds.size(), 15u);
+    ASSERT_EQ(five_blinds.size(), 15u);
+    double sum_dc_blinds = 0, sum_five_blinds = 0;
+    for (size_t i = 0; i < dc.size(); ++i)
+        sum_dc_blinds += dc_blinds[i], sum_five_blinds += five_blinds[i];
+    EXPECT_LT(sum_dc_blinds, 0.65 * sum_dc);
+    EXPECT_LT(sum_five_blinds, 0.75 * sum_five);
+    EXPECT_GT(sum_five_blinds / sum_dc_blinds, 1.0);
+    EXPECT_LT(sum_five_blinds / sum_dc_blinds, 1.7);
+    EXPECT_TRUE(fs::exists(out / "blinds.xml"));
 }
 
 // DAYSIM's method (examples/daysim: gen_dc, ds_illum, dcmetrics) on the same tiny office: each

@@ -58,8 +58,8 @@ std::string GenBsdf(const std::string &args, const fs::path &dir) {
 TEST(GenBsdf, OpenFrameTransmitsEverythingStraightThrough) {
     TempDir dir;
     WriteFile(dir.path() / "frame.rad", "void plastic black 0 0 5 0 0 0 0 0\n");
-    const std::string xml =
-        GenBsdf("-c 20 +f +b -r '-ab 1' -dim 0 1 0 1 -0.01 0 frame.rad", dir.path());
+    const std::string xml = GenBsdf(
+        "-c 20 +f +b -backend embree -r '-ab 1' -dim 0 1 0 1 -0.01 0 frame.rad", dir.path());
     const auto blocks = Blocks(xml);
     ASSERT_EQ(blocks.size(), 4u);
     EXPECT_EQ(blocks[0].first, "Transmission Back");
