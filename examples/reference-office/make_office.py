@@ -77,6 +77,7 @@ def main():
     system = ["# The glazing and blinds of one window for genBSDF, written by make_office.py\n",
               mat[-2], mat[-1]]
     frame = ["# The blinds' head boxes and guides, written by make_office.py\n"]
+    system_dim = []
     glass = ["# The glazing of the reference office, written by make_office.py\n"]
     window = [
         "# The window for rfluxmtx (V and D of the three-phase method), written by make_office.py:\n",
@@ -146,12 +147,24 @@ def main():
             z_low = wz1 - count * spacing - dz
             # The head box and guides also go to blinds_frame.rad: outside the slats' BSDF, the
             # three- and five-phase methods' D matrices see them as geometry.
-            for out in (blinds, frame):
+            # The first window's go to the genBSDF system too, outside its -dim box (the window's
+            # area): they close the cavity between facade and slats, as in the DC run.
+            first_frame = []
+            for out in (blinds, frame, first_frame):
                 box_faces(out, "blind_mat", f"{n}_headbox", wx0 - 0.02, wx1 + 0.02, y_out,
                           -T - 0.001, wz1, wz1 + 0.06)
                 for side, x in (("w", wx0 - 0.02), ("e", wx1)):
                     box_faces(out, "blind_mat", f"{n}_guide_{side}", x, x + 0.02, y_out,
                               -T - 0.001, z_low, wz1)
+            if k == 0:
+                for line in first_frame:
+                    w = line.split()
+                    if line.startswith("    ") and len(w) == 3:
+                        x, y, z = map(float, w)
+                        line = "    {:.6g} {:.6g} {:.6g}\n".format(wx1 - x, z - wz0, y + T / 2)
+                    system.append(line)
+                z_outer = min(yy + T / 2 for yy in (yc - dy - thick, yc + dy + thick))
+                system_dim = [0, wx1 - wx0, 0, wz1 - wz0, z_outer, 0]
 
     sky = [
         "# The sky and ground as one glow sphere, binned by reinhart.cal (bin 0 is the ground)\n",
@@ -210,6 +223,8 @@ def main():
     write("blinds.rad", blinds)
     write("blinds_system.rad", system)
     write("blinds_frame.rad", frame)
+    write("blinds_system.dim", ["-dim " + " ".join(f"{v:.6g}" for v in system_dim) + "\n"]
+          if a.blinds else [])
     write("skydome.rad", skydome)
     write("sky.rad", sky)
     write("suns.rad", suns)
