@@ -177,8 +177,8 @@ class Generator {
             need(1);
             // select(0, ...) gives the number of choices.
             return "((cal_sel_i(" + a[0] + ") == 0) ? " +
-                   Literal(static_cast<double>(a.size() - 1)) + " : cal_select_" +
-                   Select(a.size() - 1) + "(cal_sel_i(" + a[0] + ")" + Tail(a) + "))";
+                   Literal(static_cast<double>(a.size() - 1)) + " : " + Select(a.size() - 1) +
+                   "(cal_sel_i(" + a[0] + ")" + Tail(a) + "))";
         }
         if (name == "max" || name == "min") {
             need(1);
@@ -209,16 +209,20 @@ class Generator {
 
     // select() with n choices: a helper taking the index and every choice (choices are evaluated
     // eagerly here, which is safe because they have no side effects and recursion is unrolled).
+    // Its name carries the context's prefix: several contexts share one shader (two receivers
+    // of genBSDF with their own -p, each with kbin's selects).
     std::string Select(size_t n) {
-        const std::string name = std::to_string(n);
+        const std::string name = o_.prefix + "_select" + std::to_string(n);
         if (selects_.insert(n).second) {
             std::string params = "int i", body = "(0.0LF/0.0LF)";
             for (size_t k = n; k >= 1; --k)
                 body =
                     "(i == " + std::to_string(k) + " ? c" + std::to_string(k) + " : " + body + ")";
             for (size_t k = 1; k <= n; ++k) params += ", double c" + std::to_string(k);
-            forward_.insert(forward_.begin(), "double cal_select_" + name + "(" + params +
-                                                  ") { return " + body + "; }\n");
+            std::string helper = "double ";
+            helper.append(name).append("(").append(params).append(") { return ");
+            helper.append(body).append("; }\n");
+            forward_.insert(forward_.begin(), helper);
         }
         return name;
     }

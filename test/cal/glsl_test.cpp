@@ -124,6 +124,31 @@ TEST_F(GlslAgainstInterpreter, ReinhartbAndSmallerKlemsBases) {
     Compare(cq, {"kqbin(1,0,0, 0,0,1)"}, 200000, 9);
 }
 
+// Two contexts in one shader, each with its own select() helpers (genBSDF's two Klems receivers,
+// each with its -p): the helpers carry their context's prefix, so the shader compiles. Before,
+// both were cal_select_10 and glslang refused the second body. (Compiling needs no device.)
+TEST(GlslContexts, SelectHelpersOfTwoContextsInOneShader) {
+    std::string src =
+        "#version 450\nlayout(local_size_x = 1) in;\n"
+        "layout(std430, binding = 0) writeonly buffer Out { double vals[]; };\n";
+    Context contexts[2];
+    std::vector<Expression> bins;
+    bins.reserve(2);
+    for (int g = 0; g < 2; ++g) {
+        contexts[g].LoadRayInit();
+        contexts[g].Set("RHS", g == 0 ? -1 : 1);
+        contexts[g].LoadFile(Lib("klems_full.cal"));
+        bins.push_back(contexts[g].Compile("kbin(0,0,1,0,-1,0)", FileLoc{"-b", 0}));
+        GlslOptions o;
+        o.prefix = g == 0 ? "cal_d" : "cal_c1_d";
+        o.preamble = g == 0;
+        src += GenerateGlsl(contexts[g], {{"bin" + std::to_string(g), &bins.back()}}, o);
+    }
+    src += "void main() { vals[0] = bin0(); vals[1] = bin1(); }\n";
+    EXPECT_NE(src.find("cal_c1_d_select"), std::string::npos);
+    EXPECT_FALSE(vk::GpuDevice::CompileGlsl(src, "two_contexts").empty());
+}
+
 // The double-precision math library agrees with the C library to ~1e-14.
 TEST_F(GlslAgainstInterpreter, MathFunctionsMatchTheCLibrary) {
     Context cx;
