@@ -8,7 +8,8 @@
 #      wall seconds, and each GPU matrix's difference from Embree's at the same seed (the two run
 #      one estimator with one random stream, so this is float rounding, not noise); and DAYSIM's
 #      diffuse run (rtrace_dc-gpu -Dd, DAYSIM's settings) without (DSdif) and with (DSdifC, -aa
-#      0.1) the sensor cache.
+#      0.1) the sensor cache; and T, genBSDF of the office's blinds (glass, slats, head box and
+#      guides) at -c 500.
 # Writes OUT/gpu.csv (model,case,program,sensors,wall_s,rel_rms_vs_embree), OUT/summary.txt and
 # the logs. On an H100 machine (16 cores for Embree), 2026-11-25: MODELS=small with the tests
 # 441 s, MODELS=large TESTS=0 402 s (96 s of it C_ds on the GPU): two calls within the device
@@ -20,7 +21,7 @@
 #   here), OUT (bench/results/gpu), MODELS ("small large"), QUICK (1: every 30th sensor and low
 #   settings, for lavapipe), TESTS (0 skips step 2), TEST_SHARDS (1: test processes side by side,
 #   each compiling its own pipelines: NVIDIA's compiler is most of step 2), CASES ("V DC Cds
-#   DSdif DSdifC")
+#   DSdif DSdifC T")
 # On the device machine (device/README.md): bench/gpu_bundle.sh here, then, there, with .gpu and
 # .gl carried: for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig; BUILD=.gpu bench/gpu.sh
 set -euo pipefail
@@ -32,7 +33,7 @@ MODELS=${MODELS:-"small large"}
 QUICK=${QUICK:-0}
 TESTS=${TESTS:-1}
 TEST_SHARDS=${TEST_SHARDS:-1}
-CASES=${CASES:-"V DC Cds DSdif DSdifC"}
+CASES=${CASES:-"V DC Cds DSdif DSdifC T"}
 RCONTRIB=$BUILD/bin/rcontrib-gpu
 if [ -f "$BUILD/gpu.tar.xz" ] && [ ! -x "$RCONTRIB" ]; then  # bench/gpu_bundle.sh's archive
     tar -C "$BUILD" -xJf "$BUILD/gpu.tar.xz"
@@ -98,7 +99,7 @@ for model in $MODELS; do
     [ "$model" = large ] && offices=10
     dir=$tmp/$model
     mkdir -p "$dir"
-    python3 "$root/examples/reference-office/make_office.py" --offices "$offices" \
+    python3 "$root/examples/reference-office/make_office.py" --offices "$offices" --blinds \
         --out "$dir/model" > /dev/null 2>> "$OUT/office.log"
     awk -v s="$stride" '(NR - 1) % s == 0' "$dir/model/sensors.pts" > "$dir/sensors.pts"
     sensors=$(wc -l < "$dir/sensors.pts")
@@ -119,12 +120,18 @@ for model in $MODELS; do
                 args="$DS_ARGS $([ $case = DSdifC ] && echo -aa 0.1 -lw 0.004 -lr 6 ||
                                   echo -aa 0 -lw 4e-6 -lr -6)"
                 args="$args sky148.rad model/materials.rad model/office.rad model/glass.rad" ;;
+            T)
+                program=$BUILD/bin/genBSDF
+                args="-c $([ "$QUICK" = 1 ] && echo 20 || echo 500) $(cat "$dir/model/blinds_system.dim")"
+                args="$args model/blinds_system.rad" ;;
         esac
         for p in "${programs[@]}"; do
             name=${p%%|*}
             out=$dir/$case-$name.fmx
             if [[ $name == vulkan* ]]; then  # compile the shader first: not what is measured
-                (cd "$dir" && head -2 sensors.pts | "$program" ${p#*|} -seed 1 $args \
+                warm=$args
+                [ "$case" = T ] && warm=$(sed 's/-c [0-9]*/-c 1/' <<< "$args")
+                (cd "$dir" && head -2 sensors.pts | "$program" ${p#*|} -seed 1 $warm \
                     > /dev/null 2> "$dir/err")
                 if grep -q "using Embree" "$dir/err"; then
                     printf "%-6s %-4s %-16s %8s %10s %12s\n" "$model" "$case" "$name" "$sensors" \

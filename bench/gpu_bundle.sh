@@ -19,7 +19,7 @@ stage=$(mktemp -d)
 trap 'rm -rf "$stage"' EXIT
 mkdir -p "$stage"/{bin,lib,test,runtime}
 cp "$BUILD/bin/rcontrib-gpu" "$BUILD/bin/rfluxmtx-gpu" "$BUILD/bin/rtrace_dc-gpu" "$BUILD/bin/gen_dc" \
-    "$BUILD/bin/ds_illum" "$stage/bin/"
+    "$BUILD/bin/ds_illum" "$BUILD/bin/genBSDF" "$stage/bin/"
 cp -r "$BUILD/lib/dayflux" "$stage/lib/"
 cp "$BUILD/test/dayflux_tests" "$stage/test/"
 # The shared libraries both load, but for the C library's own (those the machine has) and the

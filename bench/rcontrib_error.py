@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Relative RMS difference of two RADIANCE float matrices (rcontrib -faf output); with
+"""Relative RMS difference of two RADIANCE float matrices (rcontrib -faf output) or two BSDF
+XML files (genBSDF's); with
 --plot CSV SVG, a log-log plot of wall time against error per case and program (plain SVG, so
 the benchmark needs nothing beyond Python); with --mean OUT IN..., the mean of matrices (a
 reference from several runs), written with the first one's header."""
@@ -11,6 +12,10 @@ import sys
 
 def load(path):
     data = open(path, 'rb').read()
+    if data.startswith(b'<?xml'):  # a BSDF (genBSDF): every <ScatteringData> value in order
+        import re
+        return [float(v) for block in re.findall(rb'<ScatteringData>(.*?)</ScatteringData>',
+                                                  data, re.S) for v in block.split()]
     body = data.index(b'\n\n') + 2
     n = (len(data) - body) // 4
     return struct.unpack('<%df' % n, data[body:body + 4 * n])
