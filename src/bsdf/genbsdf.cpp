@@ -353,8 +353,11 @@ GenBsdfOptions ParseGenBsdfOptions(const std::vector<std::string> &args) {
             o.forward = plus;
         } else if (name[0] == 'b') {
             o.backward = plus;
-        } else if (a == "-t3" || a == "-t4" || a == "-t") {
+        } else if (a == "-t3" || a == "-t4") {
             ErrorExit(a + ": tensor-tree BSDFs are not supported (Klems full only)");
+        } else if (a == "-t") {  // the tensor tree's culling percentage: nothing to cull here
+            if (number(a, value(a)) >= 100)
+                ErrorExit("Illegal -t culling percentage, must be < 100");
         } else if (a == "-s") {
             o.fields.push_back(value(a));
         } else if (a == "-W") {
@@ -403,6 +406,9 @@ std::string GenBsdf(const GenBsdfOptions &o, const std::string &program) {
         for (const std::string &f : system) reader.ReadFile(f);
         BoundingBox(Flatten(std::move(scene)), dim);
     }
+    if (!(dim[1] > dim[0] && dim[3] > dim[2]))
+        ErrorExit("the system's box has no width or height (x " + Short(dim[0]) + " to " +
+                  Short(dim[1]) + ", y " + Short(dim[2]) + " to " + Short(dim[3]) + "): give -dim");
     if (dim[4] >= 0) ErrorExit("Device entirely inside room!");
     if (dim[5] > 1e-5)
         Warning("Device extends into room");
@@ -424,7 +430,8 @@ std::string GenBsdf(const GenBsdfOptions &o, const std::string &program) {
         std::vector<std::string> args = {program + " (rfluxmtx)"};
         args.insert(args.end(), std::begin(kRfluxmtxDefaults), std::end(kRfluxmtxDefaults));
         args.insert(args.end(), o.rfluxmtx_options.begin(), o.rfluxmtx_options.end());
-        args.insert(args.end(), {"-n", std::to_string(o.processes), "-c", std::to_string(samples)});
+        if (o.processes > 0) args.insert(args.end(), {"-n", std::to_string(o.processes)});
+        args.insert(args.end(), {"-c", std::to_string(samples)});
         args.insert(args.end(), o.engine_options.begin(), o.engine_options.end());
         args.insert(args.end(), {"-fd", sender, tmp / "receivers.rad"});
         args.insert(args.end(), system.begin(), system.end());
@@ -447,7 +454,10 @@ std::string GenBsdf(const GenBsdfOptions &o, const std::string &program) {
     std::vector<std::string> fields = o.fields;
     fields.push_back("t=" + Short(-dim[4]) + ";w=" + Short(dim[1] - dim[0]) +
                      ";h=" + Short(dim[3] - dim[2]));
-    return KlemsXml(blocks, fields, o.unit, o.window6, "Created by: " + o.command_line);
+    // XML comments may not hold "--" (a file named a--b.rad)
+    std::string comment = "Created by: " + o.command_line;
+    for (size_t at; (at = comment.find("--")) != std::string::npos;) comment.replace(at, 2, "- -");
+    return KlemsXml(blocks, fields, o.unit, o.window6, comment);
 }
 
 }  // namespace dayflux

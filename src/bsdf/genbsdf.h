@@ -13,8 +13,8 @@
 namespace dayflux {
 
 struct GenBsdfOptions {
-    int processes = 1;                          // -n
-    int samples = 2000;                         // -c, before the grid rounds it up
+    int processes = 0;   // -n (0: every core; RADIANCE's genBSDF runs one process by default)
+    int samples = 2000;  // -c, before the grid rounds it up
     std::vector<std::string> rfluxmtx_options;  // -r "...", appended to genBSDF's defaults
     bool has_dim = false;                       // -dim xmin xmax ymin ymax zmin zmax
     double dim[6] = {};

@@ -57,9 +57,15 @@ std::string GenBsdf(const std::string &args, const fs::path &dir) {
 // angle), and nothing is reflected; both sides. The XML reads back through our BSDF loader.
 TEST(GenBsdf, OpenFrameTransmitsEverythingStraightThrough) {
     TempDir dir;
-    WriteFile(dir.path() / "frame.rad", "void plastic black 0 0 5 0 0 0 0 0\n");
-    const std::string xml = GenBsdf(
-        "-c 20 +f +b -backend embree -r '-ab 1' -dim 0 1 0 1 -0.01 0 frame.rad", dir.path());
+    WriteFile(dir.path() / "open--frame.rad", "void plastic black 0 0 5 0 0 0 0 0\n");
+    // (-t, the tensor tree's culling, is taken and has nothing to do, as in RADIANCE)
+    const std::string xml =
+        GenBsdf("-c 20 +f +b -t 90 -backend embree -r '-ab 1' -dim 0 1 0 1 -0.01 0 open--frame.rad",
+                dir.path());
+    // The command line in the XML's comment, which may not hold "--".
+    const size_t comment = xml.find("<!-- Created by: genBSDF");
+    ASSERT_NE(comment, std::string::npos);
+    EXPECT_EQ(xml.find("--", comment + 4), xml.find("-->", comment));
     const auto blocks = Blocks(xml);
     ASSERT_EQ(blocks.size(), 4u);
     EXPECT_EQ(blocks[0].first, "Transmission Back");
@@ -151,11 +157,16 @@ TEST(GenBsdf, BadInputIsRefused) {
     WriteFile(dir.path() / "room.rad",
               "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
               "grey polygon up 0 0 12 0 0 .1  1 0 .1  1 1 .2  0 1 .2\n");
+    WriteFile(dir.path() / "flat.rad",  // a slat seen edge on: no height in y
+              "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
+              "grey polygon slat 0 0 12 0 0 -.1  1 0 -.1  1 0 -.2  0 0 -.2\n");
     const struct {
         std::string args, message;
     } cases[] = {
         {"room.rad", "Device entirely inside room"},
         {"-t3 5 room.rad", "tensor-tree"},
+        {"-t 100 room.rad", "culling percentage"},
+        {"flat.rad", "no width or height"},
         {"-geom parsec room.rad", "Illegal geometry unit"},
         {"-f -b room.rad", "at least one of +forward or +backward"},
         {"-c lots room.rad", "not a number"},
