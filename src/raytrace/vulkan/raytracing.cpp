@@ -153,7 +153,9 @@ struct GpuDevice::Impl {
     // Host buffers are mapped and coherent; the others (structures, scratch) are never touched
     // by the host, so they go in device-local memory where there is some (on a discrete GPU,
     // tracing through host memory would cross the bus).
-    Buffer Create(VkDeviceSize size, VkBufferUsageFlags usage, bool host) {
+    // read_back: a host buffer the CPU reads, in cached memory where there is some (write-
+    // combined memory reads slowly, and accumulators are up to a GiB).
+    Buffer Create(VkDeviceSize size, VkBufferUsageFlags usage, bool host, bool read_back = false) {
         Buffer b;
         b.size = std::max<VkDeviceSize>(size, 16);
         VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
@@ -167,10 +169,14 @@ struct GpuDevice::Impl {
         VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
         if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) mai.pNext = &flags;
         mai.allocationSize = mr.size;
+        const VkMemoryPropertyFlags host_flags =
+            VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
         mai.memoryTypeIndex =
-            host ? MemoryType(mr.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
-                                                     VK_MEMORY_PROPERTY_HOST_COHERENT_BIT)
+            host ? MemoryType(mr.memoryTypeBits,
+                              host_flags | (read_back ? VK_MEMORY_PROPERTY_HOST_CACHED_BIT : 0))
                  : MemoryType(mr.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+        if (host && read_back && mai.memoryTypeIndex == UINT32_MAX)
+            mai.memoryTypeIndex = MemoryType(mr.memoryTypeBits, host_flags);
         if (!host && mai.memoryTypeIndex == UINT32_MAX)
             mai.memoryTypeIndex = MemoryType(mr.memoryTypeBits, 0);
         if (mai.memoryTypeIndex == UINT32_MAX)
@@ -815,7 +821,7 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                                  VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                              false);
-                back = d.Create(size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true);
+                back = d.Create(size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, true);
             }
             continue;
         }
