@@ -1,9 +1,9 @@
 #include "bsdf/genbsdf.h"
 
-#include <stdlib.h>  // mkdtemp
+#include <stdlib.h>   // mkdtemp
+#include <strings.h>  // strcasecmp
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -25,16 +25,8 @@
 namespace dayflux {
 namespace {
 
-std::string Trim(const std::string &s) {
-    const size_t b = s.find_first_not_of(" \t\n"), e = s.find_last_not_of(" \t\n");
-    return b == std::string::npos ? "" : s.substr(b, e - b + 1);
-}
-
 bool EqualsIgnoreCase(const std::string &a, const std::string &b) {
-    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
-               return std::tolower(static_cast<unsigned char>(x)) ==
-                      std::tolower(static_cast<unsigned char>(y));
-           });
+    return strcasecmp(a.c_str(), b.c_str()) == 0;
 }
 
 namespace fs = std::filesystem;

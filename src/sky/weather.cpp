@@ -20,13 +20,6 @@ std::vector<std::string> SplitCsv(const std::string &line) {
     return fields;
 }
 
-std::string Trim(std::string s) {
-    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
-    size_t i = 0;
-    while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
-    return s.substr(i);
-}
-
 int DaysInMonth(int month) {
     static constexpr int days[12] = {31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
     return days[month - 1];

@@ -150,4 +150,10 @@ std::vector<std::string> SplitWords(std::string_view s) {
     }
 }
 
+std::string Trim(std::string_view s) {
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+    return std::string(s);
+}
+
 }  // namespace dayflux

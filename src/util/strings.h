@@ -19,6 +19,8 @@ bool ParseInt(std::string_view word, int *value);
 std::vector<std::string> Split(std::string_view s, char separator);
 // The white-space separated words.
 std::vector<std::string> SplitWords(std::string_view s);
+// s without white space at either end.
+std::string Trim(std::string_view s);
 
 // RADIANCE's isflt(): true if the word is a decimal number (used to gather option factors).
 bool IsFloatWord(std::string_view word);
