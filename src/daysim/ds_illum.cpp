@@ -105,27 +105,12 @@ Perez LuminanceCoefficients(double zenith, double clearness, double brightness) 
     return {c[0], c[1], c[2], c[3], c[4]};
 }
 
-// The patch directions ds_illum evaluates the sky at, in float as it stores them.
 struct Direction {
     double x, y, z;
 };
 std::vector<Direction> PatchDirections() {
-    static constexpr int kRows[7][2] = {{84, 30}, {72, 30}, {60, 24}, {48, 24},
-                                        {36, 18}, {24, 12}, {12, 6}};
-    std::vector<Direction> d;
-    for (const auto &row : kRows) {
-        const double theta = Rad(row[0]);
-        for (int j = 0; j < row[1]; ++j) {
-            const double az = Rad(static_cast<float>(360.0 / row[1] * (j + 0.5)));
-            d.push_back({static_cast<float>(std::cos(az) * std::sin(theta)),
-                         static_cast<float>(std::sin(az) * std::sin(theta)),
-                         static_cast<float>(std::cos(theta))});
-        }
-    }
-    d.push_back({static_cast<float>(std::cos(M_PI / 2)), 0, 1});
-    d.push_back({0.9961946, 0, -0.087156});  // ground, 0-10 degrees below the horizon
-    d.push_back({0.9397, 0, -0.342});        // 10-30
-    d.push_back({0, 0, -1});                 // below 30
+    std::vector<Direction> d(kDaysimDiffusePatches);
+    for (int j = 0; j < kDaysimDiffusePatches; ++j) DaysimPatchDirection(j, &d[j].x);
     return d;
 }
 

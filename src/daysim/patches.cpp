@@ -31,18 +31,25 @@ int DaysimPatch(double dx, double dy, double dz) {
 
 void DaysimPatchDirection(int patch, double dir[3]) {
     CHECK(patch >= 0 && patch < kDaysimDiffusePatches);
-    static constexpr double kGround[3][3] = {{0.996, 0, -0.087}, {0.940, 0, -0.342}, {0, 0, -1}};
+    // ds_illum's own numbers (the sky's rounded to float as it stores them)
+    static constexpr double kGround[3][3] = {
+        {0.9961946, 0, -0.087156}, {0.9397, 0, -0.342}, {0, 0, -1}};
     if (patch >= kDaysimSkyPatches) {
         std::copy(kGround[patch - kDaysimSkyPatches], kGround[patch - kDaysimSkyPatches] + 3, dir);
         return;
     }
     int row = 0;
     while (row < 7 && patch >= kRowStart[row + 1]) ++row;
-    const double altitude = (row == 7 ? 90.0 : 6.0 + 12.0 * row) * M_PI / 180;
-    const double azimuth = 2 * M_PI / kRowCount[row] * (patch - kRowStart[row] + 0.5);
-    dir[0] = std::cos(azimuth) * std::cos(altitude);
-    dir[1] = std::sin(azimuth) * std::cos(altitude);
-    dir[2] = std::sin(altitude);
+    if (row == 7) {  // the zenith, as ds_illum writes it
+        dir[0] = static_cast<float>(std::cos(M_PI / 2)), dir[1] = 0, dir[2] = 1;
+        return;
+    }
+    const double theta = (84.0 - 12.0 * row) * (M_PI / 180);
+    const double az =
+        static_cast<float>(360.0 / kRowCount[row] * (patch - kRowStart[row] + 0.5)) * (M_PI / 180);
+    dir[0] = static_cast<float>(std::cos(az) * std::sin(theta));
+    dir[1] = static_cast<float>(std::sin(az) * std::sin(theta));
+    dir[2] = static_cast<float>(std::cos(theta));
 }
 
 // The same arithmetic as DaysimPatch (a turn of exactly 1 kept in its row; a negative turn of

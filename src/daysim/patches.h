@@ -14,8 +14,9 @@ constexpr int kDaysimDiffusePatches = 148;  // with the three ground patches
 // the light it finds (DAYSIM's daysimComputePatch).
 int DaysimPatch(double dx, double dy, double dz);
 
-// The direction ds_illum evaluates a patch's luminance at: a sky patch's centre, or the ground
-// patches' directions (0.996 0 -0.087), (0.940 0 -0.342), (0 0 -1).
+// The direction ds_illum evaluates a patch's luminance at: a sky patch's centre (rounded to
+// float, as ds_illum stores it), or the ground patches' (0.9961946 0 -0.087156),
+// (0.9397 0 -0.342), (0 0 -1).
 void DaysimPatchDirection(int patch, double dir[3]);
 
 // DaysimPatch as a calcomp bin expression (`dspatch`, of Dx Dy Dz), for the engines.

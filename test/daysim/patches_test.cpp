@@ -85,8 +85,8 @@ TEST(DaysimPatches, EveryDirectionLandsInItsPatch) {
     }
     double v[3];
     DaysimPatchDirection(0, v);  // first row, 6 degrees up, 6 degrees north of east
-    EXPECT_NEAR(std::asin(v[2]) * 180 / M_PI, 6, 1e-12);
-    EXPECT_NEAR(std::atan2(v[1], v[0]) * 180 / M_PI, 6, 1e-12);
+    EXPECT_NEAR(std::asin(v[2]) * 180 / M_PI, 6, 1e-5);  // in float, as ds_illum keeps it
+    EXPECT_NEAR(std::atan2(v[1], v[0]) * 180 / M_PI, 6, 1e-5);
 }
 
 }  // namespace
