@@ -261,6 +261,7 @@ std::unique_ptr<SpecialisedExpression> SpecialisedExpression::Make(const Context
     try {
         SpecialisationBuilder b(cx, *out);
         out->root_ = b.Spec(root, {});
+        out->Emit();
     } catch (const NotHandled &) {
         return nullptr;
     } catch (const UserError &) {
@@ -269,9 +270,294 @@ std::unique_ptr<SpecialisedExpression> SpecialisedExpression::Make(const Context
     return out;
 }
 
-double SpecialisedExpression::Evaluate(const Channels *channels) const {
-    SpecialisedRun run(*this, channels);
-    return run.Eval(root_);
+// Lays the tree out as code (see Instruction): the root's code, a halt, then each slot's block.
+class CodeEmitter {
+  public:
+    using E = SpecialisedExpression;
+    explicit CodeEmitter(E &e) : e_(e), block_(e.slot_roots_.size(), -1) {}
+
+    void EmitAll() {
+        Emit(e_.root_);
+        Put({E::kIHalt});
+        for (size_t k = 0; k < pending_.size(); ++k) {  // blocks may ask for more blocks
+            const int slot = pending_[k];
+            block_[slot] = Here();
+            Emit(e_.slot_roots_[slot]);
+            Put({E::kIReturn, 0, 0, slot, e_.slot_roots_[slot]});
+        }
+        for (const auto &[at, slot] : calls_) e_.code_[at].target = block_[slot];
+    }
+
+  private:
+    int Here() const { return static_cast<int>(e_.code_.size()); }
+    int Put(const E::Instruction &in) {
+        e_.code_.push_back(in);
+        return Here() - 1;
+    }
+    int Kid(const E::Op &o, int i) const { return e_.kids_[o.first + i]; }
+
+    void Emit(int id) {
+        const E::Op &o = e_.ops_[id];
+        switch (o.kind) {
+            case E::kNum: {
+                E::Instruction in{E::kINum, 0, id};
+                in.num = o.num;
+                Put(in);
+                return;
+            }
+            case E::kChan:
+                Put({E::kIChan, 0, id, o.index});
+                return;
+            case E::kSlot: {
+                if (block_[o.index] == -1) block_[o.index] = -2, pending_.push_back(o.index);
+                calls_.emplace_back(Put({E::kICall, 0, id, o.index}), o.index);
+                return;
+            }
+            case E::kAdd:
+            case E::kSub:
+            case E::kMul:
+            case E::kPow: {  // a number operand is the instruction's own (never both: folded)
+                const int x = Kid(o, 0), y = Kid(o, 1);
+                const int form = IsNum(x) ? 2 : IsNum(y) ? 1 : 0;
+                if (form != 2) Emit(x);
+                if (form != 1) Emit(y);
+                static constexpr E::Code kFirst[] = {E::kIAddRR, E::kISubRR, E::kIMulRR, E::kIHalt,
+                                                     E::kIPowRR};
+                E::Instruction in{static_cast<E::Code>(kFirst[o.kind - E::kAdd] + form), 0, id, x,
+                                  y};
+                in.num = form == 2 ? e_.ops_[x].num : form == 1 ? e_.ops_[y].num : 0;
+                Put(in);
+                return;
+            }
+            case E::kDiv: {  // a zero divisor gives 0 without evaluating the dividend
+                Emit(Kid(o, 1));
+                const int test = Put({E::kIZeroDiv, 0, id, 0, Kid(o, 1)});
+                Emit(Kid(o, 0));
+                Put({E::kIDiv, 0, id, Kid(o, 0), Kid(o, 1)});
+                e_.code_[test].target = Here();
+                return;
+            }
+            case E::kNeg:
+                Emit(Kid(o, 0));
+                Put({E::kINeg, 0, id, Kid(o, 0)});
+                return;
+            case E::kIf: {
+                const int test = Test(Kid(o, 0));
+                const int then_end = Branch(id, Kid(o, 1));
+                e_.code_[test].target = Here();
+                const int else_end = Branch(id, Kid(o, 2));
+                e_.code_[then_end].target = e_.code_[else_end].target = Here();
+                return;
+            }
+            case E::kSelect: {
+                Emit(Kid(o, 0));
+                const int table = static_cast<int>(e_.cases_.size());
+                e_.cases_.resize(table + o.nkids - 1);
+                const int choose = Put({E::kISelect, 0, id, Kid(o, 0), o.nkids, table});
+                std::vector<int> ends;
+                for (int n = 1; n < o.nkids; ++n) {
+                    e_.cases_[table + n - 1] = Here();
+                    ends.push_back(Branch(id, Kid(o, n)));
+                }
+                for (int at : ends) e_.code_[at].target = Here();
+                e_.code_[choose].target = Here();
+                return;
+            }
+            case E::kMin:
+            case E::kMax:  // the interpreter's order: the first, then the last back to the second
+                Emit(Kid(o, 0));
+                Put({E::kIMove, 0, id, Kid(o, 0)});
+                for (int i = o.nkids - 1; i > 0; --i) {
+                    Emit(Kid(o, i));
+                    Put({E::kIMinStep, static_cast<uint8_t>(o.kind == E::kMax), id, Kid(o, i)});
+                }
+                return;
+            case E::kMath:
+                Emit(Kid(o, 0));
+                if (o.nkids > 1) Emit(Kid(o, 1));
+                Put({E::kIMath, o.fn, id, Kid(o, 0), o.nkids > 1 ? Kid(o, 1) : -1});
+                return;
+        }
+    }
+    // One way of an if() or select(): its value into dst, then a jump to the end (returned).
+    int Branch(int dst, int value) {
+        if (IsNum(value)) {
+            E::Instruction in{E::kINum, 0, dst};
+            in.num = e_.ops_[value].num;
+            Put(in);
+        } else {
+            Emit(value);
+            Put({E::kIMove, 0, dst, value});
+        }
+        return Put({E::kIJump});
+    }
+    // An if()'s condition and the jump past its first way (returned): a difference with a number
+    // (the bins' if(x - c, ...)) tested by one instruction.
+    int Test(int cond) {
+        const E::Op &o = e_.ops_[cond];
+        if (o.kind == E::kSub && (IsNum(Kid(o, 0)) || IsNum(Kid(o, 1)))) {
+            const bool above = IsNum(Kid(o, 1));
+            const int x = above ? Kid(o, 0) : Kid(o, 1);
+            Emit(x);
+            E::Instruction in{above ? E::kIJumpUnlessAbove : E::kIJumpUnlessBelow, 0, 0, x};
+            in.num = e_.ops_[above ? Kid(o, 1) : Kid(o, 0)].num;
+            return Put(in);
+        }
+        Emit(cond);
+        return Put({E::kIJumpUnlessPositive, 0, 0, cond});
+    }
+    bool IsNum(int id) const { return e_.ops_[id].kind == E::kNum; }
+
+    E &e_;
+    std::vector<int> block_;    // each slot's block: -1 not asked for, -2 to be laid out
+    std::vector<int> pending_;  // slots in the order their blocks are laid out
+    std::vector<std::pair<int, int>> calls_;  // (instruction, slot) to point at their blocks
+};
+
+void SpecialisedExpression::Emit() { CodeEmitter(*this).EmitAll(); }
+
+double SpecialisedExpression::Run(const Channels *channels) const {
+    constexpr size_t kStackRegisters = 1024;
+    double stack_registers[kStackRegisters];
+    std::vector<double> heap_registers;
+    double *r = stack_registers;
+    if (ops_.size() > kStackRegisters) {
+        heap_registers.resize(ops_.size());
+        r = heap_registers.data();
+    }
+    double slot[kMaxSlots];
+    bool have[kMaxSlots];
+    std::memset(have, 0, slot_roots_.size() * sizeof(bool));
+    int returns[kMaxSlots + 1];  // a slot's block calls only slots not yet set: at most all
+    int depth = 0;
+    const Instruction *code = code_.data();
+    for (int pc = 0;;) {
+        const Instruction &in = code[pc];
+        switch (in.code) {
+            case kINum:
+                r[in.dst] = in.num;
+                break;
+            case kIChan:
+                if (!channels)
+                    ErrorExit(&loc_, "ray variable $" + std::to_string(in.a) +
+                                         " used where there is no ray");
+                r[in.dst] = channels->Value(in.a);
+                break;
+            case kICall:
+                if (!have[in.a]) {
+                    returns[depth++] = pc;  // back to this call, which then reads the slot
+                    pc = in.target;
+                    continue;
+                }
+                r[in.dst] = slot[in.a];
+                break;
+            case kIReturn:
+                slot[in.a] = r[in.b];
+                have[in.a] = true;
+                pc = returns[--depth];
+                continue;
+            case kIAddRR:
+                r[in.dst] = r[in.a] + r[in.b];
+                break;
+            case kIAddRC:
+                r[in.dst] = r[in.a] + in.num;
+                break;
+            case kIAddCR:
+                r[in.dst] = in.num + r[in.b];
+                break;
+            case kISubRR:
+                r[in.dst] = r[in.a] - r[in.b];
+                break;
+            case kISubRC:
+                r[in.dst] = r[in.a] - in.num;
+                break;
+            case kISubCR:
+                r[in.dst] = in.num - r[in.b];
+                break;
+            case kIMulRR:
+                r[in.dst] = r[in.a] * r[in.b];
+                break;
+            case kIMulRC:
+                r[in.dst] = r[in.a] * in.num;
+                break;
+            case kIMulCR:
+                r[in.dst] = in.num * r[in.b];
+                break;
+            case kIPowRR:
+                r[in.dst] = std::pow(r[in.a], r[in.b]);
+                break;
+            case kIPowRC:
+                r[in.dst] = std::pow(r[in.a], in.num);
+                break;
+            case kIPowCR:
+                r[in.dst] = std::pow(in.num, r[in.b]);
+                break;
+            case kIZeroDiv:
+                if (r[in.b] == 0) {
+                    r[in.dst] = 0;
+                    pc = in.target;
+                    continue;
+                }
+                break;
+            case kIDiv:
+                r[in.dst] = r[in.a] / r[in.b];
+                break;
+            case kINeg:
+                r[in.dst] = -r[in.a];
+                break;
+            case kIJumpUnlessPositive:
+                if (!(r[in.a] > 0.0)) {
+                    pc = in.target;
+                    continue;
+                }
+                break;
+            case kIJumpUnlessAbove:
+                if (!(r[in.a] - in.num > 0.0)) {
+                    pc = in.target;
+                    continue;
+                }
+                break;
+            case kIJumpUnlessBelow:
+                if (!(in.num - r[in.a] > 0.0)) {
+                    pc = in.target;
+                    continue;
+                }
+                break;
+            case kIJump:
+                pc = in.target;
+                continue;
+            case kIMove:
+                r[in.dst] = r[in.a];
+                break;
+            case kISelect: {
+                const double a1 = r[in.a];
+                if (!(a1 >= -.5 && a1 + .5 < in.b))
+                    ErrorExit(&loc_, "select: index " + FormatNumber(a1) + " out of range");
+                const int n = static_cast<int>(a1 + .5);
+                if (n == 0) {
+                    r[in.dst] = in.b - 1;
+                    pc = in.target;
+                } else {
+                    pc = cases_[in.c + n - 1];
+                }
+                continue;
+            }
+            case kIMinStep: {
+                const double x = r[in.a];
+                if (in.fn ? r[in.dst] < x : r[in.dst] > x) r[in.dst] = x;
+                break;
+            }
+            case kIMath:
+                r[in.dst] =
+                    LibraryMath(static_cast<Library>(in.fn), r[in.a], in.b >= 0 ? r[in.b] : 0);
+                break;
+            case kIHalt:
+                return r[root_];
+        }
+        ++pc;
+    }
 }
+
+double SpecialisedExpression::Evaluate(const Channels *channels) const { return Run(channels); }
 
 }  // namespace dayflux::cal

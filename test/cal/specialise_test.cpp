@@ -76,6 +76,39 @@ TEST(Specialise, BinFunctionsGiveTheInterpretersNumbers) {
     ExpectSameAsInterpreter(tregenza, "tbin");
 }
 
+// The specialised code jumps over what if(), select() and a zero divisor leave out, and computes
+// a variable or an argument once, on its first use: the interpreter's numbers and its laziness
+// (an out-of-range select() or a missing ray in a branch not taken is no error).
+TEST(Specialise, BranchesAndSharedValuesAsTheInterpreter) {
+    Context cx;
+    cx.Load(
+        "a = $1; b = $2; sq(x) = x * x; two(x, y) = sq(x) + sq(y) + x;"
+        "pick(k) = select(k, a, b, sq(a + b), max(a, b, 1), min(b, a));"
+        "guard = if(a - 5, select(b * b + 99, 1), 2) + if(b, 1 / 0, select(a * a + 99, 1) / (b - "
+        "b));",
+        FileLoc{"t.cal", 1});
+    const char *texts[] = {"two(a + 1, b) + two(b, a)",
+                           "pick(0) + pick(1) + pick(2) + pick(3)",
+                           "pick(4) - pick(5)",
+                           "guard",
+                           "if(a, if(b, a / b, b / a), -a) ^ 2",
+                           "select(if(a, 1, 2), two(a, a), sq(two(b, b)))"};
+    for (const char *text : texts) {
+        const Expression fast = cx.Compile(text, FileLoc{"-b", 0});
+        const Expression slow = Interpreted(cx, text);
+        ASSERT_TRUE(fast.Specialised()) << text;
+        for (double x : {-1.5, -0.0, 0.0, 0.5, 2.0})
+            for (double y : {-2.0, 0.0, 0.25, 3.0}) {
+                ChannelArray ray({x, y});
+                const double f = fast.Evaluate(cx, &ray), w = slow.Evaluate(cx, &ray);
+                EXPECT_EQ(std::memcmp(&f, &w, sizeof f), 0)
+                    << text << " at " << x << " " << y << ": " << f << " against " << w;
+            }
+    }
+    // and what it does evaluate still fails as the interpreter does
+    EXPECT_THROW(cx.Compile("select(a + 9, 1)", FileLoc{"-b", 0}).Evaluate(cx, nullptr), UserError);
+}
+
 TEST(Specialise, InlinesCallsAndFoldsWhatDoesNotDependOnTheRay) {
     Context cx;
     cx.Load("x = $1; k = 3; sq(a) = a*a; f(a, b) = if(b, sq(a) + k, select(2, 0, a));",
