@@ -12,9 +12,4 @@ export GALLIVM_PERF=${GALLIVM_PERF:-nopt}
 # shader's branches; lavapipe's 4-wide vectors (its default is 8 on AVX machines) halve the
 # per-lane branches of its memory accesses and cut each compile by 40 % (docs/benchmarks.md).
 export LP_NATIVE_VECTOR_WIDTH=${LP_NATIVE_VECTOR_WIDTH:-128}
-# A fresh build has no timings for ctest to start the longest tests first: seed them (one cold
-# run's seconds, test/ctest_costs.txt; ctest keeps its own from then on).
-mkdir -p Testing/Temporary
-[ -s Testing/Temporary/CTestCostData.txt ] ||
-    cp "$root/test/ctest_costs.txt" Testing/Temporary/CTestCostData.txt
 ctest --output-on-failure -j"$(nproc)"
