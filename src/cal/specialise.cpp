@@ -451,8 +451,8 @@ double SpecialisedExpression::Run(const Channels *channels) const {
                 }
                 r[in.dst] = slot[in.a];
                 break;
-            case kIReturn:
-                slot[in.a] = r[in.b];
+            case kIReturn:  // the block just set r[in.b] (every register is set before it is read)
+                slot[in.a] = r[in.b];  // NOLINT(clang-analyzer-core.uninitialized.Assign)
                 have[in.a] = true;
                 pc = returns[--depth];
                 continue;
