@@ -451,10 +451,11 @@ double SpecialisedExpression::Run(const Channels *channels) const {
                 }
                 r[in.dst] = slot[in.a];
                 break;
-            case kIReturn:  // the block just set r[in.b] (every register is set before it is read)
-                slot[in.a] = r[in.b];  // NOLINT(clang-analyzer-core.uninitialized.Assign)
+            case kIReturn:
+                slot[in.a] = r[in.b];
                 have[in.a] = true;
-                pc = returns[--depth];
+                // a return follows its call, which set returns[depth - 1]
+                pc = returns[--depth];  // NOLINT(clang-analyzer-core.uninitialized.Assign)
                 continue;
             case kIAddRR:
                 r[in.dst] = r[in.a] + r[in.b];
