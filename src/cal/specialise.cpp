@@ -18,78 +18,59 @@ constexpr size_t kMaxOps = 1 << 16;  // inlining copies bodies per call: bound w
 static_assert(Node::kSub == Node::kAdd + 1 && Node::kMul == Node::kAdd + 2 &&
               Node::kDiv == Node::kAdd + 3 && Node::kPow == Node::kAdd + 4);
 
-}  // namespace
-
-// One evaluation: the slots' values and which are set.
-struct SpecialisedRun {
-    SpecialisedRun(const SpecialisedExpression &ex, const Channels *ch) : e(ex), channels(ch) {
-        std::memset(have, 0, e.slot_roots_.size() * sizeof(bool));
+// The rules of the operations, for folding numbers while the tree is built and for the code's
+// run (SpecialisedExpression::Run): one set, so the two give the same numbers.
+using Kind = SpecialisedExpression::Kind;
+double Arithmetic(Kind k, double a, double b) {
+    switch (k) {
+        case SpecialisedExpression::kAdd:
+            return a + b;
+        case SpecialisedExpression::kSub:
+            return a - b;
+        case SpecialisedExpression::kMul:
+            return a * b;
+        case SpecialisedExpression::kDiv:  // calcomp's: a zero divisor gives 0
+            return b == 0 ? 0 : a / b;
+        default:
+            return std::pow(a, b);
     }
-    const SpecialisedExpression &e;
-    const Channels *channels;
-    double value[SpecialisedExpression::kMaxSlots];  // read only where `have` says it was set
-    bool have[SpecialisedExpression::kMaxSlots];
+}
+// select()'s choice among nkids - 1 (0: their count), or its error.
+int SelectChoice(double a1, int nkids, const FileLoc &loc) {
+    if (!(a1 >= -.5 && a1 + .5 < nkids))
+        ErrorExit(&loc, "select: index " + FormatNumber(a1) + " out of range");
+    return static_cast<int>(a1 + .5);
+}
+// max() and min() keep the first of equal values, as the interpreter does.
+double Extreme(bool larger, double v, double x) { return (larger ? v < x : v > x) ? x : v; }
 
-    double Kid(const SpecialisedExpression::Op &o, int i) { return Eval(e.kids_[o.first + i]); }
-
-    double Eval(int id) {
-        const SpecialisedExpression::Op &o = e.ops_[id];
-        switch (o.kind) {
-            case SpecialisedExpression::kNum:
-                return o.num;
-            case SpecialisedExpression::kChan:
-                if (!channels)
-                    ErrorExit(&e.loc_, "ray variable $" + std::to_string(o.index) +
-                                           " used where there is no ray");
-                return channels->Value(o.index);
-            case SpecialisedExpression::kSlot:
-                if (!have[o.index]) {
-                    value[o.index] = Eval(e.slot_roots_[o.index]);
-                    have[o.index] = true;
-                }
-                return value[o.index];
-            case SpecialisedExpression::kAdd:
-                return Kid(o, 0) + Kid(o, 1);
-            case SpecialisedExpression::kSub:
-                return Kid(o, 0) - Kid(o, 1);
-            case SpecialisedExpression::kMul:
-                return Kid(o, 0) * Kid(o, 1);
-            case SpecialisedExpression::kDiv: {
-                const double d = Kid(o, 1);
-                if (d == 0) return 0;
-                return Kid(o, 0) / d;
-            }
-            case SpecialisedExpression::kPow:
-                return std::pow(Kid(o, 0), Kid(o, 1));
-            case SpecialisedExpression::kNeg:
-                return -Kid(o, 0);
-            case SpecialisedExpression::kIf:
-                return Kid(o, 0) > 0.0 ? Kid(o, 1) : Kid(o, 2);
-            case SpecialisedExpression::kSelect: {
-                const double a1 = Kid(o, 0);
-                if (!(a1 >= -.5 && a1 + .5 < o.nkids))
-                    ErrorExit(&e.loc_, "select: index " + FormatNumber(a1) + " out of range");
-                const int n = static_cast<int>(a1 + .5);
-                if (n == 0) return o.nkids - 1;
-                return Kid(o, n);
-            }
-            case SpecialisedExpression::kMin:
-            case SpecialisedExpression::kMax: {
-                double v = Kid(o, 0);
-                for (int i = o.nkids - 1; i > 0; --i) {
-                    const double x = Kid(o, i);
-                    if (o.kind == SpecialisedExpression::kMax ? v < x : v > x) v = x;
-                }
-                return v;
-            }
-            case SpecialisedExpression::kMath: {
-                const double a = Kid(o, 0);
-                return LibraryMath(static_cast<Library>(o.fn), a, o.nkids > 1 ? Kid(o, 1) : 0);
-            }
+// An operation of numbers only: its value (nothing lazy: every operand is already a number).
+double FoldNumbers(const SpecialisedExpression::Op &o, const std::vector<double> &v,
+                   const FileLoc &loc) {
+    switch (o.kind) {
+        case SpecialisedExpression::kNeg:
+            return -v[0];
+        case SpecialisedExpression::kIf:
+            return v[0] > 0.0 ? v[1] : v[2];
+        case SpecialisedExpression::kSelect: {
+            const int n = SelectChoice(v[0], o.nkids, loc);
+            return n == 0 ? o.nkids - 1 : v[n];
         }
-        return 0;
+        case SpecialisedExpression::kMin:
+        case SpecialisedExpression::kMax: {
+            double x = v[0];
+            for (int i = o.nkids - 1; i > 0; --i)
+                x = Extreme(o.kind == SpecialisedExpression::kMax, x, v[i]);
+            return x;
+        }
+        case SpecialisedExpression::kMath:
+            return LibraryMath(static_cast<Library>(o.fn), v[0], o.nkids > 1 ? v[1] : 0);
+        default:
+            return Arithmetic(o.kind, v[0], v[1]);
     }
-};
+}
+
+}  // namespace
 
 class SpecialisationBuilder {
   public:
@@ -130,22 +111,24 @@ class SpecialisationBuilder {
     }
 
   private:
-    // Adds an operation; one of numbers only becomes its value, computed by the evaluator
-    // itself (so folding and evaluation share one set of rules).
+    // Adds an operation; one of numbers only becomes its value, by the rules the code runs by.
     int Add(const Op &op, const std::vector<int> &kids) {
+        if (kids.empty() || !std::all_of(kids.begin(), kids.end(), [&](int k) { return IsNum(k); }))
+            return Append(op, kids);
+        std::vector<double> values;
+        for (int k : kids) values.push_back(NumOf(k));
+        Op o = op;
+        o.nkids = static_cast<int32_t>(kids.size());
+        return Num(FoldNumbers(o, values, out_.loc_));
+    }
+    int Append(const Op &op, const std::vector<int> &kids) {
         if (out_.ops_.size() >= kMaxOps) throw NotHandled{};
         Op o = op;
         o.first = static_cast<int32_t>(out_.kids_.size());
         o.nkids = static_cast<int32_t>(kids.size());
         out_.kids_.insert(out_.kids_.end(), kids.begin(), kids.end());
         out_.ops_.push_back(o);
-        const int id = static_cast<int>(out_.ops_.size()) - 1;
-        if (kids.empty() || !std::all_of(kids.begin(), kids.end(), [&](int k) { return IsNum(k); }))
-            return id;
-        const double v = SpecialisedRun(out_, nullptr).Eval(id);
-        out_.ops_.pop_back();
-        out_.kids_.resize(o.first);
-        return Num(v);
+        return static_cast<int>(out_.ops_.size()) - 1;
     }
     int Num(double v) {
         Op op;
@@ -458,40 +441,40 @@ double SpecialisedExpression::Run(const Channels *channels) const {
                 pc = returns[--depth];  // NOLINT(clang-analyzer-core.uninitialized.Assign)
                 continue;
             case kIAddRR:
-                r[in.dst] = r[in.a] + r[in.b];
+                r[in.dst] = Arithmetic(kAdd, r[in.a], r[in.b]);
                 break;
             case kIAddRC:
-                r[in.dst] = r[in.a] + in.num;
+                r[in.dst] = Arithmetic(kAdd, r[in.a], in.num);
                 break;
             case kIAddCR:
-                r[in.dst] = in.num + r[in.b];
+                r[in.dst] = Arithmetic(kAdd, in.num, r[in.b]);
                 break;
             case kISubRR:
-                r[in.dst] = r[in.a] - r[in.b];
+                r[in.dst] = Arithmetic(kSub, r[in.a], r[in.b]);
                 break;
             case kISubRC:
-                r[in.dst] = r[in.a] - in.num;
+                r[in.dst] = Arithmetic(kSub, r[in.a], in.num);
                 break;
             case kISubCR:
-                r[in.dst] = in.num - r[in.b];
+                r[in.dst] = Arithmetic(kSub, in.num, r[in.b]);
                 break;
             case kIMulRR:
-                r[in.dst] = r[in.a] * r[in.b];
+                r[in.dst] = Arithmetic(kMul, r[in.a], r[in.b]);
                 break;
             case kIMulRC:
-                r[in.dst] = r[in.a] * in.num;
+                r[in.dst] = Arithmetic(kMul, r[in.a], in.num);
                 break;
             case kIMulCR:
-                r[in.dst] = in.num * r[in.b];
+                r[in.dst] = Arithmetic(kMul, in.num, r[in.b]);
                 break;
             case kIPowRR:
-                r[in.dst] = std::pow(r[in.a], r[in.b]);
+                r[in.dst] = Arithmetic(kPow, r[in.a], r[in.b]);
                 break;
             case kIPowRC:
-                r[in.dst] = std::pow(r[in.a], in.num);
+                r[in.dst] = Arithmetic(kPow, r[in.a], in.num);
                 break;
             case kIPowCR:
-                r[in.dst] = std::pow(in.num, r[in.b]);
+                r[in.dst] = Arithmetic(kPow, in.num, r[in.b]);
                 break;
             case kIZeroDiv:
                 if (r[in.b] == 0) {
@@ -501,7 +484,7 @@ double SpecialisedExpression::Run(const Channels *channels) const {
                 }
                 break;
             case kIDiv:
-                r[in.dst] = r[in.a] / r[in.b];
+                r[in.dst] = Arithmetic(kDiv, r[in.a], r[in.b]);
                 break;
             case kINeg:
                 r[in.dst] = -r[in.a];
@@ -531,10 +514,7 @@ double SpecialisedExpression::Run(const Channels *channels) const {
                 r[in.dst] = r[in.a];
                 break;
             case kISelect: {
-                const double a1 = r[in.a];
-                if (!(a1 >= -.5 && a1 + .5 < in.b))
-                    ErrorExit(&loc_, "select: index " + FormatNumber(a1) + " out of range");
-                const int n = static_cast<int>(a1 + .5);
+                const int n = SelectChoice(r[in.a], in.b, loc_);
                 if (n == 0) {
                     r[in.dst] = in.b - 1;
                     pc = in.target;
@@ -543,11 +523,9 @@ double SpecialisedExpression::Run(const Channels *channels) const {
                 }
                 continue;
             }
-            case kIMinStep: {
-                const double x = r[in.a];
-                if (in.fn ? r[in.dst] < x : r[in.dst] > x) r[in.dst] = x;
+            case kIMinStep:
+                r[in.dst] = Extreme(in.fn != 0, r[in.dst], r[in.a]);
                 break;
-            }
             case kIMath:
                 r[in.dst] =
                     LibraryMath(static_cast<Library>(in.fn), r[in.a], in.b >= 0 ? r[in.b] : 0);

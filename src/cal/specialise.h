@@ -52,7 +52,6 @@ class SpecialisedExpression {
 
   private:
     friend class SpecialisationBuilder;
-    friend struct SpecialisedRun;
     friend class CodeEmitter;
     // The tree as straight-line code over registers (one per operation), run by Evaluate without
     // recursion: if(), select() and a division's zero test jump, and each slot's expression is a
@@ -83,7 +82,8 @@ class SpecialisedExpression {
         kIJumpUnlessBelow,     // if !(num - r[a] > 0) go to target (if(c - x, ...))
         kIJump,
         kIMove,     // r[dst] = r[a]
-        kISelect,   // r[a] picks among the b - 1 choices (0 gives b - 1), case n at cases_[c + n - 1]
+        kISelect,   // r[a] picks among the b - 1 choices (0 gives b - 1), case n at cases_[c + n -
+                    // 1]
         kIMinStep,  // r[dst] = the smaller of r[dst] and r[a] (fn 1: the larger)
         kIMath,     // r[dst] = LibraryMath(fn, r[a], b >= 0 ? r[b] : 0)
         kIHalt
