@@ -11,6 +11,10 @@ packages=(
     libgtest-dev libgmock-dev libbenchmark-dev libcairo2-dev fonts-dejavu-core parallel
 )
 backports=(mesa-vulkan-drivers)
+# The tests' own (tools/test.sh): a Slurm cluster of one node for examples/shards.
+if [ "${1:-}" = --tests ]; then
+    packages+=(slurmctld slurmd slurm-client munge)
+fi
 
 missing=()
 for p in "${packages[@]}" "${backports[@]}"; do

@@ -2,6 +2,7 @@
 # The README's test command: set up, build, and run the whole test suite.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+"$root/tools/setup.sh" --tests
 "$root/tools/build.sh"
 cd "$root/build"
 # The Vulkan tests run on lavapipe, whose LLVM spends over a minute optimising each shader

@@ -1,7 +1,8 @@
 // Issue 23's runs split across processes: a sensor file split into shards (examples/shards),
 // each traced on its own with -first_record, merged with rmtxcat, is byte for byte the matrix
 // of one run with the same -seed, whichever engine ran the shards (GNU parallel, make -j, a
-// Slurm array run task by task as its dry run); a missing shard stops the merge.
+// Slurm array on a cluster of one node, and task by task as its dry run); a missing shard stops
+// the merge.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -73,6 +74,32 @@ TEST_F(Shards, SlurmArrayTasksMergeToTheSingleRun) {
         kArgs + " || exit 1; done && merge_shards.sh shards slurm.mtx");
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(MatrixBody(tmp_.path() / "slurm.mtx") == whole_);
+}
+
+// The same on a real Slurm: a cluster of one node started from Debian's packages
+// (test/tools/single_node_slurm.sh), the array submitted as docs/shards.md says, the merge a job
+// that waits for every task.
+TEST_F(Shards, SlurmClusterRunsTheArrayAndTheMerge) {
+    if (RunCommand("command -v slurmctld || test -x /usr/sbin/slurmctld", tmp_.path()).status != 0)
+        GTEST_SKIP() << "Slurm is not installed (tools/setup.sh --tests installs it)";
+    if (RunCommand("test \"$(id -u)\" = 0", tmp_.path()).status != 0)
+        GTEST_SKIP() << "a Slurm node of our own needs root (slurmd starts the jobs)";
+    ASSERT_EQ(Run("split_sensors.sh sensors 200 shards 2").status, 0);
+    WriteFile(tmp_.path() / "submit.sh",
+              "set -e\nn=$(ls shards/shard_*.pts | wc -l)\n"
+              "job=$(sbatch --parsable --array=0-$((n - 1)) '" +
+                  (Scripts() / "shards.sbatch").string() + "' shards " + kArgs +
+                  ")\n"
+                  "sbatch --wait --kill-on-invalid-dep=yes --dependency=afterok:$job "
+                  "--wrap 'merge_shards.sh shards slurm.mtx'\n");
+    const fs::path cluster = fs::path(DAYFLUX_LIB_DIR) / ".." / "test" / "tools";
+    const CommandResult r =
+        Run("export DAYFLUX_SHARDS_DIR='" + Scripts().string() + "' && timeout 300 '" +
+            (cluster / "single_node_slurm.sh").string() + "' slurm bash submit.sh");
+    ASSERT_EQ(r.status, 0) << r.err << r.out << ReadFile(tmp_.path() / "slurm" / "slurmctld.log");
+    EXPECT_TRUE(MatrixBody(tmp_.path() / "slurm.mtx") == whole_);
+    // Four array tasks ran, each with its own log (shards.sbatch's --output).
+    EXPECT_EQ(Run("ls slurm-*_[0-3].log | wc -l").out, "4\n");
 }
 
 // rfluxmtx-gpu passes -first_record on in pass-through mode (V from a sensor file), and refuses
