@@ -11,9 +11,10 @@ packages=(
     libgtest-dev libgmock-dev libbenchmark-dev libcairo2-dev fonts-dejavu-core parallel
 )
 backports=(mesa-vulkan-drivers)
-# The tests' own (tools/test.sh): a Slurm cluster of one node for examples/shards.
+# The tests' own (tools/test.sh), for examples/shards: a Slurm cluster of one node, and an ssh
+# host (this machine) for GNU parallel.
 if [ "${1:-}" = --tests ]; then
-    packages+=(slurmctld slurmd slurm-client munge)
+    packages+=(slurmctld slurmd slurm-client munge openssh-server openssh-client rsync)
 fi
 
 missing=()

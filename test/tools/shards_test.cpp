@@ -1,8 +1,8 @@
 // Issue 23's runs split across processes: a sensor file split into shards (examples/shards),
 // each traced on its own with -first_record, merged with rmtxcat, is byte for byte the matrix
-// of one run with the same -seed, whichever engine ran the shards (GNU parallel, make -j, a
-// Slurm array on a cluster of one node, and task by task as its dry run); a missing shard stops
-// the merge.
+// of one run with the same -seed, whichever engine ran the shards (GNU parallel, locally and
+// over ssh, make -j, a Slurm array on a cluster of one node, and task by task as its dry run);
+// a missing shard stops the merge.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -55,6 +55,32 @@ TEST_F(Shards, GnuParallelMergesToTheSingleRun) {
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(MatrixBody(tmp_.path() / "merged.mtx") == whole_);
     EXPECT_NE(ReadFile(tmp_.path() / "merged.mtx").find("NROWS=305\n"), std::string::npos);
+}
+
+// The recipe for hosts without a shared file system, over ssh to this machine (an sshd of the
+// test's own, test/tools/local_sshd.sh): each shard sent with the scene to the host's folder
+// (here host/), traced there, its matrix sent back, the files removed.
+TEST_F(Shards, GnuParallelOverSshMergesToTheSingleRun) {
+    if (RunCommand("command -v parallel && test -x /usr/sbin/sshd", tmp_.path()).status != 0)
+        GTEST_SKIP() << "GNU parallel or openssh-server is missing (tools/setup.sh --tests)";
+    if (RunCommand("test \"$(id -u)\" = 0", tmp_.path()).status != 0)
+        GTEST_SKIP() << "an sshd of our own needs root (its privilege separation directory)";
+    ASSERT_EQ(Run("split_sensors.sh sensors 210 shards 2").status, 0);
+    WriteFile(
+        tmp_.path() / "over_ssh.sh",
+        "set -e\nparallel -S 2/$DAYFLUX_TEST_SSH_LOGIN --ssh \"$DAYFLUX_TEST_SSH\" "
+        "--workdir \"$PWD/host\" --env PATH --basefile room.rad --transferfile {} --return {.}.mtx "
+        "--cleanup --halt now,fail=1 -q trace_shard.sh {} {.}.mtx " +
+            kArgs + " ::: shards/shard_*.pts\nmerge_shards.sh shards ssh.mtx\n");
+    const fs::path helpers = fs::path(DAYFLUX_LIB_DIR) / ".." / "test" / "tools";
+    const CommandResult r =
+        Run("timeout 300 '" + (helpers / "local_sshd.sh").string() + "' sshd bash over_ssh.sh");
+    ASSERT_EQ(r.status, 0) << r.err << r.out;
+    EXPECT_TRUE(MatrixBody(tmp_.path() / "ssh.mtx") == whole_);
+    // Over ssh, and the host's folder left empty (--cleanup).
+    EXPECT_NE(ReadFile(tmp_.path() / "sshd" / "sshd.log").find("Accepted publickey"),
+              std::string::npos);
+    EXPECT_EQ(Run("find host -type f 2>/dev/null | wc -l").out, "0\n");
 }
 
 TEST_F(Shards, MakeMergesToTheSingleRun) {
