@@ -9,7 +9,8 @@
 #      one estimator with one random stream, so this is float rounding, not noise); and DAYSIM's
 #      diffuse run (rtrace_dc-gpu -Dd, DAYSIM's settings) without (DSdif) and with (DSdifC, -aa
 #      0.1) the sensor cache; and T, genBSDF of the office's blinds (glass, slats, head box and
-#      guides) at -c 500.
+#      guides) at -c 500; and the three- and five-phase matrices D, Vd (V_d) and Dd (D_d) of
+#      examples/reference-office/Makefile.phases (not in the default CASES: add them by name).
 # Writes OUT/gpu.csv (model,case,program,sensors,wall_s,rel_rms_vs_embree), OUT/summary.txt and
 # the logs. On an H100 machine (16 cores for Embree), 2026-11-25: MODELS=small with the tests
 # 441 s, MODELS=large TESTS=0 402 s (96 s of it C_ds on the GPU): two calls within the device
@@ -21,7 +22,7 @@
 #   here), OUT (bench/results/gpu), MODELS ("small large"), QUICK (1: every 30th sensor and low
 #   settings, for lavapipe), TESTS (0 skips step 2), TEST_SHARDS (1: test processes side by side,
 #   each compiling its own pipelines: NVIDIA's compiler is most of step 2), CASES ("V DC Cds
-#   DSdif DSdifC T")
+#   DSdif DSdifC T"; also D Vd Dd)
 # On the device machine (device/README.md): bench/gpu_bundle.sh here, then, there, with .gpu and
 # .gl carried: for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig; BUILD=.gpu bench/gpu.sh
 set -euo pipefail
@@ -120,6 +121,21 @@ for model in $MODELS; do
                 args="$DS_ARGS $([ $case = DSdifC ] && echo -aa 0.1 -lw 0.004 -lr 6 ||
                                   echo -aa 0 -lw 4e-6 -lr -6)"
                 args="$args sky148.rad model/materials.rad model/office.rad model/glass.rad" ;;
+            # The phase matrices as examples/reference-office/Makefile.phases makes them (with
+            # the blinds' head box and guides in D), rfluxmtx-gpu passing the engine options on.
+            D)
+                program=$BUILD/bin/rfluxmtx-gpu
+                args="-ab 2 -ad 1024 -lw 1e-3 -c $([ "$QUICK" = 1 ] && echo 50 || echo 1000) -faf"
+                args="$args model/window.rad model/skydome.rad model/materials.rad"
+                args="$args model/office.rad model/blinds_frame.rad" ;;
+            Vd)
+                program=$BUILD/bin/rfluxmtx-gpu
+                args="-I+ -ab 1 -ad $dc_ad -lw 5e-5 -faf - model/window.rad"
+                args="$args model/materials_black.rad model/office.rad" ;;
+            Dd)
+                program=$BUILD/bin/rfluxmtx-gpu
+                args="-ab 0 -c $([ "$QUICK" = 1 ] && echo 50 || echo 1000) -faf model/window.rad"
+                args="$args model/skydome.rad model/materials_black.rad model/office.rad" ;;
             T)
                 program=$BUILD/bin/genBSDF
                 args="-c $([ "$QUICK" = 1 ] && echo 20 || echo 500) $(cat "$dir/model/blinds_system.dim")"
@@ -130,7 +146,7 @@ for model in $MODELS; do
             out=$dir/$case-$name.fmx
             if [[ $name == vulkan* ]]; then  # compile the shader first: not what is measured
                 warm=$args
-                [ "$case" = T ] && warm=$(sed 's/-c [0-9]*/-c 1/' <<< "$args")
+                case $case in T | D | Dd) warm=$(sed 's/-c [0-9]*/-c 1/' <<< "$args") ;; esac
                 (cd "$dir" && head -2 sensors.pts | "$program" ${p#*|} -seed 1 $warm \
                     > /dev/null 2> "$dir/err")
                 if grep -q "using Embree" "$dir/err"; then
