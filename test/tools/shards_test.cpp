@@ -39,6 +39,16 @@ class Shards : public ::testing::Test {
         return RunCommand("PATH='" + Scripts().string() + "':\"$PATH\" && " + command, tmp_.path());
     }
     static fs::path Scripts() { return fs::path(DAYFLUX_LIB_DIR) / ".." / "examples" / "shards"; }
+    // The scripts that start servers of a test's own (Slurm, sshd).
+    static fs::path Servers() { return fs::path(DAYFLUX_LIB_DIR) / ".." / "test" / "tools"; }
+    // Why such servers cannot run here ("" if they can): `installed` fails, or this is not root.
+    std::string NoServers(const std::string &installed, const std::string &what) {
+        if (RunCommand(installed, tmp_.path()).status != 0)
+            return what + " is not installed (tools/setup.sh --tests installs it)";
+        if (RunCommand("test \"$(id -u)\" = 0", tmp_.path()).status != 0)
+            return "servers of the test's own need root";
+        return "";
+    }
     TempDir tmp_;
     std::string whole_;
 };
@@ -61,10 +71,9 @@ TEST_F(Shards, GnuParallelMergesToTheSingleRun) {
 // test's own, test/tools/local_sshd.sh): each shard sent with the scene to the host's folder
 // (here host/), traced there, its matrix sent back, the files removed.
 TEST_F(Shards, GnuParallelOverSshMergesToTheSingleRun) {
-    if (RunCommand("command -v parallel && test -x /usr/sbin/sshd", tmp_.path()).status != 0)
-        GTEST_SKIP() << "GNU parallel or openssh-server is missing (tools/setup.sh --tests)";
-    if (RunCommand("test \"$(id -u)\" = 0", tmp_.path()).status != 0)
-        GTEST_SKIP() << "an sshd of our own needs root (its privilege separation directory)";
+    const std::string no = NoServers("command -v parallel && test -x /usr/sbin/sshd",
+                                     "GNU parallel or openssh-server");
+    if (!no.empty()) GTEST_SKIP() << no;
     ASSERT_EQ(Run("split_sensors.sh sensors 210 shards 2").status, 0);
     WriteFile(
         tmp_.path() / "over_ssh.sh",
@@ -72,9 +81,8 @@ TEST_F(Shards, GnuParallelOverSshMergesToTheSingleRun) {
         "--workdir \"$PWD/host\" --env PATH --basefile room.rad --transferfile {} --return {.}.mtx "
         "--cleanup --halt now,fail=1 -q trace_shard.sh {} {.}.mtx " +
             kArgs + " ::: shards/shard_*.pts\nmerge_shards.sh shards ssh.mtx\n");
-    const fs::path helpers = fs::path(DAYFLUX_LIB_DIR) / ".." / "test" / "tools";
     const CommandResult r =
-        Run("timeout 300 '" + (helpers / "local_sshd.sh").string() + "' sshd bash over_ssh.sh");
+        Run("timeout 300 '" + (Servers() / "local_sshd.sh").string() + "' sshd bash over_ssh.sh");
     ASSERT_EQ(r.status, 0) << r.err << r.out;
     EXPECT_TRUE(MatrixBody(tmp_.path() / "ssh.mtx") == whole_);
     // Over ssh, and the host's folder left empty (--cleanup).
@@ -106,10 +114,8 @@ TEST_F(Shards, SlurmArrayTasksMergeToTheSingleRun) {
 // (test/tools/single_node_slurm.sh), the array submitted as docs/shards.md says, the merge a job
 // that waits for every task.
 TEST_F(Shards, SlurmClusterRunsTheArrayAndTheMerge) {
-    if (RunCommand("command -v slurmctld || test -x /usr/sbin/slurmctld", tmp_.path()).status != 0)
-        GTEST_SKIP() << "Slurm is not installed (tools/setup.sh --tests installs it)";
-    if (RunCommand("test \"$(id -u)\" = 0", tmp_.path()).status != 0)
-        GTEST_SKIP() << "a Slurm node of our own needs root (slurmd starts the jobs)";
+    const std::string no = NoServers("test -x /usr/sbin/slurmctld", "Slurm");
+    if (!no.empty()) GTEST_SKIP() << no;
     ASSERT_EQ(Run("split_sensors.sh sensors 200 shards 2").status, 0);
     WriteFile(tmp_.path() / "submit.sh",
               "set -e\nn=$(ls shards/shard_*.pts | wc -l)\n"
@@ -118,10 +124,9 @@ TEST_F(Shards, SlurmClusterRunsTheArrayAndTheMerge) {
                   ")\n"
                   "sbatch --wait --kill-on-invalid-dep=yes --dependency=afterok:$job "
                   "--wrap 'merge_shards.sh shards slurm.mtx'\n");
-    const fs::path cluster = fs::path(DAYFLUX_LIB_DIR) / ".." / "test" / "tools";
     const CommandResult r =
         Run("export DAYFLUX_SHARDS_DIR='" + Scripts().string() + "' && timeout 300 '" +
-            (cluster / "single_node_slurm.sh").string() + "' slurm bash submit.sh");
+            (Servers() / "single_node_slurm.sh").string() + "' slurm bash submit.sh");
     ASSERT_EQ(r.status, 0) << r.err << r.out << ReadFile(tmp_.path() / "slurm" / "slurmctld.log");
     EXPECT_TRUE(MatrixBody(tmp_.path() / "slurm.mtx") == whole_);
     // Four array tasks ran, each with its own log (shards.sbatch's --output).
