@@ -26,6 +26,13 @@ real3 rowsd[DEEP_LEVELS * 2 * DEEP_N];
 #define ROWD(i) rowsd[i]
 #endif
 
+// A point of the unit disk in the tangent plane (ux, uy) lifted to the hemisphere about normal:
+// uniform points give cosine-weighted directions.
+real3 DiskToHemisphere(real2 xy, real3 ux, real3 uy, real3 normal) {
+    real z = sqrt(max(0.0, 1. - dot(xy, xy)));
+    return CheckNorm(xy.x * ux + xy.y * uy + z * normal);
+}
+
 // A deeper hemisphere of one cell (most of them: the weights below the first level are small):
 // its ray pushed at once, as AmbientStep would push it, in any tangent frame. The random turn
 // matters only to the collision rule between cells; one cell's direction is cosine-distributed
@@ -41,10 +48,8 @@ void PushSingleCell(IN(Ray) r, IN(real3) colour, IN(real3) point, IN(real3) norm
     real3 ux, uy;
     Tangents(normal, ux, uy);
     real u = Rand(), v = Rand();
-    real2 xy = SquareToDisk(v, u);
-    real z = sqrt(max(0.0, 1. - dot(xy, xy)));
     STACK(at).r.org = point;
-    STACK(at).r.dir = CheckNorm(xy.x * ux + xy.y * uy + z * normal);
+    STACK(at).r.dir = DiskToHemisphere(SquareToDisk(v, u), ux, uy, normal);
     STACK(at).kind = kItemTrace;
 }
 
@@ -113,9 +118,8 @@ bool CellDirection(IN(Item) it, int n, int i, int j, real cos_thresh, bool check
     int d = it.r.adepth, cur = i & 1, prev = (i + 1) & 1;
     real u = Rand(), v = Rand();
     for (int tries = 0;; ++tries) {
-        real2 xy = SquareToDisk((real(j) + v) / real(n), (real(i) + u) / real(n));
-        real z = sqrt(max(0.0, 1. - dot(xy, xy)));
-        dir = CheckNorm(xy.x * ux + xy.y * uy + z * it.normal);
+        dir = DiskToHemisphere(SquareToDisk((real(j) + v) / real(n), (real(i) + u) / real(n)),
+                               ux, uy, it.normal);
         if (!check || tries == 1000) break;
         bool hit = (j + 1 < n && dot(RowDir(d, cur, j + 1), dir) >= cos_thresh) ||
                    (i + 1 < n && ((j > 0 && dot(RowDir(d, prev, j - 1), dir) >= cos_thresh) ||
