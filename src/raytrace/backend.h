@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "scene/flatten.h"
 
@@ -37,11 +38,17 @@ class Backend {
   public:
     virtual ~Backend() = default;
     virtual std::string Name() const = 0;
+    // Triangles (indices into FlatScene::triangles) that Blocked tests alone, built by the next
+    // Commit; none by default.
+    virtual void SetBlockers(std::vector<uint32_t> triangles) = 0;
     // Builds the acceleration structure; the scene must outlive the backend.
     virtual void Commit(const FlatScene &scene) = 0;
     virtual void Closest(const TraceRay *rays, TraceHit *hits, size_t n) const = 0;
     // true where something lies between the origin and tmax.
     virtual void Occluded(const TraceRay *rays, bool *occluded, size_t n) const = 0;
+    // true where one of the blockers lies between the origin and tmax (a ray leaving a blocker
+    // does not meet it where it starts, as in Closest).
+    virtual void Blocked(const TraceRay *rays, bool *blocked, size_t n) const = 0;
 };
 
 // The CPU ray caster. (The GPU driver finds its hits itself, in the shader.)

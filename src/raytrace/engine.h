@@ -38,8 +38,8 @@ struct EngineOptions {
     // first hemisphere is split between tasks, so their sums are short; records are summed in
     // double on the host).
     bool float_accumulators = false;
-    // For benchmarks (bench/ray_replay_bench.cpp): wraps the CPU's ray caster, to count or
-    // record the rays the integrator traces. Empty: Embree as it is.
+    // For benchmarks (bench/ray_replay_bench.cpp) and tests: wraps the CPU's ray caster, to
+    // count or record the rays the integrator traces. Empty: Embree as it is.
     std::function<std::unique_ptr<Backend>(std::unique_ptr<Backend>)> wrap_cpu_backend;
 };
 

@@ -204,6 +204,9 @@ bool Intersect(Ray r, out Hit h) {
     return true;
 }
 
+// No separate test for shadow rays against the blockers here: each walks through what it meets.
+bool Blocked(Ray r) { return false; }
+
 #include "raytrace/core/walk.inl"
 
 void main() {

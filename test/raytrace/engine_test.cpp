@@ -4,11 +4,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
 
+#include "raytrace/backend.h"
 #include "raytrace/materials.h"
 #include "raytrace/packing.h"
 #include "raytrace/runs.h"
@@ -127,7 +131,8 @@ void ExpectKeyedAsInRun(const EngineOptions &engine_options) {
     const std::vector<uint64_t> keys = {101, 104, 105, 107};
     std::vector<double> some_rays, some(3 * keys.size(), 0.0);
     for (uint64_t k : keys)
-        some_rays.insert(some_rays.end(), rays.begin() + 6 * (k - 100), rays.begin() + 6 * (k - 99));
+        some_rays.insert(some_rays.end(), rays.begin() + 6 * (k - 100),
+                         rays.begin() + 6 * (k - 99));
     engine->TraceKeyed(some_rays.data(), keys.size(), keys.data(), 0, some.data());
     for (size_t j = 0; j < keys.size(); ++j)
         EXPECT_EQ(some[3 * j], whole[3 * (keys[j] - 100)]) << "key " << keys[j];
@@ -148,6 +153,112 @@ TEST(Engine, KeyedTraceAsInTheWholeRunVulkan) {
     const char *device = std::getenv("DAYFLUX_VULKAN_DEVICE");
     engine.device = device && *device ? device : "llvmpipe";
     ExpectKeyedAsInRun(engine);
+}
+
+// The caster of an engine, counting the shadow rays the blockers stopped; with drop_blockers,
+// given none (every shadow ray then walks through what it meets).
+class BlockerCounter : public Backend {
+  public:
+    BlockerCounter(std::unique_ptr<Backend> inner, bool drop_blockers, size_t *blockers,
+                   std::atomic<size_t> *stopped)
+        : inner_(std::move(inner)), drop_(drop_blockers), blockers_(blockers), stopped_(stopped) {}
+    std::string Name() const override { return inner_->Name(); }
+    void SetBlockers(std::vector<uint32_t> triangles) override {
+        *blockers_ = triangles.size();
+        if (!drop_) inner_->SetBlockers(std::move(triangles));
+    }
+    void Commit(const FlatScene &scene) override { inner_->Commit(scene); }
+    void Closest(const TraceRay *rays, TraceHit *hits, size_t n) const override {
+        inner_->Closest(rays, hits, n);
+    }
+    void Occluded(const TraceRay *rays, bool *occluded, size_t n) const override {
+        inner_->Occluded(rays, occluded, n);
+    }
+    void Blocked(const TraceRay *rays, bool *blocked, size_t n) const override {
+        inner_->Blocked(rays, blocked, n);
+        *stopped_ += static_cast<size_t>(std::count(blocked, blocked + n, true));
+    }
+
+  private:
+    std::unique_ptr<Backend> inner_;
+    bool drop_;
+    size_t *blockers_;
+    std::atomic<size_t> *stopped_;
+};
+
+// A room lit by four suns through a glass window and a trans partition, at two bounces: the
+// shadow rays that an opaque surface stops are answered by the blockers alone (plastic walls,
+// a black box; not the glass, the trans, or the tracked sky), and every record is what the
+// walk through each surface gives.
+TEST(Engine, ShadowRaysStoppedByBlockersAsByTheWalk) {
+    std::string text =
+        "void plastic wall 0 0 5 .5 .5 .5 0 0\n"
+        "void glass pane 0 0 3 .8 .8 .8\n"
+        "void trans veil 0 0 7 .6 .6 .6 0 0 .5 .6\n"
+        "void plastic box 0 0 5 0 0 0 0 0\n"
+        "wall polygon floor 0 0 12 0 0 0  0 4 0  4 4 0  4 0 0\n"
+        "wall polygon ceiling 0 0 12 0 0 3  4 0 3  4 4 3  0 4 3\n"
+        "wall polygon west 0 0 12 0 0 0  0 0 3  0 4 3  0 4 0\n"
+        "wall polygon east 0 0 12 4 0 0  4 4 0  4 4 3  4 0 3\n"
+        "wall polygon north 0 0 12 0 4 0  0 4 3  4 4 3  4 4 0\n"
+        "wall polygon sill 0 0 12 0 0 0  4 0 0  4 0 1  0 0 1\n"
+        "pane polygon window 0 0 12 0 0 1  4 0 1  4 0 3  0 0 3\n"
+        "veil polygon partition 0 0 12 2 0 0  2 2 0  2 2 3  2 0 3\n"
+        "box polygon lid 0 0 12 .5 1 .5  1 1 .5  1 1.5 .5  .5 1.5 .5\n";
+    const double suns[4][3] = {{0, -.8, .6}, {.5, -.7, .5}, {-.4, -.9, .2}, {.3, -.3, .9}};
+    std::vector<TrackedModifier> tracked;
+    for (int k = 0; k < 4; ++k) {
+        const std::string name = "solar" + std::to_string(k + 1);
+        char dir[96];
+        std::snprintf(dir, sizeof dir, "%g %g %g", suns[k][0], suns[k][1], suns[k][2]);
+        text += "void light " + name + " 0 0 3 1000 1000 1000\n" + name + " source sun" +
+                std::to_string(k + 1) + " 0 0 4 " + dir + " 0.533\n";
+        TrackedModifier t;
+        t.name = name;
+        t.first_column = k;
+        tracked.push_back(t);
+    }
+    const FlatScene flat = SceneOf(text);
+    ContribOptions options;
+    options.irradiance = true;
+    options.ambient_bounces = 2;
+    options.ambient_divisions = 64;
+    options.limit_weight = 1e-4;
+    options.source_jitter = 0;
+    options.seed = 3;
+    std::vector<double> rays;
+    // (off the lines through the window's corners along the suns: there the walk and the
+    // blockers may settle a ray meeting two surfaces at once either way)
+    for (double x : {.31, 1.23, 2.47, 3.53})
+        for (double y : {.52, 2.04, 3.46}) rays.insert(rays.end(), {x, y, .8, 0, 0, 1});
+    const size_t n = rays.size() / 6;
+    std::vector<double> records[2];
+    size_t blockers[2] = {0, 0};
+    std::atomic<size_t> stopped[2];
+    for (int drop = 0; drop < 2; ++drop) {
+        stopped[drop] = 0;
+        EngineOptions engine_options;
+        engine_options.wrap_cpu_backend = [&, drop](std::unique_ptr<Backend> b) {
+            return std::make_unique<BlockerCounter>(std::move(b), drop == 1, &blockers[drop],
+                                                    &stopped[drop]);
+        };
+        const std::unique_ptr<ContribEngine> engine =
+            CreateContribEngine(flat, options, tracked, RayInit, engine_options);
+        ASSERT_EQ(engine->Columns(), 4);
+        records[drop].assign(3 * 4 * n, 0.0);
+        engine->Trace(rays.data(), n, 0, 0, records[drop].data());
+    }
+    // floor, ceiling, the three walls and the sill: two triangles each; the lid: two
+    EXPECT_EQ(blockers[0], 14u);
+    EXPECT_GT(stopped[0], 1000u);
+    EXPECT_EQ(stopped[1], 0u);
+    double most = 0;
+    for (size_t i = 0; i < records[0].size(); ++i) {
+        EXPECT_NEAR(records[0][i], records[1][i], 1e-12 + 1e-9 * std::abs(records[1][i])) << i;
+        most = std::max(most, records[1][i]);
+    }
+    // direct sun through the glass: a coefficient of 6.8e-5 sr x cos x T (cos .9, T .5 at least)
+    EXPECT_GT(most, 3e-5);
 }
 
 // An engine the options name that does not exist is an error, not a silent choice.

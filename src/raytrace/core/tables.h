@@ -73,6 +73,15 @@ struct PackedSurface {
     int counter;     // the penetration counter of that bit (antimatter with an inside), or -1
 };
 
+// Whether a shadow ray meeting the surface, from either side, ends there and brings nothing
+// (Shade pushes no ray for it): black, or plastic and metal without specular transmission,
+// clipped by no antimatter and counting for no modifier. Such surfaces form the blockers that
+// a driver may test shadow rays against at once (walk.inl's ShadowBlocked).
+inline bool StopsShadowRays(PackedSurface m) {
+    if (m.clip != 0u || m.tracked >= 0) return false;
+    return m.kind == kMatBlack || (m.kind == kMatDiffuse && (m.params.y <= 0. || m.params.z <= 0.));
+}
+
 // An analytic surface (sphere/bubble, cone/cup, cylinder/tube, ring), recentred.
 struct PackedShape {
     vec4 p0;      // xyz: centre (sphere, ring) or first end (cone, cylinder); w: r0

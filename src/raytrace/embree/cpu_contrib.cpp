@@ -3,6 +3,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -59,6 +60,17 @@ struct CpuScene {
         }
         hit->t = th.t;
         return true;
+    }
+
+    // Whether a blocker lies on the ray (the backend's, committed with the scene).
+    bool Blocked(real3 org, real3 dir, int from) const {
+        TraceRay tr;
+        for (int k = 0; k < 3; ++k) tr.org[k] = org[k] + packed.centre[k], tr.dir[k] = dir[k];
+        tr.tmax = std::numeric_limits<double>::infinity();
+        tr.from_object = from;
+        bool blocked = false;
+        backend.Blocked(&tr, &blocked, 1);
+        return blocked;
     }
 
     // Pattern k for the ray variables $1..$27 in channels[1..27] (the calcomp interpreter).
@@ -161,6 +173,7 @@ class CpuContribEngine : public ContribEngine {
           scene_{flat, packed_, *backend_, options_, tracked_, make_context_, reports_, dropped_} {
         if (packed_.mix_depth > 63)
             ErrorExit("mixfuncs nested more than 63 deep (" + packed_.mix_deepest + ")");
+        backend_->SetBlockers(Blockers(flat, packed_));
         backend_->Commit(flat);
     }
 
@@ -183,6 +196,21 @@ class CpuContribEngine : public ContribEngine {
     }
 
   private:
+    // The triangles that stop every shadow ray (core::StopsShadowRays), where shadow rays go
+    // to distant sources (core::ShadowBlocked): none where a dielectric could bend a shadow ray
+    // or antimatter's inside material change what a surface is.
+    static std::vector<uint32_t> Blockers(const FlatScene &flat, const PackedScene &p) {
+        std::vector<uint32_t> blockers;
+        const bool suns = std::any_of(p.sources.begin(), p.sources.end(), [](const auto &s) {
+            return int(s.u.w) == core::kSourceDistant && s.colour.w < 0.5f && s.relay < 0;
+        });
+        if (!suns || p.dielectric || p.inside) return blockers;
+        for (size_t t = 0; t < flat.triangles.size(); ++t)
+            if (core::StopsShadowRays(p.surfaces[p.triangles[t].surface]))
+                blockers.push_back(static_cast<uint32_t>(t));
+        return blockers;
+    }
+
     // The estimator with only the features the scene needs.
     std::unique_ptr<core::CpuEstimator> MakeEstimator() const {
         const PackedScene &p = packed_;

@@ -4,6 +4,7 @@
 // distance from the world origin (a room 1000 km away traces as one at the origin).
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -39,10 +40,13 @@ class EmbreeBackend : public Backend {
         rtcSetDeviceErrorFunction(device_, EmbreeError, nullptr);
     }
     ~EmbreeBackend() override {
+        if (blockers_scene_) rtcReleaseScene(blockers_scene_);
         if (scene_) rtcReleaseScene(scene_);
         rtcReleaseDevice(device_);
     }
     std::string Name() const override { return "embree"; }
+
+    void SetBlockers(std::vector<uint32_t> triangles) override { blockers_ = std::move(triangles); }
 
     void Commit(const FlatScene &flat) override {
         flat_ = &flat;
@@ -99,6 +103,7 @@ class EmbreeBackend : public Backend {
             rtcCommitGeometry(g);
             triangles_id_ = rtcAttachGeometry(scene_, g);
             rtcReleaseGeometry(g);
+            if (!blockers_.empty()) CommitBlockers(vb, flat.vertices.size());
         }
         if (!surfaces_.empty()) {
             RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
@@ -168,7 +173,46 @@ class EmbreeBackend : public Backend {
         }
     }
 
+    void Blocked(const TraceRay *rays, bool *blocked, size_t n) const override {
+        if (!blockers_scene_) {
+            std::fill(blocked, blocked + n, false);
+            return;
+        }
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        for (size_t i = 0; i < n; ++i) {
+            RTCRay r;
+            Fill(rays[i], &r);
+            // A ray leaving a surface starts near_ away, not at once: no filter then keeps it
+            // from its own polygon (a planar one is met only where the ray starts) or a mesh's
+            // triangles about its origin. What lies nearer is missed and left to Closest.
+            r.tnear = std::max(r.tnear, static_cast<float>(near_));
+            rtcOccluded1(blockers_scene_, &ctx, &r);
+            blocked[i] = r.tfar < 0;
+        }
+    }
+
   private:
+    // The blockers' own structure: their triangles on the scene's vertices (Embree's buffer,
+    // shared), without a filter (Blocked starts rays near_ away).
+    void CommitBlockers(const float *vertices, size_t nvertices) {
+        blockers_scene_ = rtcNewScene(device_);
+        rtcSetSceneBuildQuality(blockers_scene_, RTC_BUILD_QUALITY_HIGH);
+        RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices, 0,
+                                   3 * sizeof(float), nvertices);
+        auto *ib = static_cast<unsigned *>(rtcSetNewGeometryBuffer(
+            g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), blockers_.size()));
+        for (size_t i = 0; i < blockers_.size(); ++i) {
+            CHECK(blockers_[i] < flat_->triangles.size());
+            for (int k = 0; k < 3; ++k) ib[3 * i + k] = flat_->triangles[blockers_[i]][k];
+        }
+        rtcCommitGeometry(g);
+        rtcAttachGeometry(blockers_scene_, g);
+        rtcReleaseGeometry(g);
+        rtcCommitScene(blockers_scene_);
+    }
+
     static void ShapeBoundsFunction(const RTCBoundsFunctionArguments *args) {
         const auto *self = static_cast<const EmbreeBackend *>(args->geometryUserPtr);
         double lo[3], hi[3];
@@ -261,6 +305,8 @@ class EmbreeBackend : public Backend {
 
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
+    RTCScene blockers_scene_ = nullptr;  // the blockers alone (Blocked), or none
+    std::vector<uint32_t> blockers_;     // their indices in flat_->triangles
     const FlatScene *flat_ = nullptr;
     std::vector<core::real3> normals_;  // per triangle: its unit normal in double (winding)
     std::vector<int> surfaces_;  // indices of the analytic surfaces (not sources) in flat_->shapes
