@@ -100,5 +100,71 @@ TEST(BinFunctions, KlemsMatchTheAngleBases) {
     }
 }
 
+// kbin, khbin and kqbin are computed directly (klems_bins.h) with the .cal files' arithmetic:
+// the same bins as the interpreter in every frame and handedness, on random directions and on
+// those along the rings' edges and the patches' edges, where a different order of operations
+// would round across a boundary.
+TEST(BinFunctions, KlemsComputedDirectlyAsTheCalFiles) {
+    const char *files[] = {"klems_full.cal", "klems_half.cal", "klems_quarter.cal"};
+    const char *fn[] = {"kbin", "khbin", "kqbin"};
+    const char *frames[] = {"(0,0,1, 0,1,0)", "(0,-1,0, 0,0,1)", "(0.6,0,-0.8, 0,1,0)",
+                            "(-0.267261,0.534522,0.801784, 0,0.83205,-0.5547)"};
+    for (int b = 0; b < 3; ++b) {
+        for (const char *rhs : {"1", "-1"}) {
+            Context cx;
+            cx.LoadRayInit();
+            cx.LoadFile(Lib(files[b]));
+            cx.Load(std::string("RHS = ") + rhs + ";", FileLoc{"-p", 0});
+            // directions on the edges of the basis's own frame (N = +Z, U = +Y): rings at
+            // polar angles kpola(r), patches at multiples of 360 / knaz(r) plus half a patch
+            std::vector<std::array<double, 3>> dirs = RandomDirections(20000, 40 + b);
+            const int rings = static_cast<int>(cx.Value("kpola(0)"));
+            for (int r = 1; r <= rings; ++r) {
+                const double pol = cx.Value("kpola(" + std::to_string(r) + ")") * M_PI / 180;
+                const double n = cx.Value("knaz(" + std::to_string(r) + ")");
+                for (int k = 0; k < 2 * n; ++k) {
+                    const double azi = (k + .5) * M_PI / n;
+                    dirs.push_back({-std::sin(pol) * std::cos(azi), -std::sin(pol) * std::sin(azi),
+                                    -std::cos(pol)});
+                }
+            }
+            for (const char *frame : frames) {
+                const std::string text = std::string(fn[b]) + frame;
+                const Expression direct = cx.Compile(text, FileLoc{"-b", 0});
+                const Expression interpreted = cx.CompileInterpreted(text, FileLoc{"-b", 0});
+                ASSERT_TRUE(direct.Direct()) << text;
+                ChannelArray ray(std::vector<double>(27, 0.0));
+                for (const auto &d : dirs) {
+                    std::copy(d.begin(), d.end(), ray.values().begin());
+                    ASSERT_EQ(direct.Evaluate(cx, &ray), interpreted.Evaluate(cx, &ray))
+                        << files[b] << " RHS=" << rhs << " " << frame << " at " << d[0] << " "
+                        << d[1] << " " << d[2];
+                }
+            }
+        }
+    }
+}
+
+// Where the call is not the files' own, the calcomp program stays: an argument that is not a
+// number, a redefined ring table (kring still holds the old edges, so the bins would differ),
+// or another function of the same name.
+TEST(BinFunctions, KlemsDirectOnlyForTheFilesOwnFunction) {
+    Context cx;
+    cx.LoadRayInit();
+    cx.LoadFile(Lib("klems_full.cal"));
+    EXPECT_TRUE(cx.Compile("kbin(0,0,1,0,1,0)", FileLoc{"-b", 0}).Direct());
+    EXPECT_FALSE(cx.Compile("kbin(0,0,1,0,1,Dx)", FileLoc{"-b", 0}).Direct());
+    EXPECT_FALSE(cx.Compile("kbin(0,0,1,0,1,0) + 0", FileLoc{"-b", 0}).Direct());
+    Context redefined;
+    redefined.LoadRayInit();
+    redefined.LoadFile(Lib("klems_full.cal"));
+    redefined.Load("kpola(r) : select(r, 10, 20, 30, 40, 50, 60, 70, 80, 90);", FileLoc{"-e", 0});
+    EXPECT_FALSE(redefined.Compile("kbin(0,0,1,0,1,0)", FileLoc{"-b", 0}).Direct());
+    Context other;
+    other.LoadRayInit();
+    other.Load("kbin(a,b,c,d,e,f) = Dx + 1;", FileLoc{"-e", 0});
+    EXPECT_FALSE(other.Compile("kbin(0,0,1,0,1,0)", FileLoc{"-b", 0}).Direct());
+}
+
 }  // namespace
 }  // namespace dayflux::cal
