@@ -62,6 +62,10 @@ void AddToRecord(int column, vec3 v) {
     accum[at + 2] += ACCUM_T(v.z);
 }
 
+// No test of shadow rays against the blockers here (direct.inl): each walks through what it
+// meets.
+bool Blocked(vec3 org, vec3 dir, int from) { return false; }
+
 #include "raytrace/core/rays.inl"
 #include "raytrace/core/hemisphere.inl"
 #include "raytrace/core/klems.inl"
@@ -203,9 +207,6 @@ bool Intersect(Ray r, out Hit h) {
     h.t = t;
     return true;
 }
-
-// No separate test for shadow rays against the blockers here: each walks through what it meets.
-bool Blocked(Ray r) { return false; }
 
 #include "raytrace/core/walk.inl"
 

@@ -21,9 +21,13 @@ real3 SourceDirection(IN(PackedSource) s) {
     return dir;
 }
 
-// The shadow ray toward source i carrying coef, when it could bring anything.
+// The shadow ray toward source i carrying coef, when it could bring anything. Toward a distant
+// source (not an image in a mirror), a blocker anywhere on its way (StopsShadowRays) stops it
+// whatever it would pass before (glass, trans): the driver's any-hit test against the blockers
+// alone answers that without the walk through the glass.
 void ShadowRay(IN(Item) it, int i, IN(PackedSource) s, real3 dir, real3 coef) {
     if (Max3(coef) <= 0. || Bright(coef * XYZ(s.colour)) <= 0.) return;
+    if (int(s.u.w) == kSourceDistant && s.relay < 0 && Blocked(it.point, dir, it.r.from)) return;
     int at = PushSlot();
     STACK(at).r = it.r;
     STACK(at).r.depth = it.r.depth + 1;

@@ -76,7 +76,7 @@ struct PackedSurface {
 // Whether a shadow ray meeting the surface, from either side, ends there and brings nothing
 // (Shade pushes no ray for it): black, or plastic and metal without specular transmission,
 // clipped by no antimatter and counting for no modifier. Such surfaces form the blockers that
-// a driver may test shadow rays against at once (walk.inl's ShadowBlocked).
+// a driver may test shadow rays against at once (direct.inl's ShadowRay).
 inline bool StopsShadowRays(PackedSurface m) {
     if (m.clip != 0u || m.tracked >= 0) return false;
     return m.kind == kMatBlack || (m.kind == kMatDiffuse && (m.params.y <= 0. || m.params.z <= 0.));

@@ -50,16 +50,6 @@ bool FindHit(IN(Ray) r, OUT(Hit) h) {
     return true;
 }
 
-// A shadow ray toward a distant source (not an image in a mirror) that a blocker meets anywhere
-// on its way brings nothing, whatever it passes before (glass, trans): the driver's any-hit test
-// against the blockers alone (StopsShadowRays) answers it without the walk through the glass.
-// Only where no surface bends a shadow ray (dielectrics: the driver then has no blockers).
-bool ShadowBlocked(IN(Ray) r) {
-    if ((r.crtype & kShadow) == 0 || r.aimed < 0) return false;
-    if (int(sources[r.aimed].u.w) != kSourceDistant || sources[r.aimed].relay >= 0) return false;
-    return Blocked(r);
-}
-
 // Hemisphere and direct items stay on the stack while they have cells or sources left, under
 // the rays their steps push, which run first.
 void RunStack() {
@@ -67,7 +57,7 @@ void RunStack() {
         int kind = STACK(top - 1).kind;
         if (kind == kItemTrace) {
             Ray r = STACK(--top).r;
-            if (r.depth > kMaxDepth || ShadowBlocked(r)) continue;
+            if (r.depth > kMaxDepth) continue;
             Hit h;
             if (!FindHit(r, h)) continue;
 #ifdef DAYFLUX_DIELECTRIC

@@ -197,7 +197,7 @@ class CpuContribEngine : public ContribEngine {
 
   private:
     // The triangles that stop every shadow ray (core::StopsShadowRays), where shadow rays go
-    // to distant sources (core::ShadowBlocked): none where a dielectric could bend a shadow ray
+    // to distant sources (direct.inl's ShadowRay): none where a dielectric could bend a shadow ray
     // or antimatter's inside material change what a surface is.
     static std::vector<uint32_t> Blockers(const FlatScene &flat, const PackedScene &p) {
         std::vector<uint32_t> blockers;

@@ -107,7 +107,7 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
         h.t = hit.t;
         return true;
     }
-    bool Blocked(const Ray &r) const { return scene_.Blocked(r.org, r.dir, r.from); }
+    bool Blocked(real3 org, real3 dir, int from) const { return scene_.Blocked(org, dir, from); }
     double BinOf(int k, int source) { return bins_.Value(k, source, cal_chan); }
     real3 PatternRGB(int k) const { return scene_.PatternRGB(k, cal_chan); }
     void AddToRecord(int column, real3 v) {
