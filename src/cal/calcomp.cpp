@@ -10,7 +10,7 @@
 #include <unordered_map>
 
 #include "cal/calcomp_impl.h"
-#include "cal/klems_bins.h"
+#include "cal/direct_bins.h"
 #include "cal/specialise.h"
 #include "util/raypath.h"
 #include "util/strings.h"
@@ -626,13 +626,13 @@ Expression Context::Compile(std::string_view text, const FileLoc &loc) const {
     e.fast_ = SpecialisedExpression::Make(*impl_, e.root_.get(), loc);
     e.fast_context_ = impl_.get();
     e.fast_generation_ = impl_->generation;
-    e.klems_ = KlemsBins::Recognise(*this, e);
+    e.direct_ = DirectBins::Recognise(*this, e);
     return e;
 }
 
 double Expression::Evaluate(const Context &cx, const Channels *channels) const {
     if (fast_context_ == cx.impl_.get() && fast_generation_ == cx.impl_->generation) {
-        if (klems_ && channels) return klems_->Bin(channels);
+        if (direct_ && channels) return direct_->Bin(channels);
         if (fast_) return fast_->Evaluate(channels);
     }
     Evaluator ev(*cx.impl_, channels, &loc_);

@@ -76,7 +76,7 @@ class ChannelView : public Channels {
 
 class Context;
 class SpecialisedExpression;
-class KlemsBins;
+class DirectBins;
 
 // A compiled expression, evaluated against a context (which holds the definitions it uses).
 class Expression {
@@ -88,8 +88,8 @@ class Expression {
     // keeps the definitions it was compiled with (CompileInterpreted() keeps the interpreter,
     // for comparisons).
     bool Specialised() const { return fast_ != nullptr; }
-    // Whether it is a Klems bin function computed directly (klems_bins.h).
-    bool Direct() const { return klems_ != nullptr; }
+    // Whether it is one of lib/'s bin functions computed directly (direct_bins.h).
+    bool Direct() const { return direct_ != nullptr; }
     const std::string &Text() const { return text_; }
 
   private:
@@ -100,7 +100,7 @@ class Expression {
     // The same, specialised to the context as it was when compiled (specialise.h); used while
     // the context's definitions stay as they were.
     std::shared_ptr<const SpecialisedExpression> fast_;
-    std::shared_ptr<const KlemsBins> klems_;  // kbin and its kin computed directly (klems_bins.h)
+    std::shared_ptr<const DirectBins> direct_;  // kbin, rbin, ... computed directly (direct_bins.h)
     const void *fast_context_ = nullptr;
     uint64_t fast_generation_ = 0;
 };

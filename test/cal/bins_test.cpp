@@ -100,7 +100,7 @@ TEST(BinFunctions, KlemsMatchTheAngleBases) {
     }
 }
 
-// kbin, khbin and kqbin are computed directly (klems_bins.h) with the .cal files' arithmetic:
+// kbin, khbin and kqbin are computed directly (direct_bins.h) with the .cal files' arithmetic:
 // the same bins as the interpreter in every frame and handedness, on random directions and on
 // those along the rings' edges and the patches' edges, where a different order of operations
 // would round across a boundary.
@@ -143,6 +143,46 @@ TEST(BinFunctions, KlemsComputedDirectlyAsTheCalFiles) {
             }
         }
     }
+}
+
+// reinhart.cal's rbin is computed directly too (direct_bins.h), at every MF (3: division by MF
+// is multiplication by a reciprocal that is not exact): the interpreter's bins on random
+// directions and on every row's and patch's edge; reinhartb.cal's rbin (rfluxmtx's, in a frame
+// of its own) keeps the calcomp program.
+TEST(BinFunctions, ReinhartComputedDirectlyAsTheCalFile) {
+    for (int mf : {1, 2, 3, 4}) {
+        Context cx;
+        cx.LoadRayInit();
+        cx.Load("MF : " + std::to_string(mf) + ";", FileLoc{"-e", 0});
+        cx.LoadFile(Lib("reinhart.cal"));
+        const Expression direct = cx.Compile("rbin", FileLoc{"-b", 0});
+        const Expression interpreted = cx.CompileInterpreted("rbin", FileLoc{"-b", 0});
+        ASSERT_TRUE(direct.Direct()) << "MF " << mf;
+        std::vector<std::array<double, 3>> dirs = RandomDirections(20000, 60 + mf);
+        const double alpha = cx.Value("ralpha");
+        for (int r = 0; r <= 7 * mf; ++r) {
+            const double n = cx.Value("rnaz(" + std::to_string(r) + ")");
+            for (double alt : {r * alpha, (r + .5) * alpha}) {
+                const double a = std::min(alt, 90.) * M_PI / 180;
+                for (int j = 0; j < 2 * n; ++j) {
+                    const double azi = (j + .5) * M_PI / n;
+                    dirs.push_back(
+                        {std::cos(a) * std::sin(azi), std::cos(a) * std::cos(azi), std::sin(a)});
+                }
+            }
+        }
+        ChannelArray ray(std::vector<double>(27, 0.0));
+        for (const auto &d : dirs) {
+            std::copy(d.begin(), d.end(), ray.values().begin());
+            ASSERT_EQ(direct.Evaluate(cx, &ray), interpreted.Evaluate(cx, &ray))
+                << "MF " << mf << " at " << d[0] << " " << d[1] << " " << d[2];
+        }
+    }
+    Context framed;
+    framed.LoadRayInit();
+    framed.Load("MF : 1;", FileLoc{"-e", 0});
+    framed.LoadFile(Lib("reinhartb.cal"));
+    EXPECT_FALSE(framed.Compile("rbin", FileLoc{"-b", 0}).Direct());
 }
 
 // Where the call is not the files' own, the calcomp program stays: an argument that is not a
