@@ -156,6 +156,8 @@ def calcomp_corpus():
           "c : sqrt(2) * PI; PI : 3.14159265358979; r(n) = if(n, r(n - 1) + 1, 0); w = r(5);\n")
     c.add("made1.cal", "{ comment {nested} } a = max(1, 2, Dz) + min(Dx, Dy) + atan2(Dy, Dx);\n"
           "b = floor(rand(a)) + ceil(log10(abs2(3))) + arg(0) + arg(1); abs2(x) = if(x, x, -x);\n")
+    # reinhart.cal wants MF first; its rbin is then computed directly (cal/direct_bins.h)
+    c.add("reinhart_mf2.cal", "MF : 2;\n" + (ROOT / "lib" / "reinhart.cal").read_text())
 
 
 def weather_corpus():
