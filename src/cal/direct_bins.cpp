@@ -65,7 +65,10 @@ bool SameBins(const Context &cx, const Expression &e, const DirectBins &bins,
         const double z = 1 - 2 * next(), phi = 2 * M_PI * next(), s = std::sqrt(1 - z * z);
         dirs.push_back({s * std::cos(phi), s * std::sin(phi), z});
     }
-    ChannelArray channels(std::vector<double>(27, 0.0));
+    // The other ray variables hold numbers of their own: a bin that reads them is not these.
+    std::vector<double> values(27);
+    for (double &v : values) v = 2 * next() - 1;
+    ChannelArray channels(values);
     for (const auto &d : dirs) {
         for (int i = 0; i < 3; ++i) channels.values()[i] = d[i];
         try {
@@ -120,7 +123,7 @@ std::unique_ptr<KlemsBins> KlemsBins::Make(const Context &cx, const Expression &
         const std::string ring = std::to_string(r);
         const double upper = Value(cx, "kpola(" + ring + ")"),
                      patches = Value(cx, "knaz(" + ring + ")");
-        if (!(patches >= 1) || !std::isfinite(upper)) return nullptr;
+        if (!(patches >= 1 && patches <= 4096) || !std::isfinite(upper)) return nullptr;
         k->upper_.push_back(upper);
         k->azimuths_.push_back(patches);
         k->first_.push_back(before);
@@ -142,8 +145,8 @@ std::vector<std::array<double, 3>> KlemsBins::EdgeDirections() const {
                          n[0] * x[1] - n[1] * x[0]};
     for (size_t r = 0; r < upper_.size(); ++r) {
         const double pol = upper_[r] * M_PI / 180, count = azimuths_[r];
-        for (int j = 0; j < 2 * count; ++j) {
-            const double azi = (j + .5) * M_PI / count;
+        for (int j = 0; j < count; ++j) {  // patches are centred on multiples of 360 / count
+            const double azi = (j + .5) * 2 * M_PI / count;
             const double a = std::sin(pol) * std::cos(azi), b = std::sin(pol) * std::sin(azi);
             dirs.push_back({-(std::cos(pol) * n[0] + a * x[0] + b * y[0]),
                             -(std::cos(pol) * n[1] + a * x[1] + b * y[1]),
@@ -177,7 +180,8 @@ std::unique_ptr<ReinhartBins> ReinhartBins::Make(const Context &cx, const Expres
     auto k = std::make_unique<ReinhartBins>();
     k->mf_ = Value(cx, "MF");
     k->alpha_ = Value(cx, "ralpha");
-    if (!(k->mf_ >= 1 && k->mf_ <= 64 && k->mf_ == std::floor(k->mf_)) || !(k->alpha_ > 0))
+    // (MF above 16: its check would take seconds per compile; such skies keep the program)
+    if (!(k->mf_ >= 1 && k->mf_ <= 16 && k->mf_ == std::floor(k->mf_)) || !(k->alpha_ > 0))
         return nullptr;
     // MF, ralpha and DEGREE are constants: division by them is multiplication by the reciprocal
     k->per_mf_ = 1. / k->mf_;
@@ -223,8 +227,8 @@ std::vector<std::array<double, 3>> ReinhartBins::EdgeDirections() const {
         const double count = Patches(r);
         for (double alt : {r * alpha_, (r + .5) * alpha_}) {
             const double a = std::min(alt, 90.) * M_PI / 180;
-            for (int j = 0; j < 2 * count; ++j) {
-                const double azi = (j + .5) * M_PI / count;
+            for (int j = 0; j < count; ++j) {  // centred on multiples of 360 / count
+                const double azi = (j + .5) * 2 * M_PI / count;
                 dirs.push_back(
                     {std::cos(a) * std::sin(azi), std::cos(a) * std::cos(azi), std::sin(a)});
             }

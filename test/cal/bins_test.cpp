@@ -116,14 +116,14 @@ TEST(BinFunctions, KlemsComputedDirectlyAsTheCalFiles) {
             cx.LoadFile(Lib(files[b]));
             cx.Load(std::string("RHS = ") + rhs + ";", FileLoc{"-p", 0});
             // directions on the edges of the basis's own frame (N = +Z, U = +Y): rings at
-            // polar angles kpola(r), patches at multiples of 360 / knaz(r) plus half a patch
+            // polar angles kpola(r), patches' edges at multiples of 360 / knaz(r) plus half a patch
             std::vector<std::array<double, 3>> dirs = RandomDirections(20000, 40 + b);
             const int rings = static_cast<int>(cx.Value("kpola(0)"));
             for (int r = 1; r <= rings; ++r) {
                 const double pol = cx.Value("kpola(" + std::to_string(r) + ")") * M_PI / 180;
                 const double n = cx.Value("knaz(" + std::to_string(r) + ")");
-                for (int k = 0; k < 2 * n; ++k) {
-                    const double azi = (k + .5) * M_PI / n;
+                for (int k = 0; k < n; ++k) {  // patches centred on multiples of 360 / n
+                    const double azi = (k + .5) * 2 * M_PI / n;
                     dirs.push_back({-std::sin(pol) * std::cos(azi), -std::sin(pol) * std::sin(azi),
                                     -std::cos(pol)});
                 }
@@ -164,8 +164,8 @@ TEST(BinFunctions, ReinhartComputedDirectlyAsTheCalFile) {
             const double n = cx.Value("rnaz(" + std::to_string(r) + ")");
             for (double alt : {r * alpha, (r + .5) * alpha}) {
                 const double a = std::min(alt, 90.) * M_PI / 180;
-                for (int j = 0; j < 2 * n; ++j) {
-                    const double azi = (j + .5) * M_PI / n;
+                for (int j = 0; j < n; ++j) {  // patches centred on multiples of 360 / n
+                    const double azi = (j + .5) * 2 * M_PI / n;
                     dirs.push_back(
                         {std::cos(a) * std::sin(azi), std::cos(a) * std::cos(azi), std::sin(a)});
                 }

@@ -186,7 +186,7 @@ class BlockerCounter : public Backend {
     std::atomic<size_t> *stopped_;
 };
 
-// A room lit by four suns through a glass window and a trans partition, at two bounces: the
+// A room lit by five suns through a glass window and a trans partition, at two bounces: the
 // shadow rays that an opaque surface stops are answered by the blockers alone (plastic walls,
 // a black box; not the glass, the trans, or the tracked sky), and every record is what the
 // walk through each surface gives.
@@ -204,10 +204,18 @@ TEST(Engine, ShadowRaysStoppedByBlockersAsByTheWalk) {
         "wall polygon sill 0 0 12 0 0 0  4 0 0  4 0 1  0 0 1\n"
         "pane polygon window 0 0 12 0 0 1  4 0 1  4 0 3  0 0 3\n"
         "veil polygon partition 0 0 12 2 0 0  2 2 0  2 2 3  2 0 3\n"
-        "box polygon lid 0 0 12 .5 1 .5  1 1 .5  1 1.5 .5  .5 1.5 .5\n";
-    const double suns[4][3] = {{0, -.8, .6}, {.5, -.7, .5}, {-.4, -.9, .2}, {.3, -.3, .9}};
+        "box polygon lid 0 0 12 .5 1 .5  1 1 .5  1 1.5 .5  .5 1.5 .5\n"
+        // a tilted shelf that the fifth sun grazes (0.2 degrees): its shadow rays must not meet
+        // the shelf they leave, which float rounding puts a hair off their origin
+        "wall polygon shelf 0 0 12 2.029286 2.323138 1.798902  2.757514 1.637802 1.798902  "
+        "3.170714 2.076862 1.001098  2.442486 2.762198 1.001098\n";
+    const double suns[5][3] = {{0, -.8, .6},
+                               {.5, -.7, .5},
+                               {-.4, -.9, .2},
+                               {.3, -.3, .9},
+                               {0.249377, -0.798007, 0.548630}};
     std::vector<TrackedModifier> tracked;
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < 5; ++k) {
         const std::string name = "solar" + std::to_string(k + 1);
         char dir[96];
         std::snprintf(dir, sizeof dir, "%g %g %g", suns[k][0], suns[k][1], suns[k][2]);
@@ -244,12 +252,12 @@ TEST(Engine, ShadowRaysStoppedByBlockersAsByTheWalk) {
         };
         const std::unique_ptr<ContribEngine> engine =
             CreateContribEngine(flat, options, tracked, RayInit, engine_options);
-        ASSERT_EQ(engine->Columns(), 4);
-        records[drop].assign(3 * 4 * n, 0.0);
+        ASSERT_EQ(engine->Columns(), 5);
+        records[drop].assign(3 * 5 * n, 0.0);
         engine->Trace(rays.data(), n, 0, 0, records[drop].data());
     }
-    // floor, ceiling, the three walls and the sill: two triangles each; the lid: two
-    EXPECT_EQ(blockers[0], 14u);
+    // floor, ceiling, the three walls, the sill, the lid and the shelf: two triangles each
+    EXPECT_EQ(blockers[0], 16u);
     EXPECT_GT(stopped[0], 1000u);
     EXPECT_EQ(stopped[1], 0u);
     double most = 0;

@@ -79,7 +79,9 @@ struct PackedSurface {
 // a driver may test shadow rays against at once (direct.inl's ShadowRay).
 inline bool StopsShadowRays(PackedSurface m) {
     if (m.clip != 0u || m.tracked >= 0) return false;
-    return m.kind == kMatBlack || (m.kind == kMatDiffuse && (m.params.y <= 0. || m.params.z <= 0.));
+    // (tspec = params.y (1 - rspec) params.z is nought only where one of them is: out-of-range
+    // values of either may still transmit)
+    return m.kind == kMatBlack || (m.kind == kMatDiffuse && (m.params.y == 0. || m.params.z == 0.));
 }
 
 // An analytic surface (sphere/bubble, cone/cup, cylinder/tube, ring), recentred.

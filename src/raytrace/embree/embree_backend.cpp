@@ -183,10 +183,7 @@ class EmbreeBackend : public Backend {
         for (size_t i = 0; i < n; ++i) {
             RTCRay r;
             Fill(rays[i], &r);
-            // A ray leaving a surface starts near_ away, not at once: no filter then keeps it
-            // from its own polygon (a planar one is met only where the ray starts) or a mesh's
-            // triangles about its origin. What lies nearer is missed and left to Closest.
-            r.tnear = std::max(r.tnear, static_cast<float>(near_));
+            shape_query.ray = &rays[i];
             rtcOccluded1(blockers_scene_, &ctx, &r);
             blocked[i] = r.tfar < 0;
         }
@@ -194,8 +191,9 @@ class EmbreeBackend : public Backend {
 
   private:
     // The blockers' own structure: their triangles on the scene's vertices (Embree's buffer,
-    // shared), without a filter (Blocked starts rays near_ away), and not robust (10 % faster):
-    // at a seam of a blocker and glass it may settle a ray either way, as the walk may.
+    // shared), with Closest's rule for the object a ray leaves (MeetsItself: a filter of their
+    // own, as their triangles are numbered apart), and not robust (10 % faster): at a seam of a
+    // blocker and glass it may settle a ray either way, as the walk may.
     void CommitBlockers(const float *vertices, size_t nvertices) {
         blockers_scene_ = rtcNewScene(device_);
         rtcSetSceneBuildQuality(blockers_scene_, RTC_BUILD_QUALITY_HIGH);
@@ -208,6 +206,8 @@ class EmbreeBackend : public Backend {
             CHECK(blockers_[i] < flat_->triangles.size());
             for (int k = 0; k < 3; ++k) ib[3 * i + k] = flat_->triangles[blockers_[i]][k];
         }
+        rtcSetGeometryUserData(g, this);
+        rtcSetGeometryOccludedFilterFunction(g, BlockerFilterFunction);
         rtcCommitGeometry(g);
         rtcAttachGeometry(blockers_scene_, g);
         rtcReleaseGeometry(g);
@@ -236,13 +236,28 @@ class EmbreeBackend : public Backend {
     // polygons are), a mesh's not within near_ of the origin.
     static void TriangleFilterFunction(const RTCFilterFunctionNArguments *args) {
         CHECK(args->N == 1);
-        const TraceRay &r = *shape_query.ray;
-        if (r.from_object < 0 || !args->valid[0]) return;
+        if (!args->valid[0]) return;
         const auto *self = static_cast<const EmbreeBackend *>(args->geometryUserPtr);
-        const unsigned prim = RTCHitN_primID(args->hit, 1, 0);
-        if (self->flat_->triangle_object[prim] != r.from_object) return;
-        if (self->flat_->triangle_material[prim] < 0 || RTCRayN_tfar(args->ray, 1, 0) < self->near_)
+        if (self->MeetsItself(RTCHitN_primID(args->hit, 1, 0), RTCRayN_tfar(args->ray, 1, 0)))
             args->valid[0] = 0;
+    }
+
+    // The same for the blockers, whose triangles are numbered apart.
+    static void BlockerFilterFunction(const RTCFilterFunctionNArguments *args) {
+        CHECK(args->N == 1);
+        if (!args->valid[0]) return;
+        const auto *self = static_cast<const EmbreeBackend *>(args->geometryUserPtr);
+        if (self->MeetsItself(self->blockers_[RTCHitN_primID(args->hit, 1, 0)],
+                              RTCRayN_tfar(args->ray, 1, 0)))
+            args->valid[0] = 0;
+    }
+
+    // Whether this thread's ray would meet, at distance t, triangle of the object it leaves:
+    // never a polygon's (or a mesh's with the mesh's own modifier), not a mesh's within near_.
+    bool MeetsItself(unsigned triangle, float t) const {
+        const int from = shape_query.ray->from_object;
+        if (from < 0 || flat_->triangle_object[triangle] != from) return false;
+        return flat_->triangle_material[triangle] < 0 || t < near_;
     }
 
     // The nearest distance an analytic surface is met at: its own surface, near_.
