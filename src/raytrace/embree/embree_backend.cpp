@@ -162,34 +162,30 @@ class EmbreeBackend : public Backend {
     }
 
     void Occluded(const TraceRay *rays, bool *occluded, size_t n) const override {
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        for (size_t i = 0; i < n; ++i) {
-            RTCRay r;
-            Fill(rays[i], &r);
-            shape_query.ray = &rays[i];
-            rtcOccluded1(scene_, &ctx, &r);
-            occluded[i] = r.tfar < 0;
-        }
+        AnyHit(scene_, rays, occluded, n);
     }
 
     void Blocked(const TraceRay *rays, bool *blocked, size_t n) const override {
-        if (!blockers_scene_) {
+        if (blockers_scene_)
+            AnyHit(blockers_scene_, rays, blocked, n);
+        else
             std::fill(blocked, blocked + n, false);
-            return;
-        }
+    }
+
+  private:
+    // Whether anything of scene lies on each ray (to its tmax).
+    void AnyHit(RTCScene scene, const TraceRay *rays, bool *hit, size_t n) const {
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         for (size_t i = 0; i < n; ++i) {
             RTCRay r;
             Fill(rays[i], &r);
             shape_query.ray = &rays[i];
-            rtcOccluded1(blockers_scene_, &ctx, &r);
-            blocked[i] = r.tfar < 0;
+            rtcOccluded1(scene, &ctx, &r);
+            hit[i] = r.tfar < 0;
         }
     }
 
-  private:
     // The blockers' own structure: their triangles on the scene's vertices (Embree's buffer,
     // shared), with Closest's rule for the object a ray leaves (MeetsItself: a filter of their
     // own, as their triangles are numbered apart), and not robust (10 % faster): at a seam of a
