@@ -30,7 +30,8 @@ void CheckBinExpressions(const std::vector<TrackedModifier> &tracked,
         const int of = tracked[k].context_of >= 0 ? tracked[k].context_of : static_cast<int>(k);
         if (!contexts[of]) contexts[of] = make_context(of);
         const cal::Context &cx = *contexts[of];
-        const cal::Expression bin = cx.Compile(tracked[k].bin_expression, FileLoc{"-b", 0});
+        const cal::Expression bin =
+            cx.CompileInterpreted(tracked[k].bin_expression, FileLoc{"-b", 0});  // names only
         const std::vector<std::string> undefined = cx.UndefinedNames(bin);
         if (!undefined.empty())
             ErrorExit("-b " + tracked[k].bin_expression + " (modifier '" + tracked[k].name +

@@ -7,7 +7,10 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <span>
+#include <string>
+#include <utility>
 
 #include "raytrace/backend.h"
 #include "raytrace/core/random.h"
@@ -82,10 +85,12 @@ struct CpuScene {
 };
 
 // A thread's bins: the tracked modifiers' bin expressions in the calcomp contexts they are
-// evaluated in (each thread has its own, since evaluation caches values).
+// evaluated in (each thread has its own, since evaluation caches values), each expression
+// compiled once per context (-M: thousands of modifiers may share one).
 class CpuBins {
   public:
     explicit CpuBins(const CpuScene &s) : source_bins_(s.packed.sources.size()) {
+        std::map<std::pair<const cal::Context *, std::string>, size_t> compiled;
         for (size_t k = 0; k < s.tracked.size(); ++k) {
             const int of = s.tracked[k].context_of;
             if (of < 0) {
@@ -94,8 +99,11 @@ class CpuBins {
             } else {
                 contexts_.push_back(contexts_[of]);
             }
-            bins_.push_back(
-                contexts_.back()->Compile(s.tracked[k].bin_expression, FileLoc{"-b", 0}));
+            const std::string &text = s.tracked[k].bin_expression;
+            auto [it, added] =
+                compiled.emplace(std::make_pair(contexts_.back(), text), bins_.size());
+            if (added) bins_.push_back(contexts_.back()->Compile(text, FileLoc{"-b", 0}));
+            bin_of_.push_back(it->second);
         }
     }
 
@@ -109,7 +117,7 @@ class CpuBins {
             memo->dir[1] == channels[2] && memo->dir[2] == channels[3])
             return memo->value;
         const cal::ChannelView view(std::span<const double>(channels + 1, 27));
-        const double value = bins_[k].Evaluate(*contexts_[k], &view);
+        const double value = bins_[bin_of_[k]].Evaluate(*contexts_[k], &view);
         if (memo) *memo = SourceBin{{channels[1], channels[2], channels[3]}, k, value};
         return value;
     }
@@ -117,7 +125,8 @@ class CpuBins {
   private:
     std::vector<std::unique_ptr<cal::Context>> own_contexts_;
     std::vector<cal::Context *> contexts_;  // per tracked modifier, maybe shared
-    std::vector<cal::Expression> bins_;
+    std::vector<cal::Expression> bins_;     // the distinct ones
+    std::vector<size_t> bin_of_;            // per tracked modifier
     struct SourceBin {
         double dir[3];
         int tracked = -1;

@@ -48,7 +48,8 @@ std::string BinGlsl(const std::vector<TrackedModifier> &tracked, const MakeConte
         BinContext &c = contexts[context_of[k]];
         auto [it, added] = c.function_of.emplace(t.bin_expression, nfunctions);
         if (added) {
-            c.bins.push_back(c.cx->Compile(t.bin_expression, FileLoc{"-b", 0}));
+            // the tree alone becomes GLSL: nothing specialised for the CPU
+            c.bins.push_back(c.cx->CompileInterpreted(t.bin_expression, FileLoc{"-b", 0}));
             c.entries.push_back({"cal_bin" + std::to_string(nfunctions), &c.bins.back()});
             ++nfunctions;
         }
