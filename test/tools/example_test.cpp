@@ -204,7 +204,10 @@ TEST(DaysimExample, TinyRunAgreesWithDaylightCoefficients) {
     double sum_dc = 0, sum_daysim = 0;
     for (size_t i = 0; i < dc.size(); ++i) {
         sum_dc += dc[i], sum_daysim += daysim[i];
-        EXPECT_NEAR(daysim[i] / dc[i], 1, 0.3) << "sensor " << i;
+        // 0.45: a back sensor's year moves by a third between seeds at -ad 512 in both runs,
+        // partly together (the two draw the same keyed random numbers); over seeds 1-6 and two
+        // versions of the core the ratios ranged over 0.74-1.39 (docs/benchmarks.md, 11-26).
+        EXPECT_NEAR(daysim[i] / dc[i], 1, 0.45) << "sensor " << i;
     }
     EXPECT_NEAR(sum_daysim / sum_dc, 0.95, 0.08);
     const std::string metrics = ReadFile(tmp.path() / "daysim" / "metrics.txt");

@@ -34,10 +34,14 @@ inline real3 CheckNorm(real3 v) {
 }
 
 // Two unit vectors perpendicular to n and to each other.
+// Frisvad's basis as Duff et al. (2017) made it exact near n.z = -1: one division, no square
+// root (the single-cell hemispheres below the first bounce take one a vertex).
 inline void Tangents(real3 n, OUT(real3) u, OUT(real3) v) {
-    real3 e = abs(n.x) < 0.6 ? real3(1, 0, 0) : (abs(n.y) < 0.6 ? real3(0, 1, 0) : real3(0, 0, 1));
-    u = normalize(cross(e, n));
-    v = cross(n, u);
+    real s = n.z >= 0. ? 1. : -1.;
+    real a = -1. / (s + n.z);
+    real b = n.x * n.y * a;
+    u = real3(1. + s * n.x * n.x * a, s * b, -s * n.x);
+    v = real3(b, s + n.y * n.y * a, -n.y);
 }
 
 // RADIANCE's getperpendicular() with randomize on, as its ambient hemispheres use it: a tangent
@@ -58,21 +62,30 @@ inline real3 RandomTangent(real3 n, real r0, real r1, real r2, real r3) {
     return normalize(cross(e, n));
 }
 
-// sin and cos of x in [-pi/4, pi/4]: on the CPU by their Taylor series to x^17 and x^18 (the
-// first terms left out are below 1e-19 there), within an ulp or two of libm's double sincos at a
-// fraction of its cost (the hemispheres take one a sample); on the GPU by its own sin and cos,
-// whose float is more exact than a float series (the collision rule below is sensitive to
-// that: a series in float moved -ad 90000 runs 4e-4 away from Embree's, against 5e-6). (The
-// literals are floating point: glslang lexes skipped lines and refuses integers beyond 32 bits.)
+// sin and cos of x in [-pi/4, pi/4]: on the CPU by the minimax polynomials of fdlibm's kernels
+// (k_sin.c, k_cos.c: degree 13 and 14, error below 2^-58 on that interval, the coefficients are
+// theirs), within an ulp of libm's double sincos at a fraction of its cost (the hemispheres take
+// one a sample; the Taylor series to x^17 it replaced had two more steps in each chain); on the
+// GPU by its own sin and cos, whose float is more exact than a float polynomial (the collision
+// rule below is sensitive to that: a series in float moved -ad 90000 runs 4e-4 away from
+// Embree's, against 5e-6). cos is fdlibm's 1 - x^2/2 with the rounding of that difference put
+// back. (The literals are floating point: glslang lexes skipped lines too.)
 inline void SinCosQuarter(real x, OUT(real) s, OUT(real) c) {
 #ifdef __cplusplus
-    real x2 = x * x;
-    s = x * (1. + x2 * (-1. / 6. + x2 * (1. / 120. + x2 * (-1. / 5040. + x2 * (1. / 362880. +
-        x2 * (-1. / 39916800. + x2 * (1. / 6227020800. + x2 * (-1. / 1307674368000. +
-        x2 * (1. / 355687428096000.)))))))));
-    c = 1. + x2 * (-1. / 2. + x2 * (1. / 24. + x2 * (-1. / 720. + x2 * (1. / 40320. +
-        x2 * (-1. / 3628800. + x2 * (1. / 479001600. + x2 * (-1. / 87178291200. +
-        x2 * (1. / 20922789888000. + x2 * (-1. / 6402373705728000.)))))))));
+    real z = x * x;
+    real rs = 8.33333333332248946124e-03 +
+              z * (-1.98412698298579493134e-04 +
+                   z * (2.75573137070700676789e-06 +
+                        z * (-2.50507602534068634195e-08 + z * 1.58969099521155010221e-10)));
+    s = x + z * x * (-1.66666666666666324348e-01 + z * rs);
+    real rc =
+        z * (4.16666666666666019037e-02 +
+             z * (-1.38888888888741095749e-03 +
+                  z * (2.48015872894767294178e-05 +
+                       z * (-2.75573143513906633035e-07 +
+                            z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11)))));
+    real hz = 0.5 * z, w = 1. - hz;
+    c = w + (((1. - w) - hz) + z * rc);
 #else
     s = sin(x);
     c = cos(x);

@@ -96,6 +96,7 @@ class EmbreeBackend : public Backend {
                                core::real3(c[0] - a[0], c[1] - a[1], c[2] - a[2]));
                 const double len = glm::length(n);
                 normals_.push_back(len > 0 ? n / len : core::real3(0));
+                margins_.push_back(EdgeMargin(a, b, c, len));
             }
             rtcSetGeometryUserData(g, this);
             rtcSetGeometryIntersectFilterFunction(g, TriangleFilterFunction);
@@ -152,11 +153,19 @@ class EmbreeBackend : public Backend {
                        &c = flat_->vertices[t[2]];
             const core::real3 n = normals_[h.triangle];
             for (int k = 0; k < 3; ++k) h.normal[k] = n[k];
-            const core::real3 p =
-                core::PointOnTriangle(core::real3(rays[i].org[0], rays[i].org[1], rays[i].org[2]),
-                                      core::real3(rays[i].dir[0], rays[i].dir[1], rays[i].dir[2]),
-                                      core::real3(a[0], a[1], a[2]), core::real3(b[0], b[1], b[2]),
-                                      core::real3(c[0], c[1], c[2]), n, h.t);
+            const core::real3 org(rays[i].org[0], rays[i].org[1], rays[i].org[2]);
+            const core::real3 dir(rays[i].dir[0], rays[i].dir[1], rays[i].dir[2]);
+            const core::real3 va(a[0], a[1], a[2]);
+            h.t = core::DistanceToPlane(org, dir, va, n, h.t);
+            core::real3 p = org + h.t * dir;
+            // Only a hit near an edge can lie outside in double (Embree's barycentrics are of
+            // its float ray): it is moved in; the others are in by a wide margin, which grows as
+            // the ray grazes the plane (an offset of the ray moves its hit by 1 / cos as far).
+            const double m = margins_[h.triangle], cosine = std::abs(glm::dot(dir, n));
+            const double u = rh.hit.u, v = rh.hit.v;
+            if (!(u * cosine > m && v * cosine > m && (1. - u - v) * cosine > m))
+                p = core::ClosestPointOnTriangle(p, va, core::real3(b[0], b[1], b[2]),
+                                                 core::real3(c[0], c[1], c[2]));
             for (int k = 0; k < 3; ++k) h.point[k] = p[k];
         }
     }
@@ -220,6 +229,25 @@ class EmbreeBackend : public Backend {
         b->lower_x = static_cast<float>(lo[0] - pad), b->upper_x = static_cast<float>(hi[0] + pad);
         b->lower_y = static_cast<float>(lo[1] - pad), b->upper_y = static_cast<float>(hi[1] + pad);
         b->lower_z = static_cast<float>(lo[2] - pad), b->upper_z = static_cast<float>(hi[2] + pad);
+    }
+
+    // How far inside its triangle (in barycentric coordinates, for a ray along the normal) a hit
+    // Embree reports must lie for the refined hit to be inside too: the float ray's origin and
+    // direction are off the double ones by about 1e-7 of the scene's extent, which moves a
+    // barycentric coordinate by that over the triangle's least height; the margin is 100 times
+    // that, and 1 (never inside) for slivers.
+    float EdgeMargin(const Vec3 &a, const Vec3 &b, const Vec3 &c, double twice_area) const {
+        double longest = 0;
+        const Vec3 *v[3] = {&a, &b, &c};
+        for (int e = 0; e < 3; ++e) {
+            const Vec3 &p = *v[e], &q = *v[(e + 1) % 3];
+            longest = std::max(
+                longest, std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                                   (p[2] - q[2]) * (p[2] - q[2])));
+        }
+        const double height = longest > 0 ? twice_area / longest : 0;
+        const double margin = height > 0 ? 1e-5 * (extent_ + 1e-30) / height : 1;
+        return static_cast<float>(std::min(margin, 1.0));
     }
 
     // The ray of this thread's query in double, recentred.
@@ -321,6 +349,7 @@ class EmbreeBackend : public Backend {
     std::vector<uint32_t> blockers_;     // their indices in flat_->triangles
     const FlatScene *flat_ = nullptr;
     std::vector<core::real3> normals_;  // per triangle: its unit normal in double (winding)
+    std::vector<float> margins_;        // per triangle: EdgeMargin
     std::vector<int> surfaces_;  // indices of the analytic surfaces (not sources) in flat_->shapes
     unsigned triangles_id_ = RTC_INVALID_GEOMETRY_ID, shapes_id_ = RTC_INVALID_GEOMETRY_ID;
     double centre_[3] = {0, 0, 0};
