@@ -1,5 +1,6 @@
 // The core's sampling helpers against their definitions, and the CPU caster's refined triangle
-// hits: on the triangle, inside it, at the ray's point, however near an edge or grazing the ray.
+// hits (on the triangle, inside it, at the ray's point, however near an edge or grazing the ray)
+// and its blockers (never the object a ray leaves, as in the walk).
 #include "raytrace/core/sampling.h"
 
 #include <gtest/gtest.h>
@@ -110,6 +111,75 @@ TEST(Sampling, RefinedTriangleHitsLieOnTheTriangle) {
     }
     EXPECT_GT(hits, 150000);
     EXPECT_GT(near_edge, 0);  // the float traversal does report hits beyond an edge
+}
+
+// Blocked keeps Closest's rule for the object a ray leaves: a flat polygon is never met by its
+// own rays, however they graze it (they start past where float rounding could put it), nor is a
+// bent polygon (its triangles in different planes: the filtered blockers), whose rays cross from
+// one of its triangles to another; rays from either toward the other are blocked.
+TEST(Sampling, BlockersNeverMeetTheObjectARayLeaves) {
+    const std::string text =
+        "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
+        "grey polygon flat 0 0 12 1000 2000 0  1010 2000 0  1010 2010 0  1000 2010 0\n"
+        "grey polygon bent 0 0 18 1002 2002 1.5  1008 2002 1.5  1008 2005 .5  1008 2008 1.5"
+        "  1002 2008 1.5  1002 2005 .5\n";
+    Scene scene;
+    SceneReader(&scene).ReadText(text, "blockers.rad");
+    const FlatScene flat = Flatten(std::move(scene));
+    const std::unique_ptr<Backend> caster = CreateEmbreeBackend();
+    std::vector<uint32_t> all(flat.triangles.size());
+    for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+    caster->SetBlockers(all);
+    caster->Commit(flat);
+    auto centroid = [&](size_t i) {
+        real3 c(0);
+        for (int k = 0; k < 3; ++k) {
+            const Vec3 &v = flat.vertices[flat.triangles[i][k]];
+            c += real3(v[0], v[1], v[2]) / 3.0;
+        }
+        return c;
+    };
+    auto blocked = [&](real3 org, real3 dir, int from) {
+        TraceRay ray;
+        for (int k = 0; k < 3; ++k) ray.org[k] = org[k], ray.dir[k] = dir[k];
+        ray.tmax = INFINITY;
+        ray.from_object = from;
+        bool b = true;
+        caster->Blocked(&ray, &b, 1);
+        return b;
+    };
+    const int flat_object = flat.triangle_object[0];
+    std::vector<size_t> bent;
+    for (size_t i = 0; i < flat.triangles.size(); ++i)
+        if (flat.triangle_object[i] != flat_object) bent.push_back(i);
+    ASSERT_GE(bent.size(), 4u);
+    // the flat one's own rays, grazing it by 1e-6 .. 1e-2 radians (passing under the bent one)
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u01(0, 1);
+    for (int i = 0; i < 20000; ++i) {
+        const real3 org(1000 + 10 * u01(rng), 2000 + 10 * u01(rng), 0);
+        const double azimuth = 2 * M_PI * u01(rng), angle = std::pow(10, -6 + 4 * u01(rng));
+        const real3 dir(std::cos(angle) * std::cos(azimuth), std::cos(angle) * std::sin(azimuth),
+                        (i % 2 ? 1 : -1) * std::sin(angle));
+        ASSERT_FALSE(blocked(org, dir, flat_object)) << i;
+    }
+    // the bent one's rays from each of its triangles to each other one: never blocked by it
+    int crossed = 0;
+    for (size_t i : bent)
+        for (size_t j : bent) {
+            if (i == j) continue;
+            const real3 from = centroid(i), dir = glm::normalize(centroid(j) - from);
+            if (dir.z < 0) continue;  // not toward the flat one below
+            ++crossed;
+            EXPECT_FALSE(blocked(from, dir, flat.triangle_object[i])) << i << " to " << j;
+        }
+    EXPECT_GT(crossed, 0);
+    // and between the two, both ways
+    for (size_t i : bent) {
+        const real3 c = centroid(i), below(c.x, c.y, 0);
+        EXPECT_TRUE(blocked(c, real3(0, 0, -1), flat.triangle_object[i])) << i;
+        EXPECT_TRUE(blocked(below, real3(0, 0, 1), flat_object)) << i;
+    }
 }
 
 }  // namespace

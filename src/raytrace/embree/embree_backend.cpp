@@ -41,6 +41,7 @@ class EmbreeBackend : public Backend {
     }
     ~EmbreeBackend() override {
         if (blockers_scene_) rtcReleaseScene(blockers_scene_);
+        if (filtered_blockers_scene_) rtcReleaseScene(filtered_blockers_scene_);
         if (scene_) rtcReleaseScene(scene_);
         rtcReleaseDevice(device_);
     }
@@ -104,7 +105,10 @@ class EmbreeBackend : public Backend {
             rtcCommitGeometry(g);
             triangles_id_ = rtcAttachGeometry(scene_, g);
             rtcReleaseGeometry(g);
-            if (!blockers_.empty()) CommitBlockers(vb, flat.vertices.size());
+            if (!blockers_.empty()) {
+                FindPlanes();
+                CommitBlockers(vb, flat.vertices.size());
+            }
         }
         if (!surfaces_.empty()) {
             RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
@@ -174,14 +178,54 @@ class EmbreeBackend : public Backend {
         AnyHit(scene_, rays, occluded, n);
     }
 
+    // A ray leaving a flat object (plane_of_object_) starts past where float rounding could let
+    // it meet that object again, and asks the blockers without a filter (Embree's filter calls
+    // cost the direct runs 10 %); others ask them filtered as in Closest. What the blockers miss
+    // near a ray's start the walk still finds: they may only say less.
     void Blocked(const TraceRay *rays, bool *blocked, size_t n) const override {
-        if (blockers_scene_)
-            AnyHit(blockers_scene_, rays, blocked, n);
-        else
+        if (!blockers_scene_) {
             std::fill(blocked, blocked + n, false);
+            return;
+        }
+        BlockerContext ctx;
+        rtcInitIntersectContext(&ctx.embree);
+        ctx.self = this;
+        for (size_t i = 0; i < n; ++i) {
+            RTCRay r;
+            Fill(rays[i], &r);
+            ctx.from = rays[i].from_object;
+            RTCScene scene = blockers_scene_;
+            if (ctx.from >= 0) {
+                CHECK(static_cast<size_t>(ctx.from) < plane_of_object_.size());
+                const core::real3 &plane = plane_of_object_[ctx.from];
+                if (plane != core::real3(0)) {
+                    const double cosine = std::abs(glm::dot(
+                        plane, core::real3(rays[i].dir[0], rays[i].dir[1], rays[i].dir[2])));
+                    if (cosine < 1e-9) {  // along its own plane: left to the walk
+                        blocked[i] = false;
+                        continue;
+                    }
+                    r.tnear = std::max(r.tnear, static_cast<float>(kSelfReach * extent_ / cosine));
+                } else {
+                    scene = filtered_blockers_scene_;
+                }
+            }
+            rtcOccluded1(scene, &ctx.embree, &r);
+            blocked[i] = r.tfar < 0;
+        }
     }
 
   private:
+    // Embree's context, extended (as its documentation allows) for the blockers' filter.
+    struct BlockerContext {
+        RTCIntersectContext embree;
+        const EmbreeBackend *self = nullptr;
+        int from = -1;
+    };
+    // How far off its own plane float rounding may put a ray's origin (of the recentred scene's
+    // extent): the origin's and the vertices' rounding, 5e-8 each, with room to spare.
+    static constexpr double kSelfReach = 1e-6;
+
     // Whether anything of scene lies on each ray (to its tmax).
     void AnyHit(RTCScene scene, const TraceRay *rays, bool *hit, size_t n) const {
         RTCIntersectContext ctx;
@@ -195,13 +239,17 @@ class EmbreeBackend : public Backend {
         }
     }
 
-    // The blockers' own structure: their triangles on the scene's vertices (Embree's buffer,
-    // shared), with Closest's rule for the object a ray leaves (MeetsItself: a filter of their
-    // own, as their triangles are numbered apart), and not robust (10 % faster): at a seam of a
-    // blocker and glass it may settle a ray either way, as the walk may.
+    // The blockers' own structures: their triangles on the scene's vertices (Embree's buffer,
+    // shared), twice: bare, and with Closest's rule for the object a ray leaves (MeetsItself: a
+    // filter of their own, as their triangles are numbered apart). Not robust (10 % faster): at
+    // a seam of a blocker and glass they may settle a ray either way, as the walk may.
     void CommitBlockers(const float *vertices, size_t nvertices) {
-        blockers_scene_ = rtcNewScene(device_);
-        rtcSetSceneBuildQuality(blockers_scene_, RTC_BUILD_QUALITY_HIGH);
+        blockers_scene_ = BlockersScene(vertices, nvertices, false);
+        filtered_blockers_scene_ = BlockersScene(vertices, nvertices, true);
+    }
+    RTCScene BlockersScene(const float *vertices, size_t nvertices, bool filtered) const {
+        RTCScene scene = rtcNewScene(device_);
+        rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
         RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
         rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices, 0,
                                    3 * sizeof(float), nvertices);
@@ -211,12 +259,12 @@ class EmbreeBackend : public Backend {
             CHECK(blockers_[i] < flat_->triangles.size());
             for (int k = 0; k < 3; ++k) ib[3 * i + k] = flat_->triangles[blockers_[i]][k];
         }
-        rtcSetGeometryUserData(g, this);
-        rtcSetGeometryOccludedFilterFunction(g, BlockerFilterFunction);
+        if (filtered) rtcSetGeometryOccludedFilterFunction(g, BlockerFilterFunction);
         rtcCommitGeometry(g);
-        rtcAttachGeometry(blockers_scene_, g);
+        rtcAttachGeometry(scene, g);
         rtcReleaseGeometry(g);
-        rtcCommitScene(blockers_scene_);
+        rtcCommitScene(scene);
+        return scene;
     }
 
     static void ShapeBoundsFunction(const RTCBoundsFunctionArguments *args) {
@@ -229,6 +277,33 @@ class EmbreeBackend : public Backend {
         b->lower_x = static_cast<float>(lo[0] - pad), b->upper_x = static_cast<float>(hi[0] + pad);
         b->lower_y = static_cast<float>(lo[1] - pad), b->upper_y = static_cast<float>(hi[1] + pad);
         b->lower_z = static_cast<float>(lo[2] - pad), b->upper_z = static_cast<float>(hi[2] + pad);
+    }
+
+    // plane_of_object_: the objects whose triangles all lie in one plane (a polygon, or a flat
+    // mesh of one modifier); two parallel faces of one mesh are not one plane.
+    void FindPlanes() {
+        plane_of_object_.assign(flat_->scene.objects.size(), core::real3(0));
+        std::vector<double> offset(plane_of_object_.size(), 0);
+        std::vector<char> curved(plane_of_object_.size(), 0);
+        const double tolerance = 1e-9 * (extent_ + 1e-30);
+        for (size_t i = 0; i < flat_->triangles.size(); ++i) {
+            const int object = flat_->triangle_object[i];
+            CHECK(object >= 0 && static_cast<size_t>(object) < plane_of_object_.size());
+            if (curved[object]) continue;
+            const core::real3 n = normals_[i];
+            const Vec3 &a = flat_->vertices[flat_->triangles[i][0]];
+            const double d = n.x * a[0] + n.y * a[1] + n.z * a[2];
+            core::real3 &plane = plane_of_object_[object];
+            if (flat_->triangle_material[i] >= 0 || n == core::real3(0)) {
+                curved[object] = 1;
+            } else if (plane == core::real3(0)) {
+                plane = n, offset[object] = d;
+            } else if (glm::length(n - plane) > 1e-9 || std::abs(d - offset[object]) > tolerance) {
+                curved[object] = 1;
+            }
+        }
+        for (size_t o = 0; o < plane_of_object_.size(); ++o)
+            if (curved[o]) plane_of_object_[o] = core::real3(0);
     }
 
     // How far inside its triangle (in barycentric coordinates, for a ray along the normal) a hit
@@ -262,24 +337,25 @@ class EmbreeBackend : public Backend {
         CHECK(args->N == 1);
         if (!args->valid[0]) return;
         const auto *self = static_cast<const EmbreeBackend *>(args->geometryUserPtr);
-        if (self->MeetsItself(RTCHitN_primID(args->hit, 1, 0), RTCRayN_tfar(args->ray, 1, 0)))
+        if (self->MeetsItself(RTCHitN_primID(args->hit, 1, 0), RTCRayN_tfar(args->ray, 1, 0),
+                              shape_query.ray->from_object))
             args->valid[0] = 0;
     }
 
-    // The same for the blockers, whose triangles are numbered apart.
+    // The same for the filtered blockers, whose triangles are numbered apart (the ray's object
+    // comes in its context).
     static void BlockerFilterFunction(const RTCFilterFunctionNArguments *args) {
         CHECK(args->N == 1);
         if (!args->valid[0]) return;
-        const auto *self = static_cast<const EmbreeBackend *>(args->geometryUserPtr);
-        if (self->MeetsItself(self->blockers_[RTCHitN_primID(args->hit, 1, 0)],
-                              RTCRayN_tfar(args->ray, 1, 0)))
+        const auto *ctx = reinterpret_cast<const BlockerContext *>(args->context);
+        if (ctx->self->MeetsItself(ctx->self->blockers_[RTCHitN_primID(args->hit, 1, 0)],
+                                   RTCRayN_tfar(args->ray, 1, 0), ctx->from))
             args->valid[0] = 0;
     }
 
-    // Whether this thread's ray would meet, at distance t, triangle of the object it leaves:
+    // Whether a ray leaving object `from` would meet, at distance t, triangle of that object:
     // never a polygon's (or a mesh's with the mesh's own modifier), not a mesh's within near_.
-    bool MeetsItself(unsigned triangle, float t) const {
-        const int from = shape_query.ray->from_object;
+    bool MeetsItself(unsigned triangle, float t, int from) const {
         if (from < 0 || flat_->triangle_object[triangle] != from) return false;
         return flat_->triangle_material[triangle] < 0 || t < near_;
     }
@@ -345,11 +421,15 @@ class EmbreeBackend : public Backend {
 
     RTCDevice device_ = nullptr;
     RTCScene scene_ = nullptr;
-    RTCScene blockers_scene_ = nullptr;  // the blockers alone (Blocked), or none
-    std::vector<uint32_t> blockers_;     // their indices in flat_->triangles
+    RTCScene blockers_scene_ = nullptr;           // the blockers alone (Blocked), or none
+    RTCScene filtered_blockers_scene_ = nullptr;  // the same with MeetsItself as a filter
+    std::vector<uint32_t> blockers_;              // their indices in flat_->triangles
     const FlatScene *flat_ = nullptr;
     std::vector<core::real3> normals_;  // per triangle: its unit normal in double (winding)
     std::vector<float> margins_;        // per triangle: EdgeMargin
+    // per object: the unit normal of its plane where it is flat and never met by the rays that
+    // leave it (all its triangles in one plane and of its own modifier), else 0
+    std::vector<core::real3> plane_of_object_;
     std::vector<int> surfaces_;  // indices of the analytic surfaces (not sources) in flat_->shapes
     unsigned triangles_id_ = RTC_INVALID_GEOMETRY_ID, shapes_id_ = RTC_INVALID_GEOMETRY_ID;
     double centre_[3] = {0, 0, 0};
