@@ -180,6 +180,33 @@ TEST(Sampling, BlockersNeverMeetTheObjectARayLeaves) {
         EXPECT_TRUE(blocked(c, real3(0, 0, -1), flat.triangle_object[i])) << i;
         EXPECT_TRUE(blocked(below, real3(0, 0, 1), flat_object)) << i;
     }
+    // Asked many at once (in packets where they may be), the answers are those asked one by one:
+    // rays from the flat one, from the bent one and from nothing, every way.
+    std::vector<TraceRay> rays;
+    std::vector<char> alone;
+    for (int i = 0; i < 3000; ++i) {
+        const int kind = i % 3;
+        const size_t t = bent[i % bent.size()];
+        const real3 org = kind == 0   ? real3(1000 + 10 * u01(rng), 2000 + 10 * u01(rng), 0)
+                          : kind == 1 ? centroid(t)
+                                      : real3(1005, 2005, 5) + 3.0 * real3(u01(rng), u01(rng), 0);
+        const real3 dir = glm::normalize(real3(u01(rng) - .5, u01(rng) - .5, u01(rng) - .5));
+        TraceRay ray;
+        for (int k = 0; k < 3; ++k) ray.org[k] = org[k], ray.dir[k] = dir[k];
+        ray.tmax = INFINITY;
+        ray.from_object = kind == 0 ? flat_object : kind == 1 ? flat.triangle_object[t] : -1;
+        rays.push_back(ray);
+        alone.push_back(blocked(org, dir, ray.from_object));
+    }
+    std::unique_ptr<bool[]> together(new bool[rays.size()]);
+    caster->Blocked(rays.data(), together.get(), rays.size());
+    int some = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        ASSERT_EQ(together[i], alone[i] != 0) << i;
+        some += together[i];
+    }
+    EXPECT_GT(some, 300);
+    EXPECT_LT(some, 2700);
 }
 
 }  // namespace

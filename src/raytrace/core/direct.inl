@@ -27,7 +27,7 @@ real3 SourceDirection(IN(PackedSource) s) {
 // alone answers that without the walk through the glass.
 void ShadowRay(IN(Item) it, int i, IN(PackedSource) s, real3 dir, real3 coef) {
     if (Max3(coef) <= 0. || Bright(coef * XYZ(s.colour)) <= 0.) return;
-    if (int(s.u.w) == kSourceDistant && s.relay < 0 && Blocked(it.point, dir, it.r.from)) return;
+    if (int(s.u.w) == kSourceDistant && s.relay < 0 && Blocked(it.point, dir, it.r.from, i)) return;
     int at = PushSlot();
     STACK(at).r = it.r;
     STACK(at).r.depth = it.r.depth + 1;
@@ -386,6 +386,8 @@ void PushDirect(IN(Ray) ray, real3 colour, real rdiff, real tdiff, real trans, b
 // Returns false after the last.
 bool DirectItemStep(INOUT(Item) it) {
     int before = top;
+    // The driver may answer the blockers for all the sources ahead at once (the CPU's packets).
+    BlockersAhead(it.point, it.normal, it.r.from, it.trans, it.next, it.end);
     DONT_UNROLL while (it.next < it.end && top == before) {
         int i = it.next, nparts = 1;
         // Each sample's numbers keyed by its source and part, not by the samples before it: the

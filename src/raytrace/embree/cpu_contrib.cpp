@@ -31,6 +31,14 @@ struct CpuHit {
 
 // What a thread's estimator shares with the others: the scene, its tables and the run's options,
 // and what they report (the core's kReport* flags, items dropped), for the engine.
+// A thread's room for CpuScene::BlockedAhead: the rays it asks, their sources, the answers.
+struct AheadBuffers {
+    std::vector<TraceRay> rays;
+    std::vector<int> sources;
+    std::unique_ptr<bool[]> blocked;
+    size_t capacity = 0;
+};
+
 struct CpuScene {
     const FlatScene &flat;
     const PackedScene &packed;
@@ -40,6 +48,7 @@ struct CpuScene {
     const MakeContext &make_context;
     std::atomic<uint32_t> &reports;
     std::atomic<uint64_t> &dropped;
+    bool has_blockers = false;
 
     // Embree's nearest hit, its surface in the tables.
     bool Intersect(real3 org, real3 dir, int from, CpuHit *hit) const {
@@ -62,6 +71,42 @@ struct CpuScene {
             hit->normal[k] = th.normal[k];
         }
         hit->t = th.t;
+        return true;
+    }
+
+    // The blockers on the shadow rays from org toward distant sources first .. end - 1 at their
+    // centres (without -dj, where direct.inl's shadow rays go), asked at once, on the sides of
+    // the surface (normal) that its direct item shades (in front unless it transmits all, behind
+    // where it transmits): ahead[i] 2 where blocked, 1 where not, 0 where not asked. Returns
+    // false where it asks nothing (no blockers, or -dj).
+    bool BlockedAhead(real3 org, real3 normal, int from, real trans, int first, int end,
+                      uint8_t *ahead, AheadBuffers *buffers) const {
+        if (!has_blockers || options.source_jitter > kTiny) return false;
+        std::vector<TraceRay> *rays = &buffers->rays;
+        std::vector<int> *which = &buffers->sources;
+        rays->clear();
+        which->clear();
+        for (int i = first; i < end; ++i) {
+            ahead[i] = 0;
+            const PackedSource &s = packed.sources[i];
+            if (int(s.u.w) != kSourceDistant || s.relay >= 0 || s.colour.w > 0.5f) continue;
+            const real3 dir = XYZ(s.dir);
+            const real ldot = dot(normal, dir);
+            if (!((trans < 1. - kTiny && ldot > kTiny) || (trans > kTiny && ldot < -kTiny)))
+                continue;
+            TraceRay tr;
+            for (int k = 0; k < 3; ++k) tr.org[k] = org[k] + packed.centre[k], tr.dir[k] = dir[k];
+            tr.tmax = std::numeric_limits<double>::infinity();
+            tr.from_object = from;
+            rays->push_back(tr);
+            which->push_back(i);
+        }
+        if (buffers->capacity < rays->size()) {
+            buffers->blocked.reset(new bool[rays->size()]);
+            buffers->capacity = rays->size();
+        }
+        backend.Blocked(rays->data(), buffers->blocked.get(), rays->size());
+        for (size_t k = 0; k < rays->size(); ++k) ahead[(*which)[k]] = buffers->blocked[k] ? 2 : 1;
         return true;
     }
 
@@ -182,7 +227,9 @@ class CpuContribEngine : public ContribEngine {
           scene_{flat, packed_, *backend_, options_, tracked_, make_context_, reports_, dropped_} {
         if (packed_.mix_depth > 63)
             ErrorExit("mixfuncs nested more than 63 deep (" + packed_.mix_deepest + ")");
-        backend_->SetBlockers(Blockers(flat, packed_));
+        std::vector<uint32_t> blockers = Blockers(flat, packed_);
+        scene_.has_blockers = !blockers.empty();
+        backend_->SetBlockers(std::move(blockers));
         backend_->Commit(flat);
     }
 

@@ -107,7 +107,27 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
         h.t = hit.t;
         return true;
     }
-    bool Blocked(real3 org, real3 dir, int from) const { return scene_.Blocked(org, dir, from); }
+    // The blockers ahead of a direct item, asked once for all its sources (CpuScene::BlockedAhead)
+    // and kept while its steps run (nothing else asks between them); Blocked answers from them
+    // where the same ray is asked.
+    void BlockersAhead(real3 org, real3 normal, int from, real trans, int first, int end) {
+        if (ahead_valid_ && from == ahead_from_ && org == ahead_org_ && first >= ahead_first_ &&
+            end <= ahead_end_)
+            return;
+        if (ahead_.size() < static_cast<size_t>(nsources_)) ahead_.resize(nsources_);
+        ahead_valid_ = scene_.BlockedAhead(org, normal, from, trans, first, end, ahead_.data(),
+                                           &ahead_buffers_);
+        ahead_org_ = org;
+        ahead_from_ = from;
+        ahead_first_ = first;
+        ahead_end_ = end;
+    }
+    bool Blocked(real3 org, real3 dir, int from, int source) const {
+        if (ahead_valid_ && from == ahead_from_ && org == ahead_org_ && source >= ahead_first_ &&
+            source < ahead_end_ && ahead_[source] != 0 && dir == XYZ(sources[source].dir))
+            return ahead_[source] == 2;
+        return scene_.Blocked(org, dir, from);
+    }
     double BinOf(int k, int source) { return bins_.Value(k, source, cal_chan); }
     real3 PatternRGB(int k) const { return scene_.PatternRGB(k, cal_chan); }
     void AddToRecord(int column, real3 v) {
@@ -128,4 +148,11 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
     real3 centre_;
     double *record_ = nullptr;
     CpuBins bins_;
+    // BlockersAhead's answers, for the origin and object they were asked from
+    bool ahead_valid_ = false;
+    real3 ahead_org_ = real3(0);
+    int ahead_from_ = -1;
+    int ahead_first_ = 0, ahead_end_ = 0;
+    std::vector<uint8_t> ahead_;
+    AheadBuffers ahead_buffers_;
 };
