@@ -56,9 +56,10 @@ TEST(Sampling, TangentsAreAnOrthonormalFrame) {
 }
 
 // A tilted triangle 1000 m from the origin in a scene 40 m across, and rays from everywhere
-// aimed at points of it: uniformly over it, a hair inside and outside its edges, and at grazing
-// angles down to 1e-5 radians. Every hit Embree reports is refined onto the triangle's plane
-// and into the triangle, and where the refined point needed no moving it is the ray's own point.
+// (up to 40 km away) aimed at points of it: uniformly over it, a hair inside and outside its
+// edges, and at grazing angles down to 1e-5 radians. Every hit Embree reports is refined onto the
+// triangle's plane and into the triangle, and where the refined point needed no moving it is the
+// ray's own point.
 TEST(Sampling, RefinedTriangleHitsLieOnTheTriangle) {
     const real3 a(1000, 2000, 3), b(1013, 2004, 9), c(1002, 2011, -2);
     std::ostringstream text;
@@ -95,7 +96,9 @@ TEST(Sampling, RefinedTriangleHitsLieOnTheTriangle) {
             const double angle = std::pow(10, -5 + 4 * u01(rng));
             dir = std::cos(angle) * along + std::sin(angle) * (u01(rng) < .5 ? -n : n);
         }
-        const double back = 0.5 + 20 * u01(rng);
+        // from within the scene, or from 100 to 1000 times its size away (the float ray's error
+        // grows with its origin's distance from the centre)
+        const double back = i % 5 == 4 ? 40 * std::pow(10, 2 + u01(rng)) : 0.5 + 20 * u01(rng);
         TraceRay ray;
         for (int k = 0; k < 3; ++k) ray.org[k] = target[k] - back * dir[k], ray.dir[k] = dir[k];
         ray.tmax = INFINITY;
@@ -104,10 +107,13 @@ TEST(Sampling, RefinedTriangleHitsLieOnTheTriangle) {
         if (!hit.hit || hit.shape >= 0) continue;
         ++hits;
         const real3 p(hit.point[0], hit.point[1], hit.point[2]);
-        ASSERT_LT(std::abs(glm::dot(p - a, n)), 1e-11) << i;
-        ASSERT_LT(glm::length(core::ClosestPointOnTriangle(p, a, b, c) - p), 1e-11) << i;
-        const real3 on_ray = real3(ray.org[0], ray.org[1], ray.org[2]) + hit.t * dir;
-        if (glm::length(on_ray - p) > 1e-11) ++near_edge;  // moved in: a hit a hair outside
+        const real3 org(ray.org[0], ray.org[1], ray.org[2]);
+        // the rounding of org + t dir, about 2000 m from the world's origin and 40 km away
+        const double tolerance = 1e-11 + 1e-15 * (glm::length(org) + hit.t);
+        ASSERT_LT(std::abs(glm::dot(p - a, n)), tolerance) << i;
+        ASSERT_LT(glm::length(core::ClosestPointOnTriangle(p, a, b, c) - p), tolerance) << i;
+        if (glm::length(org + hit.t * dir - p) > tolerance)
+            ++near_edge;  // moved in: a hit a hair outside
     }
     EXPECT_GT(hits, 150000);
     EXPECT_GT(near_edge, 0);  // the float traversal does report hits beyond an edge
@@ -179,6 +185,49 @@ TEST(Sampling, BlockersNeverMeetTheObjectARayLeaves) {
         const real3 c = centroid(i), below(c.x, c.y, 0);
         EXPECT_TRUE(blocked(c, real3(0, 0, -1), flat.triangle_object[i])) << i;
         EXPECT_TRUE(blocked(below, real3(0, 0, 1), flat_object)) << i;
+    }
+    // A tilted 400-sided disc near the origin, triangulated as a fan of slivers (0.9 degrees),
+    // whose float normals are further off than a square's: its grazing rays do not meet it.
+    {
+        std::ostringstream disc;
+        disc.precision(17);
+        const real3 n = glm::normalize(real3(.3, .5, .81)),
+                    ax = glm::normalize(glm::cross(n, real3(1, 0, 0))), ay = glm::cross(n, ax),
+                    centre(3, -2, 1);
+        disc << "void plastic grey 0 0 5 .5 .5 .5 0 0\ngrey polygon disc 0 0 1200";
+        for (int i = 0; i < 400; ++i) {
+            const double a = 2 * M_PI * i / 400;
+            const real3 p = centre + 5 * std::cos(a) * ax + 5 * std::sin(a) * ay;
+            disc << ' ' << p.x << ' ' << p.y << ' ' << p.z;
+        }
+        Scene disc_scene;
+        SceneReader(&disc_scene).ReadText(disc.str() + "\n", "disc.rad");
+        const FlatScene disc_flat = Flatten(std::move(disc_scene));
+        const std::unique_ptr<Backend> disc_caster = CreateEmbreeBackend();
+        std::vector<uint32_t> triangles(disc_flat.triangles.size());
+        for (uint32_t i = 0; i < triangles.size(); ++i) triangles[i] = i;
+        disc_caster->SetBlockers(triangles);
+        disc_caster->Commit(disc_flat);
+        for (int i = 0; i < 40000; ++i) {
+            const auto &t = disc_flat.triangles[i % disc_flat.triangles.size()];
+            double s = u01(rng), r = u01(rng);
+            if (s + r > 1) s = 1 - s, r = 1 - r;
+            auto vertex = [&](int k) {
+                const Vec3 &v = disc_flat.vertices[t[k]];
+                return real3(v[0], v[1], v[2]);
+            };
+            const real3 org = vertex(0) + s * (vertex(1) - vertex(0)) + r * (vertex(2) - vertex(0));
+            const double azimuth = 2 * M_PI * u01(rng), angle = std::pow(10, -5 + 2 * u01(rng));
+            const real3 dir = std::cos(angle) * (std::cos(azimuth) * ax + std::sin(azimuth) * ay) +
+                              (i % 2 ? 1 : -1) * std::sin(angle) * n;
+            TraceRay ray;
+            for (int k = 0; k < 3; ++k) ray.org[k] = org[k], ray.dir[k] = dir[k];
+            ray.tmax = INFINITY;
+            ray.from_object = disc_flat.triangle_object[0];
+            bool b = true;
+            disc_caster->Blocked(&ray, &b, 1);
+            ASSERT_FALSE(b) << i;
+        }
     }
     // Asked many at once (in packets where they may be), the answers are those asked one by one:
     // rays from the flat one, from the bent one and from nothing, every way.

@@ -72,6 +72,7 @@ class EmbreeBackend : public Backend {
             extent_ = std::max(extent_, empty ? 0 : hi[k] - lo[k]);
         }
         near_ = 1e-6 * extent_;
+        inverse_extent_ = extent_ > 0 ? 1 / extent_ : 0;
         scene_ = rtcNewScene(device_);
         rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
         rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
@@ -160,14 +161,20 @@ class EmbreeBackend : public Backend {
             const core::real3 org(rays[i].org[0], rays[i].org[1], rays[i].org[2]);
             const core::real3 dir(rays[i].dir[0], rays[i].dir[1], rays[i].dir[2]);
             const core::real3 va(a[0], a[1], a[2]);
+            const double t_float = h.t;
             h.t = core::DistanceToPlane(org, dir, va, n, h.t);
             core::real3 p = org + h.t * dir;
             // Only a hit near an edge can lie outside in double (Embree's barycentrics are of
             // its float ray): it is moved in; the others are in by a wide margin, which grows as
-            // the ray grazes the plane (an offset of the ray moves its hit by 1 / cos as far).
-            const double m = margins_[h.triangle], cosine = std::abs(glm::dot(dir, n));
+            // the ray grazes the plane (an offset of the ray moves its hit by 1 / cos as far) and
+            // as the ray's float error does (with its origin's distance from the centre and its
+            // length). A hit the plane did not refine (behind the origin) is projected as well.
+            const double cosine = std::abs(glm::dot(dir, n));
+            double reach = h.t;
+            for (int k = 0; k < 3; ++k) reach += std::abs(org[k] - centre_[k]);
+            const double m = margins_[h.triangle] * std::max(1.0, reach * inverse_extent_);
             const double u = rh.hit.u, v = rh.hit.v;
-            if (!(u * cosine > m && v * cosine > m && (1. - u - v) * cosine > m))
+            if (h.t == t_float || !(u * cosine > m && v * cosine > m && (1. - u - v) * cosine > m))
                 p = core::ClosestPointOnTriangle(p, va, core::real3(b[0], b[1], b[2]),
                                                  core::real3(c[0], c[1], c[2]));
             for (int k = 0; k < 3; ++k) h.point[k] = p[k];
@@ -244,7 +251,7 @@ class EmbreeBackend : public Backend {
         const double cosine =
             std::abs(glm::dot(plane, core::real3(in.dir[0], in.dir[1], in.dir[2])));
         if (cosine < 1e-9) return nullptr;
-        r->tnear = std::max(r->tnear, static_cast<float>(kSelfReach * extent_ / cosine));
+        r->tnear = std::max(r->tnear, static_cast<float>(self_reach_[in.from_object] / cosine));
         return blockers_scene_;
     }
     static void SetLane(const RTCRay &r, int k, RTCRay8 *p) {
@@ -308,9 +315,14 @@ class EmbreeBackend : public Backend {
     }
 
     // plane_of_object_: the objects whose triangles all lie in one plane (a polygon, or a flat
-    // mesh of one modifier); two parallel faces of one mesh are not one plane.
+    // mesh of one modifier); two parallel faces of one mesh are not one plane. Their reach
+    // (self_reach_): how far off the plane Embree's float normal of their narrowest triangle
+    // may let a ray meet them, kSelfReach of the extent over the sine of its smallest angle
+    // (a fan of a 400-sided disc met itself 9e-6 of the extent off the plane); an object with a
+    // triangle narrower than 1e-4 radians is not taken as flat.
     void FindPlanes() {
         plane_of_object_.assign(flat_->scene.objects.size(), core::real3(0));
+        self_reach_.assign(plane_of_object_.size(), 0);
         std::vector<double> offset(plane_of_object_.size(), 0);
         std::vector<char> curved(plane_of_object_.size(), 0);
         const double tolerance = 1e-9 * (extent_ + 1e-30);
@@ -322,16 +334,38 @@ class EmbreeBackend : public Backend {
             const Vec3 &a = flat_->vertices[flat_->triangles[i][0]];
             const double d = n.x * a[0] + n.y * a[1] + n.z * a[2];
             core::real3 &plane = plane_of_object_[object];
-            if (flat_->triangle_material[i] >= 0 || n == core::real3(0)) {
+            const double sine = SmallestSine(i);
+            if (flat_->triangle_material[i] >= 0 || n == core::real3(0) || sine < 1e-4) {
                 curved[object] = 1;
             } else if (plane == core::real3(0)) {
                 plane = n, offset[object] = d;
             } else if (glm::length(n - plane) > 1e-9 || std::abs(d - offset[object]) > tolerance) {
                 curved[object] = 1;
             }
+            if (!curved[object])
+                self_reach_[object] = std::max(self_reach_[object], kSelfReach * extent_ / sine);
         }
         for (size_t o = 0; o < plane_of_object_.size(); ++o)
             if (curved[o]) plane_of_object_[o] = core::real3(0);
+    }
+
+    // The sine of triangle i's smallest angle (the one opposite its shortest side).
+    double SmallestSine(size_t i) const {
+        const auto &t = flat_->triangles[i];
+        double sides[3];
+        for (int e = 0; e < 3; ++e) {
+            const Vec3 &p = flat_->vertices[t[e]], &q = flat_->vertices[t[(e + 1) % 3]];
+            sides[e] = std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                                 (p[2] - q[2]) * (p[2] - q[2]));
+        }
+        std::sort(sides, sides + 3);
+        // twice the area over the two longer sides
+        const Vec3 &a = flat_->vertices[t[0]], &b = flat_->vertices[t[1]],
+                   &c = flat_->vertices[t[2]];
+        const double twice_area =
+            glm::length(glm::cross(core::real3(b[0] - a[0], b[1] - a[1], b[2] - a[2]),
+                                   core::real3(c[0] - a[0], c[1] - a[1], c[2] - a[2])));
+        return sides[1] * sides[2] > 0 ? twice_area / (sides[1] * sides[2]) : 0;
     }
 
     // How far inside its triangle (in barycentric coordinates, for a ray along the normal) a hit
@@ -458,10 +492,12 @@ class EmbreeBackend : public Backend {
     // per object: the unit normal of its plane where it is flat and never met by the rays that
     // leave it (all its triangles in one plane and of its own modifier), else 0
     std::vector<core::real3> plane_of_object_;
+    std::vector<double> self_reach_;  // per flat object: FindPlanes
     std::vector<int> surfaces_;  // indices of the analytic surfaces (not sources) in flat_->shapes
     unsigned triangles_id_ = RTC_INVALID_GEOMETRY_ID, shapes_id_ = RTC_INVALID_GEOMETRY_ID;
     double centre_[3] = {0, 0, 0};
     double extent_ = 0;
+    double inverse_extent_ = 0;  // 1 / extent_ (0 for an empty scene)
     double near_ = 0;  // 1e-6 of the scene's size: closer than that, a surface meets itself
 };
 
