@@ -18,6 +18,22 @@ namespace {
 
 using core::real3;
 
+FlatScene SceneOf(const std::string &text, const char *name) {
+    Scene scene;
+    SceneReader(&scene).ReadText(text, name);
+    return Flatten(std::move(scene));
+}
+
+// The CPU caster of flat, with every triangle a blocker.
+std::unique_ptr<Backend> CasterBlockedByAll(const FlatScene &flat) {
+    std::unique_ptr<Backend> caster = CreateEmbreeBackend();
+    std::vector<uint32_t> all(flat.triangles.size());
+    for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+    caster->SetBlockers(all);
+    caster->Commit(flat);
+    return caster;
+}
+
 // Within two units in the last place of libm's double sin and cos over the whole interval.
 TEST(Sampling, SinCosQuarterIsLibmsToTheLastBits) {
     std::mt19937_64 rng(3);
@@ -68,9 +84,7 @@ TEST(Sampling, RefinedTriangleHitsLieOnTheTriangle) {
          << "grey polygon t 0 0 9 " << a.x << ' ' << a.y << ' ' << a.z << ' ' << b.x << ' ' << b.y
          << ' ' << b.z << ' ' << c.x << ' ' << c.y << ' ' << c.z << '\n'
          << "grey sphere far 0 0 4 1030 2030 10 .5\n";  // the scene's extent: about 40 m
-    Scene scene;
-    SceneReader(&scene).ReadText(text.str(), "triangle.rad");
-    const FlatScene flat = Flatten(std::move(scene));
+    const FlatScene flat = SceneOf(text.str(), "triangle.rad");
     const std::unique_ptr<Backend> caster = CreateEmbreeBackend();
     caster->Commit(flat);
     const real3 n = glm::normalize(glm::cross(b - a, c - a));
@@ -129,14 +143,8 @@ TEST(Sampling, BlockersNeverMeetTheObjectARayLeaves) {
         "grey polygon flat 0 0 12 1000 2000 0  1010 2000 0  1010 2010 0  1000 2010 0\n"
         "grey polygon bent 0 0 18 1002 2002 1.5  1008 2002 1.5  1008 2005 .5  1008 2008 1.5"
         "  1002 2008 1.5  1002 2005 .5\n";
-    Scene scene;
-    SceneReader(&scene).ReadText(text, "blockers.rad");
-    const FlatScene flat = Flatten(std::move(scene));
-    const std::unique_ptr<Backend> caster = CreateEmbreeBackend();
-    std::vector<uint32_t> all(flat.triangles.size());
-    for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
-    caster->SetBlockers(all);
-    caster->Commit(flat);
+    const FlatScene flat = SceneOf(text, "blockers.rad");
+    const std::unique_ptr<Backend> caster = CasterBlockedByAll(flat);
     auto centroid = [&](size_t i) {
         real3 c(0);
         for (int k = 0; k < 3; ++k) {
@@ -200,14 +208,8 @@ TEST(Sampling, BlockersNeverMeetTheObjectARayLeaves) {
             const real3 p = centre + 5 * std::cos(a) * ax + 5 * std::sin(a) * ay;
             disc << ' ' << p.x << ' ' << p.y << ' ' << p.z;
         }
-        Scene disc_scene;
-        SceneReader(&disc_scene).ReadText(disc.str() + "\n", "disc.rad");
-        const FlatScene disc_flat = Flatten(std::move(disc_scene));
-        const std::unique_ptr<Backend> disc_caster = CreateEmbreeBackend();
-        std::vector<uint32_t> triangles(disc_flat.triangles.size());
-        for (uint32_t i = 0; i < triangles.size(); ++i) triangles[i] = i;
-        disc_caster->SetBlockers(triangles);
-        disc_caster->Commit(disc_flat);
+        const FlatScene disc_flat = SceneOf(disc.str() + "\n", "disc.rad");
+        const std::unique_ptr<Backend> disc_caster = CasterBlockedByAll(disc_flat);
         for (int i = 0; i < 40000; ++i) {
             const auto &t = disc_flat.triangles[i % disc_flat.triangles.size()];
             double s = u01(rng), r = u01(rng);
