@@ -29,8 +29,6 @@ struct CpuHit {
     real t;
 };
 
-// What a thread's estimator shares with the others: the scene, its tables and the run's options,
-// and what they report (the core's kReport* flags, items dropped), for the engine.
 // A thread's room for CpuScene::BlockedAhead: the rays it asks, their sources, the answers.
 struct AheadBuffers {
     std::vector<TraceRay> rays;
@@ -39,6 +37,8 @@ struct AheadBuffers {
     size_t capacity = 0;
 };
 
+// What a thread's estimator shares with the others: the scene, its tables and the run's options,
+// and what they report (the core's kReport* flags, items dropped), for the engine.
 struct CpuScene {
     const FlatScene &flat;
     const PackedScene &packed;
@@ -50,12 +50,18 @@ struct CpuScene {
     std::atomic<uint64_t> &dropped;
     bool has_blockers = false;
 
-    // Embree's nearest hit, its surface in the tables.
-    bool Intersect(real3 org, real3 dir, int from, CpuHit *hit) const {
+    // The core's ray (recentred) for the backend, in world coordinates.
+    TraceRay RayFrom(real3 org, real3 dir, int from) const {
         TraceRay tr;
         for (int k = 0; k < 3; ++k) tr.org[k] = org[k] + packed.centre[k], tr.dir[k] = dir[k];
         tr.tmax = std::numeric_limits<double>::infinity();
         tr.from_object = from;
+        return tr;
+    }
+
+    // Embree's nearest hit, its surface in the tables.
+    bool Intersect(real3 org, real3 dir, int from, CpuHit *hit) const {
+        const TraceRay tr = RayFrom(org, dir, from);
         TraceHit th;
         backend.Closest(&tr, &th, 1);
         if (!th.hit) return false;
@@ -94,11 +100,7 @@ struct CpuScene {
             const real ldot = dot(normal, dir);
             if (!((trans < 1. - kTiny && ldot > kTiny) || (trans > kTiny && ldot < -kTiny)))
                 continue;
-            TraceRay tr;
-            for (int k = 0; k < 3; ++k) tr.org[k] = org[k] + packed.centre[k], tr.dir[k] = dir[k];
-            tr.tmax = std::numeric_limits<double>::infinity();
-            tr.from_object = from;
-            rays->push_back(tr);
+            rays->push_back(RayFrom(org, dir, from));
             which->push_back(i);
         }
         if (buffers->capacity < rays->size()) {
@@ -112,10 +114,7 @@ struct CpuScene {
 
     // Whether a blocker lies on the ray (the backend's, committed with the scene).
     bool Blocked(real3 org, real3 dir, int from) const {
-        TraceRay tr;
-        for (int k = 0; k < 3; ++k) tr.org[k] = org[k] + packed.centre[k], tr.dir[k] = dir[k];
-        tr.tmax = std::numeric_limits<double>::infinity();
-        tr.from_object = from;
+        const TraceRay tr = RayFrom(org, dir, from);
         bool blocked = false;
         backend.Blocked(&tr, &blocked, 1);
         return blocked;

@@ -98,8 +98,8 @@ class EmbreeBackend : public Backend {
                                core::real3(c[0] - a[0], c[1] - a[1], c[2] - a[2]));
                 const double len = glm::length(n);
                 normals_.push_back(len > 0 ? n / len : core::real3(0));
-                margins_.push_back(EdgeMargin(a, b, c, len));
             }
+            for (size_t i = 0; i < flat.triangles.size(); ++i) margins_.push_back(EdgeMargin(i));
             rtcSetGeometryUserData(g, this);
             rtcSetGeometryIntersectFilterFunction(g, TriangleFilterFunction);
             rtcSetGeometryOccludedFilterFunction(g, TriangleFilterFunction);
@@ -351,21 +351,9 @@ class EmbreeBackend : public Backend {
 
     // The sine of triangle i's smallest angle (the one opposite its shortest side).
     double SmallestSine(size_t i) const {
-        const auto &t = flat_->triangles[i];
-        double sides[3];
-        for (int e = 0; e < 3; ++e) {
-            const Vec3 &p = flat_->vertices[t[e]], &q = flat_->vertices[t[(e + 1) % 3]];
-            sides[e] = std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
-                                 (p[2] - q[2]) * (p[2] - q[2]));
-        }
-        std::sort(sides, sides + 3);
-        // twice the area over the two longer sides
-        const Vec3 &a = flat_->vertices[t[0]], &b = flat_->vertices[t[1]],
-                   &c = flat_->vertices[t[2]];
-        const double twice_area =
-            glm::length(glm::cross(core::real3(b[0] - a[0], b[1] - a[1], b[2] - a[2]),
-                                   core::real3(c[0] - a[0], c[1] - a[1], c[2] - a[2])));
-        return sides[1] * sides[2] > 0 ? twice_area / (sides[1] * sides[2]) : 0;
+        const TriangleSize size = SizeOf(i);  // twice the area over the two longer sides
+        const double product = size.sides[1] * size.sides[2];
+        return product > 0 ? size.twice_area / product : 0;
     }
 
     // How far inside its triangle (in barycentric coordinates, for a ray along the normal) a hit
@@ -373,18 +361,34 @@ class EmbreeBackend : public Backend {
     // direction are off the double ones by about 1e-7 of the scene's extent, which moves a
     // barycentric coordinate by that over the triangle's least height; the margin is 100 times
     // that, and 1 (never inside) for slivers.
-    float EdgeMargin(const Vec3 &a, const Vec3 &b, const Vec3 &c, double twice_area) const {
-        double longest = 0;
-        const Vec3 *v[3] = {&a, &b, &c};
-        for (int e = 0; e < 3; ++e) {
-            const Vec3 &p = *v[e], &q = *v[(e + 1) % 3];
-            longest = std::max(
-                longest, std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
-                                   (p[2] - q[2]) * (p[2] - q[2])));
-        }
-        const double height = longest > 0 ? twice_area / longest : 0;
+    float EdgeMargin(size_t i) const {
+        const TriangleSize size = SizeOf(i);
+        const double height = size.sides[2] > 0 ? size.twice_area / size.sides[2] : 0;
         const double margin = height > 0 ? 1e-5 * (extent_ + 1e-30) / height : 1;
         return static_cast<float>(std::min(margin, 1.0));
+    }
+
+    // Triangle i's sides, shortest first, and twice its area.
+    struct TriangleSize {
+        double sides[3];
+        double twice_area;
+    };
+    TriangleSize SizeOf(size_t i) const {
+        const auto &t = flat_->triangles[i];
+        TriangleSize size;
+        for (int e = 0; e < 3; ++e) {
+            const Vec3 &p = flat_->vertices[t[e]], &q = flat_->vertices[t[(e + 1) % 3]];
+            size.sides[e] =
+                std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) +
+                          (p[2] - q[2]) * (p[2] - q[2]));
+        }
+        std::sort(size.sides, size.sides + 3);
+        const Vec3 &a = flat_->vertices[t[0]], &b = flat_->vertices[t[1]],
+                   &c = flat_->vertices[t[2]];
+        size.twice_area =
+            glm::length(glm::cross(core::real3(b[0] - a[0], b[1] - a[1], b[2] - a[2]),
+                                   core::real3(c[0] - a[0], c[1] - a[1], c[2] - a[2])));
+        return size;
     }
 
     // The ray of this thread's query in double, recentred.
