@@ -289,7 +289,7 @@ bool SourceSample(IN(Item) it, int i, IN(PackedSource) s, OUT(real3) dir, OUT(re
 // direct() with dirnorm() for a diffuse surface: the shadow ray toward a sample of source i,
 // carrying the diffuse coefficient (and the rough specular lobe's).
 void DirectStep(IN(Item) it, int i) {
-    PackedSource s = sources[i];
+    LOCAL(PackedSource) s = sources[i];
     if (s.colour.w > 0.5) return;  // glow: found only by escaping rays
     real3 dir;
     real omega;
@@ -328,7 +328,7 @@ void DirectStep(IN(Item) it, int i) {
 // its diffuse reflection and transmission, incident its pattern's colour, normal the normal
 // facing the ray, and (rdiff, tdiff, trans) its up vector.
 void DirectStepBsdf(IN(Item) it, int i) {
-    PackedSource s = sources[i];
+    LOCAL(PackedSource) s = sources[i];
     if (s.colour.w > 0.5) return;
     real3 dir;
     real omega;

@@ -8,6 +8,8 @@
 //   DONT_UNROLL                keeps a loop rolled in GLSL (lavapipe inlines every call, so
 //                              small loops copied many times cost minutes of compiling)
 //   XYZ(v), XY(v), ZW(v)       swizzles (GLM has them only as proxies that templates reject)
+//   LOCAL(T)                   a local bound to a table's entry: a const reference in C++ (no
+//                              copy), a copy in GLSL (which has no references)
 // Rules the core keeps so that both compilers take it: no recursion, no pointers, no default
 // arguments, GLSL's forward declarations inside #ifndef __cplusplus (C++ class scope must not
 // repeat a member's declaration), no swizzles but the macros above, no integer times vector (GLM's
@@ -76,6 +78,7 @@ inline ivec2 ZW(const ivec4 &v) { return ivec2(v.z, v.w); }
 }  // namespace dayflux::core
 
 #define IN(T) const T &
+#define LOCAL(T) const T &
 #define OUT(T) T &
 #define INOUT(T) T &
 #define CONST static constexpr
@@ -88,6 +91,7 @@ inline ivec2 ZW(const ivec4 &v) { return ivec2(v.z, v.w); }
 #define real3 vec3
 #define real4 vec4
 #define IN(T) in T
+#define LOCAL(T) T
 #define OUT(T) out T
 #define INOUT(T) inout T
 #define CONST const

@@ -21,7 +21,7 @@ bool Escape(IN(Ray) r, OUT(Hit) h) {
     }
     if (chosen < 0) chosen = glow;
     if (chosen < 0) return false;
-    PackedSource s = sources[chosen];
+    LOCAL(PackedSource) s = sources[chosen];
     h.object = s.object;
     h.surface = -1;
     h.tracked = s.tracked;
