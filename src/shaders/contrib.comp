@@ -65,7 +65,7 @@ void AddToRecord(int column, vec3 v) {
 // No test of shadow rays against the blockers here (direct.inl): each walks through what it
 // meets.
 bool Blocked(vec3 org, vec3 dir, int from, int source) { return false; }
-void BlockersAhead(vec3 org, vec3 normal, int from, float trans, int first, int end) {}
+void BlockersAhead(vec3 org, vec3 normal, int from, bool front, bool back, int first, int end) {}
 
 #include "raytrace/core/rays.inl"
 #include "raytrace/core/hemisphere.inl"

@@ -27,7 +27,7 @@ real3 SourceDirection(IN(PackedSource) s) {
 // alone answers that without the walk through the glass.
 void ShadowRay(IN(Item) it, int i, IN(PackedSource) s, real3 dir, real3 coef) {
     if (Max3(coef) <= 0. || Bright(coef * XYZ(s.colour)) <= 0.) return;
-    if (int(s.u.w) == kSourceDistant && s.relay < 0 && Blocked(it.point, dir, it.r.from, i)) return;
+    if (ShadowRaysAskBlockers(s) && Blocked(it.point, dir, it.r.from, i)) return;
     int at = PushSlot();
     STACK(at).r = it.r;
     STACK(at).r.depth = it.r.depth + 1;
@@ -286,6 +286,10 @@ bool SourceSample(IN(Item) it, int i, IN(PackedSource) s, OUT(real3) dir, OUT(re
     return found;
 }
 
+// The sides of a diffuse surface (transmitting trans) whose sources its direct item samples.
+bool ShadesFront(real trans) { return trans < 1. - kTiny; }
+bool ShadesBack(real trans) { return trans > kTiny; }
+
 // direct() with dirnorm() for a diffuse surface: the shadow ray toward a sample of source i,
 // carrying the diffuse coefficient (and the rough specular lobe's).
 void DirectStep(IN(Item) it, int i) {
@@ -296,7 +300,7 @@ void DirectStep(IN(Item) it, int i) {
     if (!SourceSample(it, i, s, dir, omega)) return;
     real ldot = dot(it.normal, dir);
     // the wrong side of an opaque surface, or of a fully transmitting one
-    if (ldot < 0. ? it.trans <= kTiny : it.trans >= 1. - kTiny) return;
+    if (ldot < 0. ? !ShadesBack(it.trans) : !ShadesFront(it.trans)) return;
     real lrdiff = it.rdiff, ltdiff = it.tdiff;
     if (it.fresnel != 0 && (lrdiff > kTiny || ltdiff > kTiny)) {
         real f = 1. - FresnelEstimate(abs(ldot));
@@ -386,8 +390,11 @@ void PushDirect(IN(Ray) ray, real3 colour, real rdiff, real tdiff, real trans, b
 // Returns false after the last.
 bool DirectItemStep(INOUT(Item) it) {
     int before = top;
-    // The driver may answer the blockers for all the sources ahead at once (the CPU's packets).
-    BlockersAhead(it.point, it.normal, it.r.from, it.trans, it.next, it.end);
+    // The driver may answer the blockers for all the sources ahead at once (the CPU's packets);
+    // a BSDF's item may sample either side.
+    bool bsdf = it.kind == kItemDirectBsdf;
+    BlockersAhead(it.point, it.normal, it.r.from, bsdf || ShadesFront(it.trans),
+                  bsdf || ShadesBack(it.trans), it.next, it.end);
     DONT_UNROLL while (it.next < it.end && top == before) {
         int i = it.next, nparts = 1;
         // Each sample's numbers keyed by its source and part, not by the samples before it: the

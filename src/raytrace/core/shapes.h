@@ -119,15 +119,15 @@ inline real3 ClosestPointOnTriangle(real3 p, real3 a, real3 b, real3 c) {
     return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-// The distance along the ray to the plane through a with normal n (any length), in place of t
-// where the ray meets it ahead.
-inline real DistanceToPlane(real3 org, real3 dir, real3 a, real3 n, real t) {
+// t set to the distance along the ray to the plane through a with normal n (any length), where
+// the ray meets it ahead; false (t kept) where it does not.
+inline bool OntoPlane(real3 org, real3 dir, real3 a, real3 n, INOUT(real) t) {
     real dn = dot(dir, n);
-    if (dn != 0.) {
-        real tp = dot(a - org, n) / dn;
-        if (tp > 0.) t = tp;
-    }
-    return t;
+    if (dn == 0.) return false;
+    real tp = dot(a - org, n) / dn;
+    if (tp <= 0.) return false;
+    t = tp;
+    return true;
 }
 
 // A hit on triangle abc (normal n, any length) refined: t from the ray's meeting with the
@@ -135,7 +135,7 @@ inline real DistanceToPlane(real3 org, real3 dir, real3 a, real3 n, real t) {
 // hit a hair beyond an edge (so that new rays never start outside a closed room).
 inline real3 PointOnTriangle(real3 org, real3 dir, real3 a, real3 b, real3 c, real3 n,
                              INOUT(real) t) {
-    t = DistanceToPlane(org, dir, a, n, t);
+    OntoPlane(org, dir, a, n, t);
     return ClosestPointOnTriangle(org + t * dir, a, b, c);
 }
 

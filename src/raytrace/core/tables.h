@@ -126,6 +126,12 @@ struct PackedSource {
     int pad0, pad1;
 };
 
+// Whether shadow rays toward source s may ask the blockers (StopsShadowRays) instead of walking:
+// a distant source (a sun), not an image in a mirror, not a glow (which sends no shadow rays).
+inline bool ShadowRaysAskBlockers(PackedSource s) {
+    return int(s.u.w) == kSourceDistant && s.relay < 0 && s.colour.w < 0.5;
+}
+
 // A tracked modifier (ivec4 per -m): its first column in a record, its number of bins, and its
 // bin function.
 CONST int kTrackedColumn = 0;

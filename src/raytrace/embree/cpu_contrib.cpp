@@ -80,12 +80,12 @@ struct CpuScene {
         return true;
     }
 
-    // The blockers on the shadow rays from org toward distant sources first .. end - 1 at their
-    // centres (without -dj, where direct.inl's shadow rays go), asked at once, on the sides of
-    // the surface (normal) that its direct item shades (in front unless it transmits all, behind
-    // where it transmits): ahead[i] 2 where blocked, 1 where not, 0 where not asked. Returns
-    // false where it asks nothing (no blockers, or -dj).
-    bool BlockedAhead(real3 org, real3 normal, int from, real trans, int first, int end,
+    // The blockers on the shadow rays from org toward sources first .. end - 1 that ask them
+    // (ShadowRaysAskBlockers), at their centres (without -dj, where direct.inl's shadow rays go),
+    // asked at once, on the sides of normal that the direct item shades (front, back): ahead[i]
+    // 2 where blocked, 1 where not, 0 where not asked. Returns false where it asks nothing (no
+    // blockers, or -dj).
+    bool BlockedAhead(real3 org, real3 normal, int from, bool front, bool back, int first, int end,
                       uint8_t *ahead, AheadBuffers *buffers) const {
         if (!has_blockers || options.source_jitter > kTiny) return false;
         std::vector<TraceRay> *rays = &buffers->rays;
@@ -95,11 +95,10 @@ struct CpuScene {
         for (int i = first; i < end; ++i) {
             ahead[i] = 0;
             const PackedSource &s = packed.sources[i];
-            if (int(s.u.w) != kSourceDistant || s.relay >= 0 || s.colour.w > 0.5f) continue;
+            if (!ShadowRaysAskBlockers(s)) continue;
             const real3 dir = XYZ(s.dir);
             const real ldot = dot(normal, dir);
-            if (!((trans < 1. - kTiny && ldot > kTiny) || (trans > kTiny && ldot < -kTiny)))
-                continue;
+            if (!((front && ldot > kTiny) || (back && ldot < -kTiny))) continue;
             rays->push_back(RayFrom(org, dir, from));
             which->push_back(i);
         }
@@ -256,9 +255,8 @@ class CpuContribEngine : public ContribEngine {
     // or antimatter's inside material change what a surface is.
     static std::vector<uint32_t> Blockers(const FlatScene &flat, const PackedScene &p) {
         std::vector<uint32_t> blockers;
-        const bool suns = std::any_of(p.sources.begin(), p.sources.end(), [](const auto &s) {
-            return int(s.u.w) == core::kSourceDistant && s.colour.w < 0.5f && s.relay < 0;
-        });
+        const bool suns = std::any_of(p.sources.begin(), p.sources.end(),
+                                      [](const auto &s) { return core::ShadowRaysAskBlockers(s); });
         if (!suns || p.dielectric || p.inside) return blockers;
         for (size_t t = 0; t < flat.triangles.size(); ++t)
             if (core::StopsShadowRays(p.surfaces[p.triangles[t].surface]))

@@ -110,13 +110,14 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
     // The blockers ahead of a direct item, asked once for all its sources (CpuScene::BlockedAhead)
     // and kept while its steps run (nothing else asks between them); Blocked answers from them
     // where the same ray is asked.
-    void BlockersAhead(real3 org, real3 normal, int from, real trans, int first, int end) {
+    void BlockersAhead(real3 org, real3 normal, int from, bool front, bool back, int first,
+                       int end) {
         if (ahead_valid_ && from == ahead_from_ && org == ahead_org_ && first >= ahead_first_ &&
             end <= ahead_end_)
             return;
         if (ahead_.size() < static_cast<size_t>(nsources_)) ahead_.resize(nsources_);
-        ahead_valid_ = scene_.BlockedAhead(org, normal, from, trans, first, end, ahead_.data(),
-                                           &ahead_buffers_);
+        ahead_valid_ = scene_.BlockedAhead(org, normal, from, front, back, first, end,
+                                           ahead_.data(), &ahead_buffers_);
         ahead_org_ = org;
         ahead_from_ = from;
         ahead_first_ = first;

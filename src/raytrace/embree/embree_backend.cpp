@@ -161,8 +161,7 @@ class EmbreeBackend : public Backend {
             const core::real3 org(rays[i].org[0], rays[i].org[1], rays[i].org[2]);
             const core::real3 dir(rays[i].dir[0], rays[i].dir[1], rays[i].dir[2]);
             const core::real3 va(a[0], a[1], a[2]);
-            const double t_float = h.t;
-            h.t = core::DistanceToPlane(org, dir, va, n, h.t);
+            const bool on_plane = core::OntoPlane(org, dir, va, n, h.t);
             core::real3 p = org + h.t * dir;
             // Only a hit near an edge can lie outside in double (Embree's barycentrics are of
             // its float ray): it is moved in; the others are in by a wide margin, which grows as
@@ -174,7 +173,7 @@ class EmbreeBackend : public Backend {
             for (int k = 0; k < 3; ++k) reach += std::abs(org[k] - centre_[k]);
             const double m = margins_[h.triangle] * std::max(1.0, reach * inverse_extent_);
             const double u = rh.hit.u, v = rh.hit.v;
-            if (h.t == t_float || !(u * cosine > m && v * cosine > m && (1. - u - v) * cosine > m))
+            if (!on_plane || !(u * cosine > m && v * cosine > m && (1. - u - v) * cosine > m))
                 p = core::ClosestPointOnTriangle(p, va, core::real3(b[0], b[1], b[2]),
                                                  core::real3(c[0], c[1], c[2]));
             for (int k = 0; k < 3; ++k) h.point[k] = p[k];
