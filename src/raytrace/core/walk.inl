@@ -42,42 +42,16 @@ bool Escape(IN(Ray) r, OUT(Hit) h) {
     return true;
 }
 
-bool FindHit(IN(Ray) r, OUT(Hit) h) {
-    if (!Intersect(r, h)) return Escape(r, h);
-    h.m = surfaces[h.surface];
-    h.tracked = h.m.tracked;
-    h.source = -1;
-    return true;
-}
-
-// Hemisphere and direct items stay on the stack while they have cells or sources left, under
-// the rays their steps push, which run first.
-void RunStack() {
+// Runs the stack's hemisphere and direct items until a ray to trace is on top, and pops it into
+// r; false once the stack is empty. Hemisphere and direct items stay on the stack while they
+// have cells or sources left, under the rays their steps push, which run first.
+bool NextRay(OUT(Ray) r) {
     while (top > 0) {
         int kind = STACK(top - 1).kind;
         if (kind == kItemTrace) {
-            Ray r = STACK(--top).r;
+            r = STACK(--top).r;
             if (r.depth > kMaxDepth) continue;
-            Hit h;
-            if (!FindHit(r, h)) continue;
-#ifdef DAYFLUX_DIELECTRIC
-            if (Max3(r.cext) > 0.) r.t = h.t;  // its length, for the weights of its children
-#endif
-#ifdef DAYFLUX_INSIDE
-            r.counter = h.m.counter;
-            r.counter_front = dot(r.dir, h.normal) < 0. ? 1 : 0;
-#endif
-            if ((r.clip & h.m.clip) != 0u) {
-                // raycont(): antimatter hides the surface; rcontrib's trace_contrib() still sees
-                // the hit, so a tracked modifier counts its coefficient (no value for -V).
-                if (h.tracked >= 0 && CONTRIBUTIONS == 0 &&
-                    (r.aimed < 0 || h.object == sources[r.aimed].object))
-                    Contribute(h.tracked, r, h.point, h.normal, h.t, h.source, real3(1));
-                r.from = h.object;
-                PushChild(r, kTrans, real3(1), h.point, r.dir);
-                continue;
-            }
-            Shade(r, h.object, h.tracked, h.source, h.m, h.point, h.normal, h.t);
+            return true;
         } else if (kind == kItemAmbient) {
             int at = top - 1;
             bool last = STACK(at).next + 1 >= STACK(at).end;
@@ -98,14 +72,57 @@ void RunStack() {
             if (!DirectItemStep(STACK(at)) && top == at + 1) --top;
         }
     }
+    return false;
+}
+
+// Ray r, popped by NextRay, meets what the driver's Intersect found (met, in h) or else a
+// distant source (sourcehit()), and that is shaded, pushing what it spawns.
+void ShadeMet(INOUT(Ray) r, bool met, INOUT(Hit) h) {
+    if (met) {
+        h.m = surfaces[h.surface];
+        h.tracked = h.m.tracked;
+        h.source = -1;
+    } else if (!Escape(r, h)) {
+        return;
+    }
+#ifdef DAYFLUX_DIELECTRIC
+    if (Max3(r.cext) > 0.) r.t = h.t;  // its length, for the weights of its children
+#endif
+#ifdef DAYFLUX_INSIDE
+    r.counter = h.m.counter;
+    r.counter_front = dot(r.dir, h.normal) < 0. ? 1 : 0;
+#endif
+    if ((r.clip & h.m.clip) != 0u) {
+        // raycont(): antimatter hides the surface; rcontrib's trace_contrib() still sees the
+        // hit, so a tracked modifier counts its coefficient (no value for -V).
+        if (h.tracked >= 0 && CONTRIBUTIONS == 0 &&
+            (r.aimed < 0 || h.object == sources[r.aimed].object))
+            Contribute(h.tracked, r, h.point, h.normal, h.t, h.source, real3(1));
+        r.from = h.object;
+        PushChild(r, kTrans, real3(1), h.point, r.dir);
+        return;
+    }
+    Shade(r, h.object, h.tracked, h.source, h.m, h.point, h.normal, h.t);
+}
+
+// The walk: each ray the stack gives traced (the driver's Intersect) and shaded.
+void RunStack() {
+    Ray r;
+    while (NextRay(r)) {
+        Hit h;
+        bool met = Intersect(r, h);
+        ShadeMet(r, met, h);
+    }
 }
 
 // Traces input ray `index` (org, dir of unit length) of replica `replica` (-se), adding its
-// contributions through AddToRecord. A sensor's first hemisphere (-I) may be shared between
-// tasks: this one traces its rows of slice `slice` of `slices`, replaying the directions of the
-// rows before them without tracing them, and its share of the light sources (thousands of suns
-// for C_ds), their samples keyed as in one task.
-void TraceInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint slices) {
+// contributions through AddToRecord, all but its first hemisphere's cells (-I), which it gives
+// back in `cells` (false where there are none left to trace). A sensor's first hemisphere may be
+// shared between tasks: this one traces its rows of slice `slice` of `slices`, replaying the
+// directions of the rows before them without tracing them, and its share of the light sources
+// (thousands of suns for C_ds), their samples keyed as in one task.
+bool TraceAllButCells(real3 org, real3 dir, uint index, uint replica, uint slice, uint slices,
+                      OUT(Item) cells) {
     top = 0;
     pushed0 = 0u;
     hemispheres0 = 0u;
@@ -141,7 +158,7 @@ void TraceInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint
             PushTrace(r);
             RunStack();
         }
-        return;
+        return false;
     }
     // -I: a Lambertian surface of reflectance pi at the origin, facing the ray direction, so
     // that the ambient value is irradiance (RADIANCE offsets it by 1e-4 along the normal).
@@ -160,12 +177,12 @@ void TraceInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint
         rng = Key(cell_key, slice, 17u, 5u);
     }
     PushHemisphere(r, lamb, point, dir);
-    if (top == 0) return;
+    if (top == 0) return false;
     // This slice's share of the rows; the rows before it are replayed without tracing.
     Item h = STACK(--top);
     int rows = h.n, per = (rows + int(slices) - 1) / int(slices);
     int row_first = int(slice) * per, row_end = min(rows, row_first + per);
-    if (row_first >= row_end) return;
+    if (row_first >= row_end) return false;
     int row_steps = h.n;
 #ifdef DAYFLUX_ASUB
     if (ASUB > 1) row_steps *= ASUB * ASUB;
@@ -178,6 +195,38 @@ void TraceInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint
     }
     h.next = row_first * row_steps;
     h.end = row_end * row_steps;
-    PushItem(h);
+    cells = h;
+    return true;
+}
+
+// The whole of input ray `index` (TraceAllButCells), its first hemisphere's cells one after
+// the other.
+void TraceInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint slices) {
+    Item cells;
+    if (!TraceAllButCells(org, dir, index, replica, slice, slices, cells)) return;
+    PushItem(cells);
     RunStack();
+}
+
+// For a driver that traces several cells' paths at once (the CPU's, in packets): the next ray
+// of the first hemisphere `cells` (from TraceAllButCells) in r, with the random state its path
+// goes on from in state; false once no cell is left. A cell's path draws only from that state
+// and touches no state of the first level, so each may run on a stack of its own
+// (StartCellPath) and give the same numbers as in TraceInput.
+bool NextCell(INOUT(Item) cells, OUT(Ray) r, OUT(uint) state) {
+    top = 0;
+    while (cells.next < cells.end) {
+        if (!AmbientStep(cells)) continue;
+        r = STACK(--top).r;
+        state = rng;
+        return true;
+    }
+    return false;
+}
+
+// Starts cell ray r's path (from NextCell) on this stack; NextRay and ShadeMet walk it.
+void StartCellPath(IN(Ray) r, uint state) {
+    top = 0;
+    rng = state;
+    PushTrace(r);
 }
