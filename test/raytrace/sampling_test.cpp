@@ -133,6 +133,117 @@ TEST(Sampling, RefinedTriangleHitsLieOnTheTriangle) {
     EXPECT_GT(near_edge, 0);  // the float traversal does report hits beyond an edge
 }
 
+// Closest's rays traced together (Embree's packets of eight, through the scene without its
+// filter, and again through the filtered one where a ray met its own object) meet what each
+// meets alone: the same triangle or analytic surface at the same point, never the polygon a ray
+// leaves however it grazes it; from a box's walls, a bent polygon, a sphere, and from nowhere.
+TEST(Sampling, PacketsMeetWhatRaysAloneMeet) {
+    const std::string text =
+        "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
+        "grey polygon floor 0 0 12 0 0 0  0 4 0  4 4 0  4 0 0\n"
+        "grey polygon ceiling 0 0 12 0 0 3  4 0 3  4 4 3  0 4 3\n"
+        "grey polygon west 0 0 12 0 0 0  0 0 3  0 4 3  0 4 0\n"
+        "grey polygon east 0 0 12 4 0 0  4 4 0  4 4 3  4 0 3\n"
+        "grey polygon north 0 0 12 0 4 0  0 4 3  4 4 3  4 4 0\n"
+        "grey polygon south 0 0 12 0 0 0  4 0 0  4 0 3  0 0 3\n"
+        "grey polygon bent 0 0 18 1 1 1.5  3 1 1.5  3 2 1  3 3 1.5  1 3 1.5  1 2 1\n"
+        "grey sphere ball 0 0 4 3 3 .6 .4\n"
+        "grey cone hat 0 0 8 1 3 .2  1 3 1  .3 .1\n";
+    const FlatScene flat = SceneOf(text, "packets.rad");
+    const std::unique_ptr<Backend> caster = CreateEmbreeBackend();
+    caster->Commit(flat);
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u01(0, 1);
+    auto unit = [&] { return glm::normalize(real3(u01(rng) - .5, u01(rng) - .5, u01(rng) - .5)); };
+    int ball = -1;
+    for (const auto &shape : flat.shapes)
+        if (shape.kind == AnalyticShape::kSphere) ball = shape.object;
+    ASSERT_GE(ball, 0);
+    std::vector<TraceRay> rays;
+    for (int i = 0; i < 40000; ++i) {
+        real3 org, dir = unit();
+        int from = -1;
+        if (i % 4 < 2) {  // from a triangle of a wall or of the bent polygon
+            const size_t t = rng() % flat.triangles.size();
+            double a = u01(rng), b = u01(rng);
+            if (a + b > 1) a = 1 - a, b = 1 - b;
+            const Vec3 &p = flat.vertices[flat.triangles[t][0]],
+                       &q = flat.vertices[flat.triangles[t][1]],
+                       &r = flat.vertices[flat.triangles[t][2]];
+            for (int k = 0; k < 3; ++k) org[k] = p[k] + a * (q[k] - p[k]) + b * (r[k] - p[k]);
+            from = flat.triangle_object[t];
+            if (i % 4 == 1) {  // grazing it by 1e-7 .. 1e-2 radians
+                const real3 n =
+                    glm::normalize(glm::cross(real3(q[0] - p[0], q[1] - p[1], q[2] - p[2]),
+                                              real3(r[0] - p[0], r[1] - p[1], r[2] - p[2])));
+                const real3 along = glm::normalize(dir - glm::dot(dir, n) * n);
+                const double angle = std::pow(10, -7 + 5 * u01(rng));
+                dir = std::cos(angle) * along + std::sin(angle) * (u01(rng) < .5 ? -n : n);
+            }
+        } else if (i % 4 == 2) {  // from the sphere, out of it or into it
+            const real3 n = unit();
+            org = real3(3, 3, .6) + .4 * n;
+            from = ball;
+        } else {
+            org = real3(.2 + 3.6 * u01(rng), .2 + 3.6 * u01(rng), .2 + 2.6 * u01(rng));
+        }
+        TraceRay ray;
+        for (int k = 0; k < 3; ++k) ray.org[k] = org[k], ray.dir[k] = dir[k];
+        ray.tmax = INFINITY;
+        ray.from_object = from;
+        rays.push_back(ray);
+    }
+    std::vector<TraceHit> together(rays.size());
+    caster->Closest(rays.data(), together.data(), rays.size());
+    int hits = 0, shapes = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        TraceHit alone;
+        caster->Closest(&rays[i], &alone, 1);
+        const TraceHit &h = together[i];
+        ASSERT_EQ(h.hit, alone.hit) << i;
+        if (!h.hit) continue;
+        ++hits;
+        ASSERT_EQ(h.shape, alone.shape) << i;
+        if (h.shape >= 0) {
+            ++shapes;
+        } else {
+            ASSERT_EQ(h.triangle, alone.triangle) << i;
+            // a polygon is never met by its own rays
+            ASSERT_NE(flat.triangle_object[h.triangle], rays[i].from_object) << i;
+        }
+        for (int k = 0; k < 3; ++k) ASSERT_NEAR(h.point[k], alone.point[k], 1e-12) << i;
+    }
+    EXPECT_GT(hits, 30000);  // a closed box: all but the walls' rays outward meet something
+    EXPECT_GT(shapes, 2000);
+    // a scene of analytic surfaces alone: rays that miss them are misses, alone or together
+    const FlatScene ball_alone = SceneOf(
+        "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
+        "grey sphere ball 0 0 4 0 0 0 1\n",
+        "ball.rad");
+    const std::unique_ptr<Backend> ball_caster = CreateEmbreeBackend();
+    ball_caster->Commit(ball_alone);
+    std::vector<TraceRay> at_ball;
+    for (int i = 0; i < 64; ++i) {
+        TraceRay ray;
+        const real3 dir = unit();
+        for (int k = 0; k < 3; ++k) ray.org[k] = k == 0 ? 5 : 0, ray.dir[k] = dir[k];
+        ray.tmax = INFINITY;
+        at_ball.push_back(ray);
+    }
+    std::vector<TraceHit> ball_hits(at_ball.size());
+    ball_caster->Closest(at_ball.data(), ball_hits.data(), at_ball.size());
+    int met = 0;
+    for (size_t i = 0; i < at_ball.size(); ++i) {
+        TraceHit alone;
+        ball_caster->Closest(&at_ball[i], &alone, 1);
+        ASSERT_EQ(ball_hits[i].hit, alone.hit) << i;
+        // toward the ball (x < 0) within its angle (sin 1/5) from 5 m away
+        ASSERT_EQ(alone.hit, at_ball[i].dir[0] < -std::sqrt(1 - 1. / 25)) << i;
+        met += alone.hit;
+    }
+    EXPECT_LT(met, 64);
+}
+
 // Blocked keeps Closest's rule for the object a ray leaves: a flat polygon is never met by its
 // own rays, however they graze it (they start past where float rounding could put it), nor is a
 // bent polygon (its triangles in different planes: the filtered blockers), whose rays cross from

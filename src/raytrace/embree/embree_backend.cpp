@@ -18,12 +18,13 @@ namespace dayflux {
 
 namespace {
 
-// The ray being traced on this thread, in double (Embree's copy is float), and the distance of the
-// analytic surface hit it accepted last, so shapes are intersected and reported without float
-// rounding: a point on a sphere stays on it.
+// The rays being traced on this thread, in double (Embree's copy is float), and the distance of
+// the analytic surface hit each accepted last, so shapes are intersected and reported without
+// float rounding: a point on a sphere stays on it.
+// For a packet, its rays: Embree's ray id is the lane's index in rays.
 struct ShapeQuery {
-    const TraceRay *ray = nullptr;
-    double t = 0;
+    const TraceRay *rays = nullptr;
+    double t[8] = {};
 };
 thread_local ShapeQuery shape_query;
 
@@ -41,6 +42,7 @@ class EmbreeBackend : public Backend {
     }
     ~EmbreeBackend() override {
         if (blockers_scene_) rtcReleaseScene(blockers_scene_);
+        if (bare_scene_) rtcReleaseScene(bare_scene_);
         if (filtered_blockers_scene_) rtcReleaseScene(filtered_blockers_scene_);
         if (scene_) rtcReleaseScene(scene_);
         rtcReleaseDevice(device_);
@@ -76,6 +78,9 @@ class EmbreeBackend : public Backend {
         scene_ = rtcNewScene(device_);
         rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
         rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+        bare_scene_ = rtcNewScene(device_);
+        rtcSetSceneFlags(bare_scene_, RTC_SCENE_FLAG_ROBUST);
+        rtcSetSceneBuildQuality(bare_scene_, RTC_BUILD_QUALITY_HIGH);
         if (!flat.triangles.empty()) {
             RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
             auto *vb = static_cast<float *>(
@@ -104,8 +109,17 @@ class EmbreeBackend : public Backend {
             rtcSetGeometryIntersectFilterFunction(g, TriangleFilterFunction);
             rtcSetGeometryOccludedFilterFunction(g, TriangleFilterFunction);
             rtcCommitGeometry(g);
-            triangles_id_ = rtcAttachGeometry(scene_, g);
+            triangles_id_ = 0;
+            rtcAttachGeometryByID(scene_, g, triangles_id_);
             rtcReleaseGeometry(g);
+            RTCGeometry bare = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+            rtcSetSharedGeometryBuffer(bare, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vb, 0,
+                                       3 * sizeof(float), flat.vertices.size());
+            rtcSetSharedGeometryBuffer(bare, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, ib, 0,
+                                       3 * sizeof(unsigned), flat.triangles.size());
+            rtcCommitGeometry(bare);
+            rtcAttachGeometryByID(bare_scene_, bare, triangles_id_);
+            rtcReleaseGeometry(bare);
             if (!blockers_.empty()) {
                 FindPlanes();
                 CommitBlockers(vb, flat.vertices.size());
@@ -119,64 +133,54 @@ class EmbreeBackend : public Backend {
             rtcSetGeometryIntersectFunction(g, ShapeIntersectFunction);
             rtcSetGeometryOccludedFunction(g, ShapeOccludedFunction);
             rtcCommitGeometry(g);
-            shapes_id_ = rtcAttachGeometry(scene_, g);
+            shapes_id_ = 1;
+            rtcAttachGeometryByID(scene_, g, shapes_id_);
+            rtcAttachGeometryByID(bare_scene_, g, shapes_id_);
             rtcReleaseGeometry(g);
         }
         rtcCommitScene(scene_);
+        rtcCommitScene(bare_scene_);
     }
 
+    // One ray alone, or several in packets of eight (rays from different points, such as the
+    // lanes of the CPU estimator, still cost less together: Embree tests a node for eight rays
+    // at once). Embree's filter calls cost packets all they gain, so rays go through the scene
+    // without the filter, and the few that meet their own object where the filter would have
+    // passed it (none of the tutorial room's 4 million) again through the filtered scene: the
+    // same hits.
     void Closest(const TraceRay *rays, TraceHit *hits, size_t n) const override {
+        if (n == 1) {
+            ClosestAlone(bare_scene_, rays[0], &hits[0]);
+            return;
+        }
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
-        for (size_t i = 0; i < n; ++i) {
-            RTCRayHit rh;
-            Fill(rays[i], &rh.ray);
-            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-            rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-            shape_query.ray = &rays[i];
-            rtcIntersect1(scene_, &ctx, &rh);
-            TraceHit &h = hits[i];
-            h.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-            if (!h.hit) continue;
-            h.t = rh.ray.tfar;
-            if (rh.hit.geomID == shapes_id_) {
-                h.t = shape_query.t;
-                h.shape = surfaces_[rh.hit.primID];
-                double p[3];
-                for (int k = 0; k < 3; ++k)
-                    p[k] = rays[i].org[k] - centre_[k] + h.t * rays[i].dir[k];
-                ShapeNormal(flat_->shapes[h.shape], centre_, p, h.normal);
-                for (int k = 0; k < 3; ++k) h.point[k] = rays[i].org[k] + h.t * rays[i].dir[k];
-                continue;
+        for (size_t first = 0; first < n; first += 8) {
+            const int lanes = static_cast<int>(std::min<size_t>(8, n - first));
+            alignas(32) RTCRayHit8 packet;
+            alignas(32) int valid[8];
+            for (int k = 0; k < 8; ++k) {
+                valid[k] = k < lanes ? -1 : 0;
+                RTCRay r;
+                Fill(rays[first + std::min(k, lanes - 1)], &r);
+                r.id = static_cast<unsigned>(k);
+                SetLane(r, k, &packet.ray);
+                packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+                packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
             }
-            h.shape = -1;
-            h.triangle = rh.hit.primID;
-            // The normal from the double-precision vertices, in the triangle's winding; the hit
-            // refined in double (core/shapes.h, as the GPU refines its hits).
-            const auto &t = flat_->triangles[h.triangle];
-            const Vec3 &a = flat_->vertices[t[0]], &b = flat_->vertices[t[1]],
-                       &c = flat_->vertices[t[2]];
-            const core::real3 n = normals_[h.triangle];
-            for (int k = 0; k < 3; ++k) h.normal[k] = n[k];
-            const core::real3 org(rays[i].org[0], rays[i].org[1], rays[i].org[2]);
-            const core::real3 dir(rays[i].dir[0], rays[i].dir[1], rays[i].dir[2]);
-            const core::real3 va(a[0], a[1], a[2]);
-            const bool on_plane = core::OntoPlane(org, dir, va, n, h.t);
-            core::real3 p = org + h.t * dir;
-            // Only a hit near an edge can lie outside in double (Embree's barycentrics are of
-            // its float ray): it is moved in; the others are in by a wide margin, which grows as
-            // the ray grazes the plane (an offset of the ray moves its hit by 1 / cos as far) and
-            // as the ray's float error does (with its origin's distance from the centre and its
-            // length). A hit the plane did not refine (behind the origin) is projected as well.
-            const double cosine = std::abs(glm::dot(dir, n));
-            double reach = h.t;
-            for (int k = 0; k < 3; ++k) reach += std::abs(org[k] - centre_[k]);
-            const double m = margins_[h.triangle] * std::max(1.0, reach * inverse_extent_);
-            const double u = rh.hit.u, v = rh.hit.v;
-            if (!on_plane || !(u * cosine > m && v * cosine > m && (1. - u - v) * cosine > m))
-                p = core::ClosestPointOnTriangle(p, va, core::real3(b[0], b[1], b[2]),
-                                                 core::real3(c[0], c[1], c[2]));
-            for (int k = 0; k < 3; ++k) h.point[k] = p[k];
+            shape_query.rays = rays + first;
+            rtcIntersect8(valid, bare_scene_, &ctx, &packet);
+            for (int k = 0; k < lanes; ++k) {
+                const TraceRay &ray = rays[first + k];
+                if (MetItself(ray, packet.hit.geomID[k], packet.hit.primID[k],
+                              packet.ray.tfar[k])) {
+                    ClosestAlone(scene_, ray, &hits[first + k]);
+                    shape_query.rays = rays + first;
+                    continue;
+                }
+                FinishHit(ray, packet.ray.tfar[k], packet.hit.geomID[k], packet.hit.primID[k],
+                          packet.hit.u[k], packet.hit.v[k], shape_query.t[k], &hits[first + k]);
+            }
         }
     }
 
@@ -228,6 +232,77 @@ class EmbreeBackend : public Backend {
     }
 
   private:
+    // Ray alone through scene (bare_scene_, or scene_ where it met itself there).
+    void ClosestAlone(RTCScene scene, const TraceRay &ray, TraceHit *hit) const {
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        RTCRayHit rh;
+        Fill(ray, &rh.ray);
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        shape_query.rays = &ray;
+        rtcIntersect1(scene, &ctx, &rh);
+        if (scene == bare_scene_ && MetItself(ray, rh.hit.geomID, rh.hit.primID, rh.ray.tfar)) {
+            ClosestAlone(scene_, ray, hit);
+            return;
+        }
+        FinishHit(ray, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v,
+                  shape_query.t[0], hit);
+    }
+
+    // Whether the bare scene's hit is one the triangles' filter would have passed.
+    bool MetItself(const TraceRay &ray, unsigned geom, unsigned prim, float t) const {
+        return geom != RTC_INVALID_GEOMETRY_ID && geom == triangles_id_ &&
+               MeetsItself(prim, t, ray.from_object);
+    }
+
+    // Embree's hit (geometry, primitive, float distance and barycentrics; shape_t: the double
+    // distance of an analytic surface's) of ray as TraceHit.
+    void FinishHit(const TraceRay &ray, float tfar, unsigned geom, unsigned prim, float hu,
+                   float hv, double shape_t, TraceHit *out) const {
+        TraceHit &h = *out;
+        h.hit = geom != RTC_INVALID_GEOMETRY_ID;
+        if (!h.hit) return;
+        h.t = tfar;
+        if (geom == shapes_id_) {
+            h.t = shape_t;
+            h.shape = surfaces_[prim];
+            double p[3];
+            for (int k = 0; k < 3; ++k) p[k] = ray.org[k] - centre_[k] + h.t * ray.dir[k];
+            ShapeNormal(flat_->shapes[h.shape], centre_, p, h.normal);
+            for (int k = 0; k < 3; ++k) h.point[k] = ray.org[k] + h.t * ray.dir[k];
+            return;
+        }
+        h.shape = -1;
+        h.triangle = prim;
+        // The normal from the double-precision vertices, in the triangle's winding; the hit
+        // refined in double (core/shapes.h, as the GPU refines its hits).
+        const auto &t = flat_->triangles[h.triangle];
+        const Vec3 &a = flat_->vertices[t[0]], &b = flat_->vertices[t[1]],
+                   &c = flat_->vertices[t[2]];
+        const core::real3 n = normals_[h.triangle];
+        for (int k = 0; k < 3; ++k) h.normal[k] = n[k];
+        const core::real3 org(ray.org[0], ray.org[1], ray.org[2]);
+        const core::real3 dir(ray.dir[0], ray.dir[1], ray.dir[2]);
+        const core::real3 va(a[0], a[1], a[2]);
+        const bool on_plane = core::OntoPlane(org, dir, va, n, h.t);
+        core::real3 p = org + h.t * dir;
+        // Only a hit near an edge can lie outside in double (Embree's barycentrics are of its
+        // float ray): it is moved in; the others are in by a wide margin, which grows as the ray
+        // grazes the plane (an offset of the ray moves its hit by 1 / cos as far) and as the
+        // ray's float error does (with its origin's distance from the centre and its length). A
+        // hit the plane did not refine (behind the origin) is projected as well.
+        const double cosine = std::abs(glm::dot(dir, n));
+        double reach = h.t;
+        for (int k = 0; k < 3; ++k) reach += std::abs(org[k] - centre_[k]);
+        const double m = margins_[h.triangle] * std::max(1.0, reach * inverse_extent_);
+        const double u = hu, v = hv;
+        if (!on_plane || !(u * cosine > m && v * cosine > m && (1. - u - v) * cosine > m))
+            p = core::ClosestPointOnTriangle(p, va, core::real3(b[0], b[1], b[2]),
+                                             core::real3(c[0], c[1], c[2]));
+        for (int k = 0; k < 3; ++k) h.point[k] = p[k];
+    }
+
     // Embree's context, extended (as its documentation allows) for the blockers' filter.
     struct BlockerContext {
         RTCIntersectContext embree;
@@ -267,7 +342,7 @@ class EmbreeBackend : public Backend {
         for (size_t i = 0; i < n; ++i) {
             RTCRay r;
             Fill(rays[i], &r);
-            shape_query.ray = &rays[i];
+            shape_query.rays = &rays[i];
             rtcOccluded1(scene, &ctx, &r);
             hit[i] = r.tfar < 0;
         }
@@ -390,21 +465,25 @@ class EmbreeBackend : public Backend {
         return size;
     }
 
-    // The ray of this thread's query in double, recentred.
-    void RayOf(double org[3], double dir[3]) const {
-        const TraceRay &r = *shape_query.ray;
+    // Lane k's ray of this thread's query (by its Embree ray id), in double, recentred.
+    const TraceRay &QueryRay(const RTCRayN *ray, unsigned n, unsigned k) const {
+        return shape_query.rays[RTCRayN_id(const_cast<RTCRayN *>(ray), n, k)];
+    }
+    void RayOf(const TraceRay &r, double org[3], double dir[3]) const {
         for (int k = 0; k < 3; ++k) org[k] = r.org[k] - centre_[k], dir[k] = r.dir[k];
     }
 
     // A triangle of the object the ray leaves: a polygon's never (it is planar, as RADIANCE's
     // polygons are), a mesh's not within near_ of the origin.
     static void TriangleFilterFunction(const RTCFilterFunctionNArguments *args) {
-        CHECK(args->N == 1);
-        if (!args->valid[0]) return;
         const auto *self = static_cast<const EmbreeBackend *>(args->geometryUserPtr);
-        if (self->MeetsItself(RTCHitN_primID(args->hit, 1, 0), RTCRayN_tfar(args->ray, 1, 0),
-                              shape_query.ray->from_object))
-            args->valid[0] = 0;
+        for (unsigned k = 0; k < args->N; ++k) {
+            if (!args->valid[k]) continue;
+            if (self->MeetsItself(RTCHitN_primID(args->hit, args->N, k),
+                                  RTCRayN_tfar(args->ray, args->N, k),
+                                  self->QueryRay(args->ray, args->N, k).from_object))
+                args->valid[k] = 0;
+        }
     }
 
     // The same for the filtered blockers, whose triangles are numbered apart (the ray's object
@@ -425,45 +504,47 @@ class EmbreeBackend : public Backend {
         return flat_->triangle_material[triangle] < 0 || t < near_;
     }
 
-    // The nearest distance an analytic surface is met at: its own surface, near_.
-    double ShapeNear(int prim, float tnear) const {
-        return shape_query.ray->from_object == flat_->shapes[surfaces_[prim]].object
+    // The nearest distance an analytic surface is met at by ray: its own surface, near_.
+    double ShapeNear(const TraceRay &ray, int prim, float tnear) const {
+        return ray.from_object == flat_->shapes[surfaces_[prim]].object
                    ? std::max(static_cast<double>(tnear), near_)
                    : tnear;
     }
 
-    static void ShapeIntersectFunction(const RTCIntersectFunctionNArguments *args) {
-        if (!args->valid[0]) return;
-        CHECK(args->N == 1);
-        const auto *self = static_cast<const EmbreeBackend *>(args->geometryUserPtr);
-        RTCRayN *ray = RTCRayHitN_RayN(args->rayhit, 1);
-        RTCHitN *hit = RTCRayHitN_HitN(args->rayhit, 1);
+    // Where lane k's ray meets analytic surface prim (double precision), or -1.
+    double ShapeDistance(const RTCRayN *ray, unsigned n, unsigned k, unsigned prim) const {
+        const TraceRay &r = QueryRay(ray, n, k);
         double org[3], dir[3];
-        self->RayOf(org, dir);
-        const double t = IntersectShape(
-            self->flat_->shapes[self->surfaces_[args->primID]], self->centre_, org, dir,
-            self->ShapeNear(args->primID, RTCRayN_tnear(ray, 1, 0)), RTCRayN_tfar(ray, 1, 0));
-        if (t < 0) return;
-        shape_query.t = t;
-        RTCRayN_tfar(ray, 1, 0) = static_cast<float>(t);
-        RTCHitN_Ng_x(hit, 1, 0) = 0, RTCHitN_Ng_y(hit, 1, 0) = 0, RTCHitN_Ng_z(hit, 1, 0) = 1;
-        RTCHitN_u(hit, 1, 0) = 0, RTCHitN_v(hit, 1, 0) = 0;
-        RTCHitN_primID(hit, 1, 0) = args->primID;
-        RTCHitN_geomID(hit, 1, 0) = args->geomID;
-        RTCHitN_instID(hit, 1, 0, 0) = args->context->instID[0];
+        RayOf(r, org, dir);
+        RTCRayN *rn = const_cast<RTCRayN *>(ray);
+        return IntersectShape(flat_->shapes[surfaces_[prim]], centre_, org, dir,
+                              ShapeNear(r, prim, RTCRayN_tnear(rn, n, k)), RTCRayN_tfar(rn, n, k));
+    }
+
+    static void ShapeIntersectFunction(const RTCIntersectFunctionNArguments *args) {
+        const auto *self = static_cast<const EmbreeBackend *>(args->geometryUserPtr);
+        const unsigned n = args->N;
+        RTCRayN *ray = RTCRayHitN_RayN(args->rayhit, n);
+        RTCHitN *hit = RTCRayHitN_HitN(args->rayhit, n);
+        for (unsigned k = 0; k < n; ++k) {
+            if (!args->valid[k]) continue;
+            const double t = self->ShapeDistance(ray, n, k, args->primID);
+            if (t < 0) continue;
+            shape_query.t[RTCRayN_id(ray, n, k)] = t;
+            RTCRayN_tfar(ray, n, k) = static_cast<float>(t);
+            RTCHitN_Ng_x(hit, n, k) = 0, RTCHitN_Ng_y(hit, n, k) = 0, RTCHitN_Ng_z(hit, n, k) = 1;
+            RTCHitN_u(hit, n, k) = 0, RTCHitN_v(hit, n, k) = 0;
+            RTCHitN_primID(hit, n, k) = args->primID;
+            RTCHitN_geomID(hit, n, k) = args->geomID;
+            RTCHitN_instID(hit, n, k, 0) = args->context->instID[0];
+        }
     }
 
     static void ShapeOccludedFunction(const RTCOccludedFunctionNArguments *args) {
-        if (!args->valid[0]) return;
-        CHECK(args->N == 1);
         const auto *self = static_cast<const EmbreeBackend *>(args->geometryUserPtr);
-        double org[3], dir[3];
-        self->RayOf(org, dir);
-        const double t =
-            IntersectShape(self->flat_->shapes[self->surfaces_[args->primID]], self->centre_, org,
-                           dir, self->ShapeNear(args->primID, RTCRayN_tnear(args->ray, 1, 0)),
-                           RTCRayN_tfar(args->ray, 1, 0));
-        if (t >= 0) RTCRayN_tfar(args->ray, 1, 0) = -std::numeric_limits<float>::infinity();
+        for (unsigned k = 0; k < args->N; ++k)
+            if (args->valid[k] && self->ShapeDistance(args->ray, args->N, k, args->primID) >= 0)
+                RTCRayN_tfar(args->ray, args->N, k) = -std::numeric_limits<float>::infinity();
     }
 
     void Fill(const TraceRay &in, RTCRay *r) const {
@@ -485,8 +566,9 @@ class EmbreeBackend : public Backend {
     }
 
     RTCDevice device_ = nullptr;
-    RTCScene scene_ = nullptr;
-    RTCScene blockers_scene_ = nullptr;           // the blockers alone (Blocked), or none
+    RTCScene scene_ = nullptr;           // the scene, with MeetsItself as the triangles' filter
+    RTCScene bare_scene_ = nullptr;      // the same without the filter (Closest)
+    RTCScene blockers_scene_ = nullptr;  // the blockers alone (Blocked), or none
     RTCScene filtered_blockers_scene_ = nullptr;  // the same with MeetsItself as a filter
     std::vector<uint32_t> blockers_;              // their indices in flat_->triangles
     const FlatScene *flat_ = nullptr;
