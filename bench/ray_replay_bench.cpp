@@ -12,7 +12,8 @@
 // run's time that is the caster's. The replay goes through dayflux's Backend (Embree's
 // rtcIntersect1/rtcOccluded1 plus the hit's double-precision point and normal), the part of
 // the work no integrator can avoid.
-// usage: ray_replay_bench [-record_every K] [-repeat N] rcontrib-gpu-options... scene... < sensors
+// usage: ray_replay_bench [-record_every K] [-repeat N] [-paths P] rcontrib-gpu-options... scene...
+//        < sensors   (-paths: EngineOptions::cpu_paths_at_once)
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -144,14 +145,17 @@ std::vector<double> ReadRays(std::istream &in) {
 
 int Main(int argc, char **argv) {
     std::vector<std::string> args(argv, argv + argc);
-    size_t every = 1, repeat = 3;
-    while (args.size() > 2 && (args[1] == "-record_every" || args[1] == "-repeat")) {
-        (args[1] == "-repeat" ? repeat : every) = std::max<size_t>(1, std::stoul(args[2]));
+    size_t every = 1, repeat = 3, paths = EngineOptions().cpu_paths_at_once;
+    while (args.size() > 2 &&
+           (args[1] == "-record_every" || args[1] == "-repeat" || args[1] == "-paths")) {
+        size_t &value = args[1] == "-repeat" ? repeat : args[1] == "-paths" ? paths : every;
+        value = std::max<size_t>(1, std::stoul(args[2]));
         args.erase(args.begin() + 1, args.begin() + 3);
     }
     std::vector<std::string> header;
     RcontribOptions o = ParseRcontribOptions(args, &header);
     if (o.engine.backend != "embree") ErrorExit("the replay measures the CPU (Embree) backend");
+    o.engine.cpu_paths_at_once = static_cast<int>(paths);
     const std::unique_ptr<tbb::global_control> threads = LimitThreads(o.threads);
     std::string octree_header;
     const FlatScene flat = ReadRcontribScene(o.scene, &octree_header);

@@ -67,7 +67,7 @@ std::unique_ptr<ContribEngine> CreateContribEngine(const FlatScene &scene,
     std::unique_ptr<Backend> backend = CreateEmbreeBackend();
     if (engine.wrap_cpu_backend) backend = engine.wrap_cpu_backend(std::move(backend));
     return CreateCpuContribEngine(scene, tracked, std::move(table), std::move(packed), options,
-                                  make_context, std::move(backend));
+                                  make_context, std::move(backend), engine.cpu_paths_at_once);
 }
 
 std::string DescribeGpuDevices() {

@@ -38,6 +38,9 @@ struct EngineOptions {
     // first hemisphere is split between tasks, so their sums are short; records are summed in
     // double on the host).
     bool float_accumulators = false;
+    // The CPU: the paths of a sensor's first-hemisphere cells (-I) walked at once by a thread,
+    // their rays traced together in Embree's packets (1: one after the other; at most 16).
+    int cpu_paths_at_once = 8;
     // For benchmarks (bench/ray_replay_bench.cpp) and tests: wraps the CPU's ray caster, to
     // count or record the rays the integrator traces. Empty: Embree as it is.
     std::function<std::unique_ptr<Backend>(std::unique_ptr<Backend>)> wrap_cpu_backend;

@@ -269,6 +269,67 @@ TEST(Engine, ShadowRaysStoppedByBlockersAsByTheWalk) {
     EXPECT_GT(most, 3e-5);
 }
 
+// A thread walks several cells' paths of a sensor's first hemisphere at once (their rays traced
+// in packets): each path draws the numbers it draws one after the other, so the records agree to
+// the rounding of their sums' order, for the plain estimator, -asub's, and the full one (a local
+// source, glass), through polygons and an analytic sphere, with packets full and partly full.
+class CellPaths : public ::testing::TestWithParam<int> {};
+
+TEST_P(CellPaths, AtOnceAsOneAfterTheOther) {
+    std::string text = std::string(kSky) +
+                       "void plastic wall 0 0 5 .6 .6 .6 0 0\n"
+                       "void trans veil 0 0 7 .6 .6 .6 0 0 .5 .6\n"
+                       "wall polygon floor 0 0 12 0 0 0  0 4 0  4 4 0  4 0 0\n"
+                       "wall polygon ceiling 0 0 12 0 0 3  4 0 3  4 4 3  0 4 3\n"
+                       "wall polygon west 0 0 12 0 0 0  0 0 3  0 4 3  0 4 0\n"
+                       "wall polygon east 0 0 12 4 0 0  4 4 0  4 4 3  4 0 3\n"
+                       "wall polygon north 0 0 12 0 4 0  0 4 3  4 4 3  4 4 0\n"
+                       "wall polygon sill 0 0 12 0 0 0  4 0 0  4 0 1  0 0 1\n"
+                       "veil polygon partition 0 0 12 2 1 0  2 3 0  2 3 2  2 1 2\n"
+                       "wall sphere ball 0 0 4 3 2.5 .8 .4\n";
+    ContribOptions options;
+    options.irradiance = true;
+    options.ambient_bounces = 3;
+    options.ambient_divisions = 100;
+    options.limit_weight = 1e-4;
+    options.seed = 5;
+    const int variant = GetParam();
+    if (variant == 1) options.ambient_subsamples = 2;
+    if (variant == 2)
+        text +=
+            "void glass pane 0 0 3 .8 .8 .8\n"
+            "pane polygon window 0 0 12 0 0 1  4 0 1  4 0 3  0 0 3\n"
+            "void light bulb 0 0 3 50 50 50\n"
+            "bulb sphere lamp 0 0 4 1 3 2.5 .1\n";
+    const FlatScene flat = SceneOf(text);
+    std::vector<double> rays;
+    for (double x : {.5, 1.5, 2.5, 3.5})
+        for (double y : {.5, 2.2, 3.5}) rays.insert(rays.end(), {x, y, .8, 0, 0, 1});
+    rays.insert(rays.end(), {1.2, 1.9, 1.4, 0.6, 0, 0.8});  // aslant, toward the window
+    const size_t n = rays.size() / 6;
+    std::vector<double> records[4];
+    const int paths[4] = {1, 3, 8, 16};
+    for (int k = 0; k < 4; ++k) {
+        EngineOptions engine_options;
+        engine_options.cpu_paths_at_once = paths[k];
+        const std::unique_ptr<ContribEngine> engine =
+            CreateContribEngine(flat, options, Tracking("skyglow"), RayInit, engine_options);
+        records[k].assign(3 * n, 0.0);
+        engine->Trace(rays.data(), n, 0, 0, records[k].data());
+    }
+    for (int k = 1; k < 4; ++k)
+        for (size_t i = 0; i < 3 * n; ++i)
+            EXPECT_NEAR(records[k][i], records[0][i], 1e-12 + 1e-12 * std::abs(records[0][i]))
+                << paths[k] << " paths, value " << i;
+    for (size_t i = 0; i < n; ++i) EXPECT_GT(records[0][3 * i], 0.1) << i;  // light reaches each
+}
+
+std::string EstimatorName(const ::testing::TestParamInfo<int> &info) {
+    const char *const names[3] = {"Plain", "Subsampled", "Full"};
+    return names[info.param];
+}
+INSTANTIATE_TEST_SUITE_P(Engine, CellPaths, ::testing::Values(0, 1, 2), EstimatorName);
+
 // An engine the options name that does not exist is an error, not a silent choice.
 TEST(Engine, UnknownBackendIsAnError) {
     EngineOptions engine;

@@ -59,11 +59,8 @@ struct CpuScene {
         return tr;
     }
 
-    // Embree's nearest hit, its surface in the tables.
-    bool Intersect(real3 org, real3 dir, int from, CpuHit *hit) const {
-        const TraceRay tr = RayFrom(org, dir, from);
-        TraceHit th;
-        backend.Closest(&tr, &th, 1);
+    // The backend's hit for the core (false where the ray met nothing).
+    bool HitFrom(const TraceHit &th, CpuHit *hit) const {
         if (!th.hit) return false;
         if (th.shape >= 0) {
             hit->object = flat.shapes[th.shape].object;
@@ -215,14 +212,15 @@ class CpuContribEngine : public ContribEngine {
     CpuContribEngine(const FlatScene &flat, std::vector<TrackedModifier> tracked,
                      std::unique_ptr<SceneMaterials> table, PackedScene packed,
                      const ContribOptions &options, const MakeContext &make_context,
-                     std::unique_ptr<Backend> backend)
+                     std::unique_ptr<Backend> backend, int paths)
         : tracked_(std::move(tracked)),
           table_(std::move(table)),
           packed_(std::move(packed)),
           options_(options),
           make_context_(make_context),
           backend_(std::move(backend)),
-          scene_{flat, packed_, *backend_, options_, tracked_, make_context_, reports_, dropped_} {
+          scene_{flat, packed_, *backend_, options_, tracked_, make_context_, reports_, dropped_},
+          paths_(paths) {
         if (packed_.mix_depth > 63)
             ErrorExit("mixfuncs nested more than 63 deep (" + packed_.mix_deepest + ")");
         std::vector<uint32_t> blockers = Blockers(flat, packed_);
@@ -268,10 +266,10 @@ class CpuContribEngine : public ContribEngine {
     std::unique_ptr<core::CpuEstimator> MakeEstimator() const {
         const PackedScene &p = packed_;
         if (p.bsdf || p.dielectric || p.local_sources || p.mirror_images || p.inside)
-            return std::make_unique<core::FullEstimator>(scene_);
+            return std::make_unique<core::FullEstimator>(scene_, paths_);
         if (options_.ambient_subsamples > 1)
-            return std::make_unique<core::SubsampledEstimator>(scene_);
-        return std::make_unique<core::PlainEstimator>(scene_);
+            return std::make_unique<core::SubsampledEstimator>(scene_, paths_);
+        return std::make_unique<core::PlainEstimator>(scene_, paths_);
     }
 
     std::vector<TrackedModifier> tracked_;
@@ -283,6 +281,7 @@ class CpuContribEngine : public ContribEngine {
     std::atomic<uint32_t> reports_{0};
     std::atomic<uint64_t> dropped_{0};
     core::CpuScene scene_;
+    int paths_;  // EngineOptions::cpu_paths_at_once
     tbb::enumerable_thread_specific<std::unique_ptr<core::CpuEstimator>> estimators_;
 };
 
@@ -291,10 +290,10 @@ class CpuContribEngine : public ContribEngine {
 std::unique_ptr<ContribEngine> CreateCpuContribEngine(
     const FlatScene &scene, std::vector<TrackedModifier> tracked,
     std::unique_ptr<SceneMaterials> table, PackedScene packed, const ContribOptions &options,
-    const MakeContext &make_context, std::unique_ptr<Backend> backend) {
+    const MakeContext &make_context, std::unique_ptr<Backend> backend, int paths_at_once) {
     return std::make_unique<CpuContribEngine>(scene, std::move(tracked), std::move(table),
                                               std::move(packed), options, make_context,
-                                              std::move(backend));
+                                              std::move(backend), paths_at_once);
 }
 
 }  // namespace dayflux

@@ -13,10 +13,10 @@
 namespace dayflux {
 
 // An engine tracing scene on the CPU with backend (Embree, uncommitted). It keeps table (whose
-// patterns packed names) and packed.
+// patterns packed names) and packed. paths_at_once: EngineOptions::cpu_paths_at_once.
 std::unique_ptr<ContribEngine> CreateCpuContribEngine(
     const FlatScene &scene, std::vector<TrackedModifier> tracked,
     std::unique_ptr<SceneMaterials> table, PackedScene packed, const ContribOptions &options,
-    const MakeContext &make_context, std::unique_ptr<Backend> backend);
+    const MakeContext &make_context, std::unique_ptr<Backend> backend, int paths_at_once);
 
 }  // namespace dayflux
