@@ -222,7 +222,8 @@ void RelayShadowRay(IN(Ray) r, real3 colour, real3 point, real3 reflected) {
 }
 
 // plastic, metal, trans, glass, mirror, dielectric, BSDF: one material's own scattering.
-void ShadeBasic(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real rod, real t) {
+void ShadeBasic(IN(Ray) r, IN(PackedSurface) m, IN(real3) point, IN(real3) normal, real rod,
+                real t) {
     if (m.kind == kMatBlack || m.kind == kMatGlow || m.kind == kMatLight || m.kind == kMatIllum ||
         m.kind == kMatAntimatter)  // (a mixfunc's side: not RADIANCE's use of it)
         return;
@@ -342,8 +343,8 @@ int PassAntimatter(INOUT(Ray) r, IN(PackedSurface) m, real3 point) {
 // recursion, so the sides of mixfuncs of mixfuncs wait on a small stack (MIX_STACK: the host
 // refuses trees deeper than it holds). One call of ShadeBasic, so that the GPU's compiler
 // inlines it once.
-void ShadeMaterial(INOUT(Ray) r, int object, INOUT(PackedSurface) m, real3 point, real3 normal,
-                   real rod, real t) {
+void ShadeMaterial(INOUT(Ray) r, int object, INOUT(PackedSurface) m, IN(real3) point,
+                   IN(real3) normal, real rod, real t) {
     bool substituted =
         !(r.aimed >= 0 && sources[r.aimed].relay >= 0 && sources[r.aimed].object == object) &&
         !((r.crtype & (kAmbient | kSpecular)) != 0 && hit_front);
@@ -403,8 +404,8 @@ void ShadeMaterial(INOUT(Ray) r, int object, INOUT(PackedSurface) m, real3 point
 // A ray reaches a surface (tracked modifier k, material m) or, escaping, a distant source
 // (source >= 0): its contribution if k is tracked, then m_light()'s rules, antimatter, -i, and
 // the material. normal faces the ray afterwards.
-void Shade(INOUT(Ray) r, int object, int k, int source, INOUT(PackedSurface) m, real3 point,
-           real3 geo_normal, real t) {
+void Shade(INOUT(Ray) r, int object, int k, int source, INOUT(PackedSurface) m, IN(real3) point,
+           IN(real3) geo_normal, real t) {
     r.from = object;  // the rays it spawns leave this object
     real rod = -dot(r.dir, geo_normal);
     hit_front = rod > 0.;

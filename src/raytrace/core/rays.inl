@@ -144,7 +144,8 @@ real3 Colour(IN(PackedSurface) m, IN(Ray) r, real3 point, real3 normal, real t) 
 
 // Adds a ray's coefficient (times radiance with -V) to the bin tracked modifier k's bin
 // expression gives (source: the distant source it reached, or -1). Negative bins are ignored.
-void Contribute(int k, IN(Ray) r, real3 point, real3 normal, real t, int source, real3 radiance) {
+void Contribute(int k, IN(Ray) r, IN(real3) point, IN(real3) normal, real t, int source,
+                IN(real3) radiance) {
     SetRayVariables(r, point, normal, t);
     ivec4 entry = tracked[k];
     double b = BinOf(k, source);
@@ -213,7 +214,7 @@ void PushTrace(IN(Ray) r) {
 }
 
 // A child ray from org along dir, if rayorigin() lets it live (spawned in its slot).
-void PushChild(IN(Ray) r, int type, real3 coef, real3 org, real3 dir) {
+void PushChild(IN(Ray) r, int type, IN(real3) coef, IN(real3) org, IN(real3) dir) {
     int at = PushSlot();
     if (!Spawn(r, type, coef, STACK(at).r)) {
         Unpush(at);

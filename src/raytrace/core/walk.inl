@@ -42,15 +42,17 @@ bool Escape(IN(Ray) r, OUT(Hit) h) {
     return true;
 }
 
-// Runs the stack's hemisphere and direct items until a ray to trace is on top, and pops it into
-// r; false once the stack is empty. Hemisphere and direct items stay on the stack while they
-// have cells or sources left, under the rays their steps push, which run first.
-bool NextRay(OUT(Ray) r) {
+// Runs the stack's hemisphere and direct items until a ray to trace is on top, and pops it: its
+// slot `at` holds it until the next push (a driver may read it there later, rather than copy it
+// at once: on the CPU a copy of a ray just written stalled on store forwarding); false once the
+// stack is empty. Hemisphere and direct items stay on the stack while they have cells or sources
+// left, under the rays their steps push, which run first.
+bool NextRay(OUT(int) at) {
     while (top > 0) {
         int kind = STACK(top - 1).kind;
         if (kind == kItemTrace) {
-            r = STACK(--top).r;
-            if (r.depth > kMaxDepth) continue;
+            at = --top;
+            if (STACK(at).r.depth > kMaxDepth) continue;
             return true;
         } else if (kind == kItemAmbient) {
             int at = top - 1;
@@ -75,8 +77,9 @@ bool NextRay(OUT(Ray) r) {
     return false;
 }
 
-// Ray r, popped by NextRay, meets what the driver's Intersect found (met, in h) or else a
-// distant source (sourcehit()), and that is shaded, pushing what it spawns.
+// Ray r (a copy of the one NextRay popped: what r spawns is pushed over its slot) meets what the
+// driver's Intersect found (met, in h) or else a distant source (sourcehit()), and that is
+// shaded, pushing what it spawns.
 void ShadeMet(INOUT(Ray) r, bool met, INOUT(Hit) h) {
     if (met) {
         h.m = surfaces[h.surface];
@@ -107,10 +110,11 @@ void ShadeMet(INOUT(Ray) r, bool met, INOUT(Hit) h) {
 
 // The walk: each ray the stack gives traced (the driver's Intersect) and shaded.
 void RunStack() {
-    Ray r;
-    while (NextRay(r)) {
+    int at;
+    while (NextRay(at)) {
         Hit h;
-        bool met = Intersect(r, h);
+        bool met = Intersect(STACK(at).r, h);
+        Ray r = STACK(at).r;
         ShadeMet(r, met, h);
     }
 }

@@ -51,7 +51,7 @@ struct CpuScene {
     bool has_blockers = false;
 
     // The core's ray (recentred) for the backend, in world coordinates.
-    TraceRay RayFrom(real3 org, real3 dir, int from) const {
+    TraceRay RayFrom(const real3 &org, const real3 &dir, int from) const {
         TraceRay tr;
         for (int k = 0; k < 3; ++k) tr.org[k] = org[k] + packed.centre[k], tr.dir[k] = dir[k];
         tr.tmax = std::numeric_limits<double>::infinity();

@@ -141,7 +141,7 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
             RunStack();
             return;
         }
-        Ray pending[kMaxPaths];
+        int pending[kMaxPaths];  // each lane's ray to trace: its slot on the lane's stack
         bool busy[kMaxPaths] = {};
         TraceRay rays[kMaxPaths];
         TraceHit hits[kMaxPaths];
@@ -162,7 +162,8 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
                     busy[l] = lane.NextRay(pending[l]);
                 }
                 if (!busy[l]) continue;
-                rays[n] = scene_.RayFrom(pending[l].org, pending[l].dir, pending[l].from);
+                const Ray &r = lane.stack[pending[l]].r;
+                rays[n] = scene_.RayFrom(r.org, r.dir, r.from);
                 lane_of[n++] = l;
             }
             if (n == 0) return;
@@ -171,8 +172,10 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
                 const int l = lane_of[k];
                 Hit h;
                 const bool met = HitOf(hits[k], h);
-                lanes_[l]->ShadeMet(pending[l], met, h);
-                busy[l] = lanes_[l]->NextRay(pending[l]);
+                DAYFLUX_ESTIMATOR &lane = *lanes_[l];
+                Ray r = lane.stack[pending[l]].r;
+                lane.ShadeMet(r, met, h);
+                busy[l] = lane.NextRay(pending[l]);
             }
         }
     }
