@@ -214,23 +214,33 @@ void TraceInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint
 
 // For a driver that traces several cells' paths at once (the CPU's, in packets): the next ray
 // of the first hemisphere `cells` (from TraceAllButCells) in r, with the random state its path
-// goes on from in state; false once no cell is left. A cell's path draws only from that state
-// and touches no state of the first level, so each may run on a stack of its own
-// (StartCellPath) and give the same numbers as in TraceInput.
-bool NextCell(INOUT(Item) cells, OUT(Ray) r, OUT(uint) state) {
+// goes on from in state, and whether it is the hemisphere's last; false once no cell is left. A
+// cell's path draws only from that state and touches no state of the first level, so each may
+// run on a stack of its own (StartCellPath) and give the same numbers as in TraceInput.
+bool NextCell(INOUT(Item) cells, OUT(Ray) r, OUT(uint) state, OUT(bool) last) {
     top = 0;
     while (cells.next < cells.end) {
         if (!AmbientStep(cells)) continue;
         r = STACK(--top).r;
         state = rng;
+        last = cells.next >= cells.end;
         return true;
     }
     return false;
 }
 
-// Starts cell ray r's path (from NextCell) on this stack; NextRay and ShadeMet walk it.
-void StartCellPath(IN(Ray) r, uint state) {
+// Starts cell ray r's path (from NextCell) on this stack, with the room TraceInput leaves it:
+// the hemisphere's item holds the bottom slot under every cell's path but the last one's (so a
+// path that fills the stack drops what it drops there); here a spent item holds it, which
+// NextRay takes off once the path is done. NextRay and ShadeMet walk it.
+void StartCellPath(IN(Ray) r, uint state, bool last) {
     top = 0;
+    if (!last) {
+        STACK(0).kind = kItemDirect;
+        STACK(0).next = 0;
+        STACK(0).end = 0;
+        top = 1;
+    }
     rng = state;
     PushTrace(r);
 }

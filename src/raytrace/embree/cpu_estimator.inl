@@ -23,7 +23,8 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
           bins_(shared_bins ? shared_bins : own_bins_.get()) {
         dropped = 0;
         reports = 0;
-        if (paths > 1) MakeLanes(std::min(paths, kMaxPaths));
+        // (only -I's sensors have first-hemisphere cells to hand out)
+        if (paths > 1 && s.options.irradiance) MakeLanes(std::min(paths, kMaxPaths));
     }
     ~DAYFLUX_ESTIMATOR() override {
         for (DAYFLUX_ESTIMATOR *lane : lanes_) lane->~DAYFLUX_ESTIMATOR();
@@ -155,10 +156,11 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
                 while (!busy[l] && cells_left) {
                     Ray r;
                     uint state;
-                    cells_left = NextCell(cells, r, state);
+                    bool last;
+                    cells_left = NextCell(cells, r, state, last);
                     if (!cells_left) break;
                     lane.record_ = record_;
-                    lane.StartCellPath(r, state);
+                    lane.StartCellPath(r, state, last);
                     busy[l] = lane.NextRay(pending[l]);
                 }
                 if (!busy[l]) continue;
