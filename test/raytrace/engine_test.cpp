@@ -41,6 +41,38 @@ std::unique_ptr<cal::Context> RayInit(int) {
     return cx;
 }
 
+// A room 4 x 4 x 3 m of material `wall`, open to the south above a sill 1 m high.
+const char *const kRoomOfWalls =
+    "wall polygon floor 0 0 12 0 0 0  0 4 0  4 4 0  4 0 0\n"
+    "wall polygon ceiling 0 0 12 0 0 3  4 0 3  4 4 3  0 4 3\n"
+    "wall polygon west 0 0 12 0 0 0  0 0 3  0 4 3  0 4 0\n"
+    "wall polygon east 0 0 12 4 0 0  4 4 0  4 4 3  4 0 3\n"
+    "wall polygon north 0 0 12 0 4 0  0 4 3  4 4 3  4 4 0\n"
+    "wall polygon sill 0 0 12 0 0 0  4 0 0  4 0 1  0 0 1\n";
+
+// -I at -ab ab, -ad ad, -lw lw and a fixed seed (the rest rcontrib's defaults).
+ContribOptions Irradiance(int ab, int ad, double lw, uint64_t seed) {
+    ContribOptions options;
+    options.irradiance = true;
+    options.ambient_bounces = ab;
+    options.ambient_divisions = ad;
+    options.limit_weight = lw;
+    options.seed = seed;
+    return options;
+}
+
+// The records of n input rays on the CPU, walking `paths` cells' paths at once.
+std::vector<double> RecordsWithPaths(const FlatScene &flat, const ContribOptions &options,
+                                     int paths, const double *rays, size_t n) {
+    EngineOptions engine_options;
+    engine_options.cpu_paths_at_once = paths;
+    const std::unique_ptr<ContribEngine> engine =
+        CreateContribEngine(flat, options, Tracking("skyglow"), RayInit, engine_options);
+    std::vector<double> records(3 * n, 0.0);
+    engine->Trace(rays, n, 0, 0, records.data());
+    return records;
+}
+
 // A stack of mixfuncs n deep over plastic, on a roof.
 std::string NestedMixfuncs(int n) {
     std::string s = std::string(kSky) + "void plastic m0 0 0 5 .5 .5 .5 0 0\n";
@@ -195,13 +227,8 @@ TEST(Engine, ShadowRaysStoppedByBlockersAsByTheWalk) {
         "void plastic wall 0 0 5 .5 .5 .5 0 0\n"
         "void glass pane 0 0 3 .8 .8 .8\n"
         "void trans veil 0 0 7 .6 .6 .6 0 0 .5 .6\n"
-        "void plastic box 0 0 5 0 0 0 0 0\n"
-        "wall polygon floor 0 0 12 0 0 0  0 4 0  4 4 0  4 0 0\n"
-        "wall polygon ceiling 0 0 12 0 0 3  4 0 3  4 4 3  0 4 3\n"
-        "wall polygon west 0 0 12 0 0 0  0 0 3  0 4 3  0 4 0\n"
-        "wall polygon east 0 0 12 4 0 0  4 4 0  4 4 3  4 0 3\n"
-        "wall polygon north 0 0 12 0 4 0  0 4 3  4 4 3  4 4 0\n"
-        "wall polygon sill 0 0 12 0 0 0  4 0 0  4 0 1  0 0 1\n"
+        "void plastic box 0 0 5 0 0 0 0 0\n" +
+        std::string(kRoomOfWalls) +
         "pane polygon window 0 0 12 0 0 1  4 0 1  4 0 3  0 0 3\n"
         "veil polygon partition 0 0 12 2 0 0  2 2 0  2 2 3  2 0 3\n"
         "box polygon lid 0 0 12 .5 1 .5  1 1 .5  1 1.5 .5  .5 1.5 .5\n"
@@ -227,13 +254,8 @@ TEST(Engine, ShadowRaysStoppedByBlockersAsByTheWalk) {
         tracked.push_back(t);
     }
     const FlatScene flat = SceneOf(text);
-    ContribOptions options;
-    options.irradiance = true;
-    options.ambient_bounces = 2;
-    options.ambient_divisions = 64;
-    options.limit_weight = 1e-4;
+    ContribOptions options = Irradiance(2, 64, 1e-4, 3);
     options.source_jitter = 0;
-    options.seed = 3;
     std::vector<double> rays;
     // (off the lines through the window's corners along the suns: there the walk and the
     // blockers may settle a ray meeting two surfaces at once either way)
@@ -278,21 +300,11 @@ class CellPaths : public ::testing::TestWithParam<int> {};
 TEST_P(CellPaths, AtOnceAsOneAfterTheOther) {
     std::string text = std::string(kSky) +
                        "void plastic wall 0 0 5 .6 .6 .6 0 0\n"
-                       "void trans veil 0 0 7 .6 .6 .6 0 0 .5 .6\n"
-                       "wall polygon floor 0 0 12 0 0 0  0 4 0  4 4 0  4 0 0\n"
-                       "wall polygon ceiling 0 0 12 0 0 3  4 0 3  4 4 3  0 4 3\n"
-                       "wall polygon west 0 0 12 0 0 0  0 0 3  0 4 3  0 4 0\n"
-                       "wall polygon east 0 0 12 4 0 0  4 4 0  4 4 3  4 0 3\n"
-                       "wall polygon north 0 0 12 0 4 0  0 4 3  4 4 3  4 4 0\n"
-                       "wall polygon sill 0 0 12 0 0 0  4 0 0  4 0 1  0 0 1\n"
+                       "void trans veil 0 0 7 .6 .6 .6 0 0 .5 .6\n" +
+                       kRoomOfWalls +
                        "veil polygon partition 0 0 12 2 1 0  2 3 0  2 3 2  2 1 2\n"
                        "wall sphere ball 0 0 4 3 2.5 .8 .4\n";
-    ContribOptions options;
-    options.irradiance = true;
-    options.ambient_bounces = 3;
-    options.ambient_divisions = 100;
-    options.limit_weight = 1e-4;
-    options.seed = 5;
+    ContribOptions options = Irradiance(3, 100, 1e-4, 5);
     const int variant = GetParam();
     if (variant == 1) options.ambient_subsamples = 2;
     if (variant == 2)
@@ -309,14 +321,8 @@ TEST_P(CellPaths, AtOnceAsOneAfterTheOther) {
     const size_t n = rays.size() / 6;
     std::vector<double> records[4];
     const int paths[4] = {1, 3, 8, 16};
-    for (int k = 0; k < 4; ++k) {
-        EngineOptions engine_options;
-        engine_options.cpu_paths_at_once = paths[k];
-        const std::unique_ptr<ContribEngine> engine =
-            CreateContribEngine(flat, options, Tracking("skyglow"), RayInit, engine_options);
-        records[k].assign(3 * n, 0.0);
-        engine->Trace(rays.data(), n, 0, 0, records[k].data());
-    }
+    for (int k = 0; k < 4; ++k)
+        records[k] = RecordsWithPaths(flat, options, paths[k], rays.data(), n);
     for (int k = 1; k < 4; ++k)
         for (size_t i = 0; i < 3 * n; ++i)
             EXPECT_NEAR(records[k][i], records[0][i], 1e-12 + 1e-12 * std::abs(records[0][i]))
@@ -332,22 +338,11 @@ TEST(Engine, CellPathsFillTheStackAsOneAfterTheOther) {
                                    "void metal rough 0 0 5 .8 .8 .8 .9 .2\n"
                                    "rough polygon floor 0 0 12 -100 -100 0  100 -100 0  100 100 0"
                                    "  -100 100 0\n");
-    ContribOptions options;
-    options.irradiance = true;
-    options.ambient_bounces = 1;
-    options.ambient_divisions = 4;
-    options.limit_weight = 1e-9;
+    ContribOptions options = Irradiance(1, 4, 1e-9, 5);
     options.specular_jitter = 20000;
-    options.seed = 5;
     const double ray[6] = {0, 0, .5, 0, 0, -1};
-    double records[2][3] = {};
-    for (int k = 0; k < 2; ++k) {
-        EngineOptions engine_options;
-        engine_options.cpu_paths_at_once = k == 0 ? 1 : 8;
-        const std::unique_ptr<ContribEngine> engine =
-            CreateContribEngine(flat, options, Tracking("skyglow"), RayInit, engine_options);
-        engine->Trace(ray, 1, 0, 0, records[k]);
-    }
+    const std::vector<double> records[2] = {RecordsWithPaths(flat, options, 1, ray, 1),
+                                            RecordsWithPaths(flat, options, 8, ray, 1)};
     // (the stack overflows: 46,451 rays dropped, which the engine warns once a process; with a
     // lane's path given the whole stack, the three cells before the last kept one more ray
     // each: 1.1e-4 more)
