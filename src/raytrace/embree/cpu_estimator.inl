@@ -134,8 +134,8 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
     // The first hemisphere's cells: one after the other on this stack, or several paths at once,
     // each lane (an estimator of its own, adding to this one's record) walking one cell's path,
     // and the lanes' next rays traced together (in Embree's packets, where a ray costs less than
-    // alone, even from different points). The same random numbers as one
-    // after the other; the record's sums are added in another order.
+    // alone, even from different points). The same random numbers as one after the other; the
+    // record's sums are added in another order.
     void RunCells(Item cells) {
         if (lanes_.empty()) {
             PushItem(cells);
@@ -152,34 +152,39 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
         for (;;) {
             int n = 0;
             for (int l = 0; l < lanes; ++l) {
-                DAYFLUX_ESTIMATOR &lane = *lanes_[l];
-                while (!busy[l] && cells_left) {
-                    Ray r;
-                    uint state;
-                    bool last;
-                    cells_left = NextCell(cells, r, state, last);
-                    if (!cells_left) break;
-                    lane.record_ = record_;
-                    lane.StartCellPath(r, state, last);
-                    busy[l] = lane.NextRay(pending[l]);
-                }
+                if (!busy[l] && cells_left)
+                    busy[l] = cells_left = StartCell(cells, *lanes_[l], &pending[l]);
                 if (!busy[l]) continue;
-                const Ray &r = lane.stack[pending[l]].r;
+                const Ray &r = lanes_[l]->stack[pending[l]].r;
                 rays[n] = scene_.RayFrom(r.org, r.dir, r.from);
                 lane_of[n++] = l;
             }
             if (n == 0) return;
             scene_.backend.Closest(rays, hits, static_cast<size_t>(n));
             for (int k = 0; k < n; ++k) {
-                const int l = lane_of[k];
+                DAYFLUX_ESTIMATOR &lane = *lanes_[lane_of[k]];
+                int &at = pending[lane_of[k]];
                 Hit h;
                 const bool met = HitOf(hits[k], h);
-                DAYFLUX_ESTIMATOR &lane = *lanes_[l];
-                Ray r = lane.stack[pending[l]].r;
+                Ray r = lane.stack[at].r;
                 lane.ShadeMet(r, met, h);
-                busy[l] = lane.NextRay(pending[l]);
+                busy[lane_of[k]] = lane.NextRay(at);
             }
         }
+    }
+
+    // Starts the next cell's path on lane, its first ray to trace in slot *at; false once no cell
+    // is left.
+    bool StartCell(Item &cells, DAYFLUX_ESTIMATOR &lane, int *at) {
+        Ray r;
+        uint state;
+        bool last;
+        while (NextCell(cells, r, state, last)) {
+            lane.record_ = record_;
+            lane.StartCellPath(r, state, last);
+            if (lane.NextRay(*at)) return true;
+        }
+        return false;
     }
 
     // ---- what the core asks of its driver (raytrace/core/README.md)
