@@ -55,23 +55,23 @@ bool NextRay(OUT(int) at) {
             if (STACK(at).r.depth > kMaxDepth) continue;
             return true;
         } else if (kind == kItemAmbient) {
-            int at = top - 1;
-            bool last = STACK(at).next + 1 >= STACK(at).end;
-            bool pushed = AmbientStep(STACK(at));
+            int item = top - 1;
+            bool last = STACK(item).next + 1 >= STACK(item).end;
+            bool pushed = AmbientStep(STACK(item));
             if (last) {  // the hemisphere leaves the stack, its last cell's ray takes its place
                 if (pushed) {
-                    STACK(at).r = STACK(at + 1).r;
-                    STACK(at).kind = kItemTrace;
+                    STACK(item).r = STACK(item + 1).r;
+                    STACK(item).kind = kItemTrace;
                 }
                 --top;
             }
         } else {  // kItemDirect, kItemDirectBsdf
-            int at = top - 1;
-            if (STACK(at).next >= STACK(at).end) {  // its last step's shadow ray has run
+            int item = top - 1;
+            if (STACK(item).next >= STACK(item).end) {  // its last step's shadow ray has run
                 --top;
                 continue;
             }
-            if (!DirectItemStep(STACK(at)) && top == at + 1) --top;
+            if (!DirectItemStep(STACK(item)) && top == item + 1) --top;
         }
     }
     return false;

@@ -22,13 +22,6 @@
 namespace dayflux {
 namespace core {
 
-// The nearest surface a ray meets, for the core (coordinates recentred, as the tables').
-struct CpuHit {
-    int object, surface;
-    real3 point, normal;
-    real t;
-};
-
 // A thread's room for CpuScene::BlockedAhead: the rays it asks, their sources, the answers.
 struct AheadBuffers {
     std::vector<TraceRay> rays;
@@ -57,24 +50,6 @@ struct CpuScene {
         tr.tmax = std::numeric_limits<double>::infinity();
         tr.from_object = from;
         return tr;
-    }
-
-    // The backend's hit for the core (false where the ray met nothing).
-    bool HitFrom(const TraceHit &th, CpuHit *hit) const {
-        if (!th.hit) return false;
-        if (th.shape >= 0) {
-            hit->object = flat.shapes[th.shape].object;
-            hit->surface = packed.shapes[packed.shape_of[th.shape]].surface;
-        } else {
-            hit->object = flat.triangle_object[th.triangle];
-            hit->surface = packed.triangles[th.triangle].surface;
-        }
-        for (int k = 0; k < 3; ++k) {
-            hit->point[k] = th.point[k] - packed.centre[k];
-            hit->normal[k] = th.normal[k];
-        }
-        hit->t = th.t;
-        return true;
     }
 
     // The blockers on the shadow rays from org toward sources first .. end - 1 that ask them

@@ -194,15 +194,22 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
         scene_.backend.Closest(&tr, &th, 1);
         return HitOf(th, h);
     }
-    // The backend's hit as the core's (false where the ray met nothing).
+    // The backend's hit as the core's, its surface in the tables, recentred (false where the ray
+    // met nothing).
     bool HitOf(const TraceHit &th, Hit &h) const {
-        CpuHit hit;
-        if (!scene_.HitFrom(th, &hit)) return false;
-        h.object = hit.object;
-        h.surface = hit.surface;
-        h.point = hit.point;
-        h.normal = hit.normal;
-        h.t = hit.t;
+        if (!th.hit) return false;
+        const FlatScene &flat = scene_.flat;
+        const PackedScene &packed = scene_.packed;
+        if (th.shape >= 0) {
+            h.object = flat.shapes[th.shape].object;
+            h.surface = packed.shapes[packed.shape_of[th.shape]].surface;
+        } else {
+            h.object = flat.triangle_object[th.triangle];
+            h.surface = packed.triangles[th.triangle].surface;
+        }
+        h.point = real3(th.point[0], th.point[1], th.point[2]) - centre_;
+        h.normal = real3(th.normal[0], th.normal[1], th.normal[2]);
+        h.t = th.t;
         return true;
     }
     // The blockers ahead of a direct item, asked once for all its sources (CpuScene::BlockedAhead)

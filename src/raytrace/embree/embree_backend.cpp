@@ -75,12 +75,8 @@ class EmbreeBackend : public Backend {
         }
         near_ = 1e-6 * extent_;
         inverse_extent_ = extent_ > 0 ? 1 / extent_ : 0;
-        scene_ = rtcNewScene(device_);
-        rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
-        rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
-        bare_scene_ = rtcNewScene(device_);
-        rtcSetSceneFlags(bare_scene_, RTC_SCENE_FLAG_ROBUST);
-        rtcSetSceneBuildQuality(bare_scene_, RTC_BUILD_QUALITY_HIGH);
+        scene_ = NewScene(true);
+        bare_scene_ = NewScene(true);
         if (!flat.triangles.empty()) {
             RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
             auto *vb = static_cast<float *>(
@@ -232,6 +228,15 @@ class EmbreeBackend : public Backend {
     }
 
   private:
+    // An empty scene of the best build quality, robust (no ray slips between two triangles
+    // sharing an edge) or not.
+    RTCScene NewScene(bool robust) const {
+        RTCScene scene = rtcNewScene(device_);
+        if (robust) rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+        rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+        return scene;
+    }
+
     // Ray alone through scene (bare_scene_, or scene_ where it met itself there).
     void ClosestAlone(RTCScene scene, const TraceRay &ray, TraceHit *hit) const {
         RTCIntersectContext ctx;
@@ -357,8 +362,7 @@ class EmbreeBackend : public Backend {
         filtered_blockers_scene_ = BlockersScene(vertices, nvertices, true);
     }
     RTCScene BlockersScene(const float *vertices, size_t nvertices, bool filtered) const {
-        RTCScene scene = rtcNewScene(device_);
-        rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+        RTCScene scene = NewScene(false);
         RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
         rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices, 0,
                                    3 * sizeof(float), nvertices);
