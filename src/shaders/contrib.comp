@@ -68,6 +68,8 @@ bool Blocked(vec3 org, vec3 dir, int from, int source) { return false; }
 void BlockersAhead(vec3 org, vec3 normal, int from, bool front, bool back, int first, int end) {}
 
 #include "raytrace/core/rays.inl"
+// (defined below; -asub's probes in hemisphere.inl ask it first)
+bool Intersect(Ray r, out Hit h);
 #include "raytrace/core/hemisphere.inl"
 #include "raytrace/core/klems.inl"
 #include "raytrace/core/bsdf.inl"

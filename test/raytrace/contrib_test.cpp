@@ -284,6 +284,27 @@ TEST(RcontribGpu, ViewFactorOfAWindow) {
     }
 }
 
+// -asub splits only the cells near what a specular path could start from, found by a probe along
+// each cell's centre (hemisphere.inl): a glowing strip a third of a cell wide, which most probes
+// miss, is still seen in the right amount, by the cells left whole (their one ray carries the
+// whole cell) as by the cells split. Without the rule that keeps a whole cell's coefficient, or
+// with a probe drawn from the cell's own random numbers, the mean would be off.
+TEST(RcontribGpu, SubsamplesOnlyNearTargetsWithoutBias) {
+    TempDir tmp;
+    const double a = 1.5, b = 0.015, c = 1.2;  // at -ad 1024, cells about 3.5 degrees wide
+    std::ostringstream strip;
+    strip << "void glow pane 0 0 4 1 1 1 0\npane polygon w 0 0 12 " << -a << " " << -b << " " << c
+          << "  " << -a << " " << b << " " << c << "  " << a << " " << b << " " << c << "  " << a
+          << " " << -b << " " << c << "\n";
+    WriteFile(tmp.path() / "strip.rad", strip.str());
+    const double exact = M_PI * ParallelRectangleViewFactor(a, b, c);
+    const auto [mean, se] =
+        UpwardSensorMean(tmp.path(), "-asub 3 -I+ -ab 1 -ad 1024 -lw 1e-6 -m pane strip.rad", 400);
+    EXPECT_GT(se, 0);
+    EXPECT_NEAR(mean, exact, 4 * se);
+    EXPECT_LT(se, 0.05 * exact);
+}
+
 // The deeper bounces' directions: a sensor 1 m above a wide floor of reflectance .5, facing it,
 // under a glowing cap of half-angle 30 degrees about the zenith and nothing else. The floor's
 // irradiance is pi sin^2(30) (a cosine-weighted hemisphere puts sin^2 of its samples within the

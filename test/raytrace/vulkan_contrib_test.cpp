@@ -269,6 +269,33 @@ TEST_F(VulkanContrib, SubsampledHemispheresAsEmbree) {
                        146);
 }
 
+// -asub with one random stream: two sensors' daylight coefficients as Embree's, far closer than
+// two seeds. The GPU gives each task a slice of a hemisphere's rows; a task starting at a later
+// row takes up the steps' keys and the probes (which cells are split) as one task would.
+TEST_F(VulkanContrib, SubsampledSlicesAsOneStream) {
+    const fs::path room = DataDir() / "scene" / "models" / "room";
+    WriteFile(tmp_.path() / "two", "1 1 0.76 0 0 1\n4 2.5 0.76 0 0 1\n");
+    const std::string args = "-asub 3 -I+ -ab 1 -ad 1024 -lw 1e-4" + kBins +
+                             "-m skyglow materials.rad room.rad objects/Glazing.rad "
+                             "skyDomes/skyglow.rad < '" +
+                             (tmp_.path() / "two").string() + "'";
+    const std::vector<double> gpu = Run("vulkan", "-seed 1 " + args, room),
+                              cpu = Run("embree", "-seed 1 " + args, room),
+                              other = Run("embree", "-seed 2 " + args, room);
+    ASSERT_EQ(gpu.size(), 2u * 146 * 3);
+    ASSERT_EQ(cpu.size(), gpu.size());
+    ASSERT_EQ(other.size(), gpu.size());
+    double backends = 0, seeds = 0, total = 0;
+    for (size_t i = 0; i < gpu.size(); ++i) {
+        backends += (gpu[i] - cpu[i]) * (gpu[i] - cpu[i]);
+        seeds += (other[i] - cpu[i]) * (other[i] - cpu[i]);
+        total += cpu[i];
+    }
+    EXPECT_GT(total, 0.1);
+    EXPECT_GT(seeds, 0);
+    EXPECT_LT(std::sqrt(backends), 0.2 * std::sqrt(seeds));
+}
+
 // Sun coefficients through the tutorial room's glazing (RADIANCE's octree with 5185 suns,
 // direct only, no jitter): no sampling at all, so each sensor's total equals Embree's to float
 // rounding. (Per bin, suns lying on a bin's edge may fall either side.)

@@ -136,14 +136,86 @@ bool CellDirection(IN(Item) it, int n, int i, int j, real cos_thresh, bool check
 // cell's ASUB x ASUB sub-cells; all follow their specular paths (what reaches a window, or the
 // sky through glass, directly), and one chosen at random per cell carries the cell's diffuse
 // paths with ASUB^2 times its coefficient. Unbiased; no ambcollision() (the sub-samples
-// stratify the cell instead). Returns true if it pushed the ray.
+// stratify the cell instead).
+// Only cells near something a specular path could start from are split: a probe along each
+// cell's centre finds what the cell looks at, and a cell whose 3 x 3 neighbourhood's probes all
+// meet bare diffuse surfaces (InertForSubsamples) keeps one ray, the chosen sub-sample with the
+// whole cell's coefficient and diffuse paths (so uniform over the cell). The probes depend on the
+// hemisphere's turn alone, never on the cells' own random numbers: still unbiased.
+// The probes' answers are kept for three rows (a ring: row i's in component i % 3 of ROW0(j),
+// which row a component holds in ROW0(MAXN + i % 3).x), in the collision rule's rows, which these
+// cells do not use.
+
+// Whether what a probe met starts no specular path and counts for nothing itself: black, or
+// plastic and metal without specularity or transmission, tracked by no modifier, clipped by no
+// antimatter.
+bool InertForSubsamples(LOCAL(PackedSurface) m) {
+    if (m.tracked >= 0 || m.clip != 0u) return false;
+    return m.kind == kMatBlack || (m.kind == kMatDiffuse && m.params.x == 0. && m.params.y == 0.);
+}
+
+// Whether the probe along cell (i, j)'s centre meets something other than an inert surface (a
+// distant source or glow included).
+bool ProbeMeetsTarget(IN(Item) it, int i, int j) {
+    Ray probe = it.r;
+    probe.org = it.point;
+    probe.dir =
+        DiskToHemisphere(SquareToDisk((real(j) + 0.5) / real(it.n), (real(i) + 0.5) / real(it.n)),
+                         it.incident, cross(it.normal, it.incident), it.normal);
+    probe.aimed = -1;
+    Hit h;
+    if (!Intersect(probe, h)) return Escape(probe, h);
+    return !InertForSubsamples(surfaces[h.surface]);
+}
+
+void ForgetProbes() {
+    for (int slot = 0; slot < 3; ++slot) ROW0(MAXN + slot) = real3(-1.);
+}
+
+// Row i's probe at column j, the row probed first where the ring does not hold it.
+bool Probed(IN(Item) it, int i, int j) {
+    int slot = i % 3;
+    if (ROW0(MAXN + slot).x != real(i)) {
+        for (int x = 0; x < it.n; ++x) {
+            real3 flags = ROW0(x);
+            flags[slot] = ProbeMeetsTarget(it, i, x) ? 1. : 0.;
+            ROW0(x) = flags;
+        }
+        ROW0(MAXN + slot) = real3(real(i));
+    }
+    real3 flags = ROW0(j);
+    return flags[slot] != 0.;
+}
+
+bool WorthSubsampling(IN(Item) it, int i, int j) {
+    if (it.n > MAXN || MAXN < 3) return true;  // no room for the probes
+    // The rim's cells hold the lowest quarter of the sky's elevations at n = 22 (cosine
+    // weighting crowds the horizon there): a window seen from across a room can be a band there
+    // thinner than a cell, which a probe at its centre misses.
+    if (min(i, j) == 0 || max(i, j) == it.n - 1) return true;
+    for (int a = max(0, i - 1); a <= min(it.n - 1, i + 1); ++a)
+        for (int b = max(0, j - 1); b <= min(it.n - 1, j + 1); ++b)
+            if (Probed(it, a, b)) return true;
+    return false;
+}
+
+// What step 0 of a first-level hemisphere does before its ray (a task starting at a later row
+// does it instead of replaying the steps before).
+void StartSubsamples() {
+    ++hemispheres0;
+    ForgetProbes();
+}
+
+// Returns true if it pushed the step's ray.
 bool SubsampleStep(IN(Item) it, int k) {
     int per = ASUB * ASUB;
     int cell = k / per, s = k % per;
     int i = it.n - 1 - cell / it.n, j = it.n - 1 - cell % it.n;
-    if (k == 0) ++hemispheres0;
+    if (k == 0) StartSubsamples();
     rng = Key(cell_key, uint(cell), 0x85ebca6bu, hemispheres0);  // the same for the cell's steps
     int chosen = min(per - 1, int(Rand() * real(per)));
+    bool split = WorthSubsampling(it, i, j);
+    if (!split && s != chosen) return false;
     rng = Key(cell_key, uint(k), 0x9e3779b9u, hemispheres0);
     int at = PushSlot();  // the sub-sample's ray, spawned in its slot
     real3 dir;
@@ -152,8 +224,12 @@ bool SubsampleStep(IN(Item) it, int k) {
         Unpush(at);
         return false;
     }
-    STACK(at).r.coef /= real(per);
-    STACK(at).r.dscale = s == chosen ? real(per) : 0.0;
+    if (split) {
+        STACK(at).r.coef /= real(per);
+        STACK(at).r.dscale = s == chosen ? real(per) : 0.0;
+    } else {
+        STACK(at).r.dscale = 1.0;
+    }
     STACK(at).r.org = it.point;
     STACK(at).r.dir = dir;
     STACK(at).kind = kItemTrace;

@@ -225,6 +225,46 @@ void PushChild(IN(Ray) r, int type, IN(real3) coef, IN(real3) org, IN(real3) dir
     STACK(at).kind = kItemTrace;
 }
 
+// sourcehit(): a ray that meets no surface reaches the first distant source whose disc holds its
+// direction (a ray aimed at a source can reach only that one), a glow only where no other does.
+bool Escape(IN(Ray) r, OUT(Hit) h) {
+    int glow = -1, chosen = -1;
+    int first = r.aimed >= 0 ? r.aimed : 0, last = r.aimed >= 0 ? r.aimed + 1 : NSOURCES;
+    for (int i = first; i < last; ++i) {
+        // images in mirrors are not met
+        if (int(sources[i].u.w) != kSourceDistant || sources[i].relay >= 0) continue;
+        real c = dot(XYZ(sources[i].dir), r.dir);
+        if (2. * kPi * (1. - c) > real(sources[i].dir.w)) continue;
+        if (sources[i].colour.w > 0.5 && r.aimed < 0) {
+            if (glow < 0) glow = i;
+            continue;
+        }
+        chosen = i;
+        break;
+    }
+    if (chosen < 0) chosen = glow;
+    if (chosen < 0) return false;
+    LOCAL(PackedSource) s = sources[chosen];
+    h.object = s.object;
+    h.surface = -1;
+    h.tracked = s.tracked;
+    h.source = chosen;
+    h.m.color = vec4(s.colour.x, s.colour.y, s.colour.z, 0);
+    h.m.params = vec4(0);
+    h.m.alpha2 = 0.;
+    h.m.pattern = s.pattern;
+    h.m.kind = s.kind;
+    h.m.tracked = s.tracked;
+    h.m.fore = -1;
+    h.m.back = -1;
+    h.m.clip = 0u;
+    h.m.counter = -1;
+    h.point = r.dir * 1e30;
+    h.normal = -r.dir;
+    h.t = 1e30;
+    return true;
+}
+
 #ifdef DAYFLUX_ASUB
 // -asub: a first-level sub-sample starts the diffuse paths of its cell (scale ASUB^2) or none
 // (0); false for none.

@@ -2,46 +2,6 @@
 // from the stack until none is left, a trace item finding what its ray meets (the driver's
 // Intersect) and shading it, hemisphere and direct items taking their next step.
 
-// sourcehit(): a ray that meets no surface reaches the first distant source whose disc holds its
-// direction (a ray aimed at a source can reach only that one), a glow only where no other does.
-bool Escape(IN(Ray) r, OUT(Hit) h) {
-    int glow = -1, chosen = -1;
-    int first = r.aimed >= 0 ? r.aimed : 0, last = r.aimed >= 0 ? r.aimed + 1 : NSOURCES;
-    for (int i = first; i < last; ++i) {
-        // images in mirrors are not met
-        if (int(sources[i].u.w) != kSourceDistant || sources[i].relay >= 0) continue;
-        real c = dot(XYZ(sources[i].dir), r.dir);
-        if (2. * kPi * (1. - c) > real(sources[i].dir.w)) continue;
-        if (sources[i].colour.w > 0.5 && r.aimed < 0) {
-            if (glow < 0) glow = i;
-            continue;
-        }
-        chosen = i;
-        break;
-    }
-    if (chosen < 0) chosen = glow;
-    if (chosen < 0) return false;
-    LOCAL(PackedSource) s = sources[chosen];
-    h.object = s.object;
-    h.surface = -1;
-    h.tracked = s.tracked;
-    h.source = chosen;
-    h.m.color = vec4(s.colour.x, s.colour.y, s.colour.z, 0);
-    h.m.params = vec4(0);
-    h.m.alpha2 = 0.;
-    h.m.pattern = s.pattern;
-    h.m.kind = s.kind;
-    h.m.tracked = s.tracked;
-    h.m.fore = -1;
-    h.m.back = -1;
-    h.m.clip = 0u;
-    h.m.counter = -1;
-    h.point = r.dir * 1e30;
-    h.normal = -r.dir;
-    h.t = 1e30;
-    return true;
-}
-
 // Runs the stack's hemisphere and direct items until a ray to trace is on top, and pops it: its
 // slot `at` holds it until the next push (a driver may read it there later, rather than copy it
 // at once: on the CPU a copy of a ray just written stalled on store forwarding); false once the
@@ -187,11 +147,17 @@ bool TraceAllButCells(real3 org, real3 dir, uint index, uint replica, uint slice
     int rows = h.n, per = (rows + int(slices) - 1) / int(slices);
     int row_first = int(slice) * per, row_end = min(rows, row_first + per);
     if (row_first >= row_end) return false;
-    int row_steps = h.n;
+    int row_steps = h.n, replayed = row_first * h.n;
 #ifdef DAYFLUX_ASUB
-    if (ASUB > 1) row_steps *= ASUB * ASUB;
+    if (ASUB > 1) {
+        // -asub's steps draw from numbers keyed by the step and keep no rows: of the steps
+        // before, only step 0's start is replayed
+        row_steps *= ASUB * ASUB;
+        if (row_first > 0) StartSubsamples();
+        replayed = 0;
+    }
 #endif
-    for (int k = 0; k < row_first * row_steps; ++k) {
+    for (int k = 0; k < replayed; ++k) {
         Item replay = h;
         replay.next = k;
         AmbientStep(replay);
