@@ -6,10 +6,11 @@
 #   DC   -I+ -ab 4 -ad N -lw 1e-4 -faf -e MF:1 -f reinhart.cal -b rbin -bn Nrbins -m skyglow -m groundglow
 #   Cds  -I+ -ab 1 -ad 256 -lw 1e-3 -dc 1 -dt 0 -dj 0 -faf -e MF:6 ... -m solar (deterministic)
 # RADIANCE reads the frozen octrees of shared/data/references/rcontrib, ours the same scene's
-# .rad files from test/data (C_ds: the same octree). Times are wall seconds of one run each
-# (/usr/bin/time), both programs on all cores of the machine (RADIANCE with -n nproc).
+# .rad files from test/data (C_ds: the same octree). Times are wall seconds, the fastest of
+# REPEAT runs (a 2-core VM's times vary 10-20 % from run to run), both programs on all cores of
+# the machine (RADIANCE with -n nproc).
 # usage: bench/rcontrib_speed_error.sh   environment: OURS, RADIANCE_BIN (/opt/radiance/bin),
-#        REFS (../shared/data/references/rcontrib), ADS ("1024 4096 16384"),
+#        REFS (../shared/data/references/rcontrib), ADS ("1024 4096 16384"), REPEAT (3),
 #        ASUBS ("2 3": ours again with -asub N at each -ad, as "dayflux-asubN"; "" for none),
 #        VULKAN (a Vulkan device for rcontrib-gpu -device, e.g. 0 or llvmpipe: adds its rows,
 #        timed after a warm-up run that compiles the shaders), LABEL (dayflux: our rows' name,
@@ -23,9 +24,17 @@ ASUBS=${ASUBS-"2 3"}
 V_ARGS="-f klems_full.cal -b kbin(0,1,0,0,0,1) -bn Nkbins -m Glazing"
 DC_ARGS="-e MF:1 -f reinhart.cal -b rbin -bn Nrbins -m skyglow -m groundglow"
 CDS_ARGS="-I+ -ab 1 -ad 256 -lw 1e-3 -dc 1 -dt 0 -dj 0 -faf -e MF:6 -f reinhart.cal -b rbin -bn Nrbins -m solar"
-timed() {  # out_file command... ; prints wall seconds
-    /usr/bin/time -f "%e" -o "$tmp/time" "${@:2}" < "$PTS" > "$1"
-    cat "$tmp/time"
+REPEAT=${REPEAT:-3}
+timed() {  # out_file command... ; prints the fastest of REPEAT runs' wall seconds (the last kept)
+    local best="" start end ms
+    for _ in $(seq "$REPEAT"); do
+        start=$(date +%s%N)
+        "${@:2}" < "$PTS" > "$1"
+        end=$(date +%s%N)
+        ms=$(((end - start) / 1000000))
+        if [ -z "$best" ] || [ "$ms" -lt "$best" ]; then best=$ms; fi
+    done
+    printf '%d.%03d\n' $((best / 1000)) $((best % 1000))
 }
 record() {  # case program ad seconds output reference
     err=$(python3 "$here/rcontrib_error.py" "$5" "$6")
