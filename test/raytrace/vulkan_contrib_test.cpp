@@ -296,6 +296,33 @@ TEST_F(VulkanContrib, SubsampledSlicesAsOneStream) {
     EXPECT_LT(std::sqrt(backends), 0.2 * std::sqrt(seeds));
 }
 
+// -asub's probes on the GPU as on the CPU: twenty sensors under a glowing strip a third of a
+// cell wide, which many probes miss (the cells they leave whole give other numbers than split
+// ones would), with one random stream: as Embree's, far closer than two seeds.
+TEST_F(VulkanContrib, SubsampledNearTargetsAsOneStream) {
+    WriteSensorLine();
+    WriteFile(tmp_.path() / "strip.rad",
+              "void glow pane 0 0 4 1 1 1 0\n"
+              "pane polygon w 0 0 12 -3 -.015 1.2  -3 .015 1.2  3 .015 1.2  3 -.015 1.2\n");
+    const std::string args =
+        "-asub 3 -I+ -ab 1 -ad 1024 -lw 1e-6" + kBins + "-m pane strip.rad < rays";
+    const std::vector<double> gpu = Run("vulkan", "-seed 1 " + args, tmp_.path()),
+                              cpu = Run("embree", "-seed 1 " + args, tmp_.path()),
+                              other = Run("embree", "-seed 2 " + args, tmp_.path());
+    ASSERT_EQ(gpu.size(), 20u * 146 * 3);
+    ASSERT_EQ(cpu.size(), gpu.size());
+    ASSERT_EQ(other.size(), gpu.size());
+    double backends = 0, seeds = 0, total = 0;
+    for (size_t i = 0; i < gpu.size(); ++i) {
+        backends += (gpu[i] - cpu[i]) * (gpu[i] - cpu[i]);
+        seeds += (other[i] - cpu[i]) * (other[i] - cpu[i]);
+        total += cpu[i];
+    }
+    EXPECT_GT(total, 0.5);
+    EXPECT_GT(seeds, 0);
+    EXPECT_LT(std::sqrt(backends), 0.2 * std::sqrt(seeds));
+}
+
 // Sun coefficients through the tutorial room's glazing (RADIANCE's octree with 5185 suns,
 // direct only, no jitter): no sampling at all, so each sensor's total equals Embree's to float
 // rounding. (Per bin, suns lying on a bin's edge may fall either side.)
