@@ -207,16 +207,22 @@ void StartSubsamples() {
     ForgetProbes();
 }
 
-// Returns true if it pushed the step's ray.
-bool SubsampleStep(IN(Item) it, int k) {
+// Returns true if it pushed the step's ray. A cell is decided at its first step: split, its
+// other steps follow; left whole, its chosen step is taken at once and the others skipped
+// (it.next moves to the next cell's first step).
+bool SubsampleStep(INOUT(Item) it, int k) {
     int per = ASUB * ASUB;
     int cell = k / per, s = k % per;
     int i = it.n - 1 - cell / it.n, j = it.n - 1 - cell % it.n;
     if (k == 0) StartSubsamples();
     rng = Key(cell_key, uint(cell), 0x85ebca6bu, hemispheres0);  // the same for the cell's steps
     int chosen = min(per - 1, int(Rand() * real(per)));
-    bool split = WorthSubsampling(it, i, j);
-    if (!split && s != chosen) return false;
+    bool split = s > 0 || WorthSubsampling(it, i, j);
+    if (!split) {
+        s = chosen;
+        k = cell * per + s;
+        it.next = (cell + 1) * per;
+    }
     rng = Key(cell_key, uint(k), 0x9e3779b9u, hemispheres0);
     int at = PushSlot();  // the sub-sample's ray, spawned in its slot
     real3 dir;

@@ -16,9 +16,9 @@ bool NextRay(OUT(int) at) {
             return true;
         } else if (kind == kItemAmbient) {
             int item = top - 1;
-            bool last = STACK(item).next + 1 >= STACK(item).end;
-            bool pushed = AmbientStep(STACK(item));
-            if (last) {  // the hemisphere leaves the stack, its last cell's ray takes its place
+            bool pushed = AmbientStep(STACK(item));  // (-asub's may skip a cell's other steps)
+            if (STACK(item).next >= STACK(item).end) {
+                // the hemisphere leaves the stack, its last cell's ray takes its place
                 if (pushed) {
                     STACK(item).r = STACK(item + 1).r;
                     STACK(item).kind = kItemTrace;
