@@ -169,7 +169,7 @@ bool ProbeMeetsTarget(IN(Item) it, int i, int j) {
 }
 
 void ForgetProbes() {
-    if (MAXN < 3) return;  // (no probes then: WorthSubsampling)
+    if (MAXN < 3) return;  // no room for the tags: WorthSubsampling splits every cell
     for (int slot = 0; slot < 3; ++slot) ROW0(MAXN + slot) = real3(-1.);
 }
 
