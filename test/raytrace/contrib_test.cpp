@@ -69,6 +69,15 @@ MeanAndError UpwardSensorMean(const fs::path &dir, const std::string &args, int 
     return test::UpwardSensorMean(dir, "rcontrib-gpu", args, count);
 }
 
+// A glowing rectangle of radiance 1, modifier 'pane', half-widths a (x) and b (y), at height c.
+std::string GlowingPane(double a, double b, double c) {
+    std::ostringstream pane;
+    pane << "void glow pane 0 0 4 1 1 1 0\npane polygon w 0 0 12 " << -a << " " << -b << " " << c
+         << "  " << -a << " " << b << " " << c << "  " << a << " " << b << " " << c << "  " << a
+         << " " << -b << " " << c << "\n";
+    return pane.str();
+}
+
 // A closed 2 m cube of reflectance .5 around the origin, modifier 'wall'.
 void WriteFurnace(const fs::path &file) {
     WriteFile(file, "void plastic wall 0 0 5 .5 .5 .5 0 0\n" + CubeOfPolygons("wall"));
@@ -258,11 +267,7 @@ TEST(RcontribGpu, StandardErrorsMatchTheSpread) {
 TEST(RcontribGpu, ViewFactorOfAWindow) {
     TempDir tmp;
     const double a = 1.5, b = 1.0, c = 1.2;  // half-widths and height
-    std::ostringstream win;
-    win << "void glow pane 0 0 4 1 1 1 0\npane polygon w 0 0 12 " << -a << " " << -b << " " << c
-        << "  " << -a << " " << b << " " << c << "  " << a << " " << b << " " << c << "  " << a
-        << " " << -b << " " << c << "\n";
-    WriteFile(tmp.path() / "win.rad", win.str());
+    WriteFile(tmp.path() / "win.rad", GlowingPane(a, b, c));
     // Corner view factor of a parallel rectangle (x by y at distance c), four times.
     const double exact = M_PI * ParallelRectangleViewFactor(a, b, c);
     double plain_se = 0;
@@ -285,18 +290,14 @@ TEST(RcontribGpu, ViewFactorOfAWindow) {
 }
 
 // -asub splits only the cells near what a specular path could start from, found by a probe along
-// each cell's centre (hemisphere.inl): a glowing strip a third of a cell wide, which most probes
+// each cell's centre (hemisphere.inl): a glowing strip a third of a cell wide, which many probes
 // miss, is still seen in the right amount, by the cells left whole (their one ray carries the
-// whole cell) as by the cells split. Without the rule that keeps a whole cell's coefficient, or
-// with a probe drawn from the cell's own random numbers, the mean would be off.
+// whole cell) as by the cells split. With a whole cell's coefficient divided by N^2, or its ray
+// not the chosen sub-sample (so not uniform over the cell), the mean is off (both tried).
 TEST(RcontribGpu, SubsamplesOnlyNearTargetsWithoutBias) {
     TempDir tmp;
     const double a = 1.5, b = 0.015, c = 1.2;  // at -ad 1024, cells about 3.5 degrees wide
-    std::ostringstream strip;
-    strip << "void glow pane 0 0 4 1 1 1 0\npane polygon w 0 0 12 " << -a << " " << -b << " " << c
-          << "  " << -a << " " << b << " " << c << "  " << a << " " << b << " " << c << "  " << a
-          << " " << -b << " " << c << "\n";
-    WriteFile(tmp.path() / "strip.rad", strip.str());
+    WriteFile(tmp.path() / "strip.rad", GlowingPane(a, b, c));
     const double exact = M_PI * ParallelRectangleViewFactor(a, b, c);
     const auto [mean, se] =
         UpwardSensorMean(tmp.path(), "-asub 3 -I+ -ab 1 -ad 1024 -lw 1e-6 -m pane strip.rad", 400);
