@@ -4,9 +4,10 @@
 #   1. the Vulkan devices the build sees (ray queries or not);
 #   2. the test suite's Vulkan tests on that device;
 #   3. the reference office (examples/reference-office's model; small: 1425 sensors, large:
-#      14250) V, DC and C_ds on the GPU by both traversals, beside Embree on the same machine:
-#      wall seconds, and each GPU matrix's difference from Embree's at the same seed (the two run
-#      one estimator with one random stream, so this is float rounding, not noise); and DAYSIM's
+#      14250) V, DC (also with -asub 3) and C_ds on the GPU by both traversals, beside Embree on
+#      the same machine: wall seconds, and each GPU matrix's difference from Embree's at the same
+#      seed (the two run one estimator with one random stream, so this is float rounding, not
+#      noise); and DAYSIM's
 #      diffuse run (rtrace_dc-gpu -Dd, DAYSIM's settings) without (DSdif) and with (DSdifC, -aa
 #      0.1) the sensor cache; and T, genBSDF of the office's blinds (glass, slats, head box and
 #      guides) at -c 500; and the three- and five-phase matrices D, Vd (V_d) and Dd (D_d) of
@@ -21,8 +22,9 @@
 # environment: BUILD (build: a build tree, or bench/gpu_bundle.sh's copy), DEVICE (0; llvmpipe
 #   here), OUT (bench/results/gpu), MODELS ("small large"), QUICK (1: every 30th sensor and low
 #   settings, for lavapipe), TESTS (0 skips step 2), TEST_SHARDS (1: test processes side by side,
-#   each compiling its own pipelines: NVIDIA's compiler is most of step 2), CASES ("V DC Cds
-#   DSdif DSdifC T"; also D Vd Dd)
+#   each compiling its own pipelines: NVIDIA's compiler is most of step 2), CASES ("V DC DCsub
+#   Cds DSdif DSdifC T"; also D Vd Dd; DCsub: DC with -asub 3, whose probes a GPU slice of one
+#   row asks for three)
 # On the device machine (device/README.md): bench/gpu_bundle.sh here, then, there, with .gpu and
 # .gl carried: for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig; BUILD=.gpu bench/gpu.sh
 set -euo pipefail
@@ -34,7 +36,7 @@ MODELS=${MODELS:-"small large"}
 QUICK=${QUICK:-0}
 TESTS=${TESTS:-1}
 TEST_SHARDS=${TEST_SHARDS:-1}
-CASES=${CASES:-"V DC Cds DSdif DSdifC T"}
+CASES=${CASES:-"V DC DCsub Cds DSdif DSdifC T"}
 RCONTRIB=$BUILD/bin/rcontrib-gpu
 if [ -f "$BUILD/gpu.tar.xz" ] && [ ! -x "$RCONTRIB" ]; then  # bench/gpu_bundle.sh's archive
     tar -C "$BUILD" -xJf "$BUILD/gpu.tar.xz"
@@ -114,6 +116,8 @@ for model in $MODELS; do
         case $case in
             V) args="$V_ARGS vmaterials.rad model/office.rad model/glass.rad" ;;
             DC) args="$DC_ARGS model/materials.rad model/office.rad model/glass.rad model/sky.rad" ;;
+            DCsub) args="-asub 3 $DC_ARGS model/materials.rad model/office.rad model/glass.rad"
+                args="$args model/sky.rad" ;;
             Cds) args="$CDS_ARGS model/materials.rad model/office.rad model/glass.rad model/suns.rad" ;;
             DSdif | DSdifC)
                 program=$BUILD/bin/rtrace_dc-gpu
