@@ -116,7 +116,8 @@ for model in $MODELS; do
         case $case in
             V) args="$V_ARGS vmaterials.rad model/office.rad model/glass.rad" ;;
             DC) args="$DC_ARGS model/materials.rad model/office.rad model/glass.rad model/sky.rad" ;;
-            DCsub) args="-asub 3 $DC_ARGS model/materials.rad model/office.rad model/glass.rad"
+            DCsub)
+                args="-asub 3 $DC_ARGS model/materials.rad model/office.rad model/glass.rad"
                 args="$args model/sky.rad" ;;
             Cds) args="$CDS_ARGS model/materials.rad model/office.rad model/glass.rad model/suns.rad" ;;
             DSdif | DSdifC)
