@@ -24,7 +24,8 @@ struct ContribOptions {
     double source_jitter = 0.9;      // -dj (rcontrib's default): shadow rays spread over a source
     double source_size_ratio = 0.2;  // -ds: local sources split where larger than this x distance
     int direct_relays = 3;           // -dr (rcontrib's default): mirrors a source is seen through
-    int ambient_subsamples = 1;      // -asub N (ours): N x N samples per first-hemisphere cell
+    int ambient_subsamples = 1;      // -asub N (ours): N x N samples per first-hemisphere cell,
+                                     // receivers sampled below it
     uint64_t seed = 0;
 };
 

@@ -274,6 +274,46 @@ class Packer {
         }
     }
 
+    // The receivers -asub samples (tables.h): the triangles of glow surfaces that count for a
+    // modifier, clipped by no antimatter, where no analytic shape has the same surface (a hit
+    // on it must be weighed as the samples are: only triangles are sampled).
+    void Receivers(bool sampled) {
+        p_.receivers.assign(1, Vec4(0, 0, 0, 0));  // the header, even where none
+        if (!sampled) return;
+        std::vector<char> on_shapes(p_.surfaces.size(), 0);
+        for (const core::PackedShape &g : p_.shapes) on_shapes[g.surface] = 1;
+        const auto receives = [&](int s) {
+            const core::PackedSurface &m = p_.surfaces[s];
+            return m.kind == core::kMatGlow && m.tracked >= 0 && m.clip == 0 && !on_shapes[s];
+        };
+        const double *c = p_.centre;
+        double area = 0;
+        int count = 0;
+        for (size_t i = 0; i < scene_.triangles.size(); ++i) {
+            if (!receives(p_.triangles[i].surface)) continue;
+            const auto &t = scene_.triangles[i];
+            const Vec3 &a = scene_.vertices[t[0]], &b = scene_.vertices[t[1]],
+                       &d = scene_.vertices[t[2]];
+            const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+                         w[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+            const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                                 u[0] * w[1] - u[1] * w[0]};
+            const double half = 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            if (!(half > 0)) continue;  // degenerate: never met
+            area += half;
+            ++count;
+            p_.receivers.push_back(Vec4(a[0] - c[0], a[1] - c[1], a[2] - c[2], area));
+            p_.receivers.push_back(Vec4(u[0], u[1], u[2]));
+            p_.receivers.push_back(Vec4(w[0], w[1], w[2]));
+        }
+        p_.receivers[0] = Vec4(area, count, 0, 0);
+        if (count == 0) return;
+        for (core::PackedSurface &m : p_.surfaces)
+            if (receives(static_cast<int>(&m - p_.surfaces.data())))
+                m.params.w =
+                    static_cast<float>(static_cast<int>(m.params.w) | core::kSurfaceSampled);
+    }
+
     // Sources, then their images in mirrors, and the mirrors: relay r's vec4s at 3r are
     // (normal, offset), (centre, radius squared), (first vertex, vertices, inner radius squared
     // of a ring); all relays' vertices follow.
@@ -425,6 +465,7 @@ PackedScene PackScene(const FlatScene &scene, const SceneMaterials &table,
     packer.Triangles();
     packer.Shapes();
     packer.Sources(options.direct_relays);
+    packer.Receivers(options.ambient_subsamples > 1);
     return p;
 }
 

@@ -30,7 +30,8 @@ struct PackedScene {
     std::vector<core::PackedSource> sources;  // the scene's, then their images in mirrors
     std::vector<core::vec4> relays;           // the mirrors those are seen through
     std::vector<float> klems;                 // BSDF data (tables.h's kKlems* layout)
-    std::vector<core::ivec4> tracked;  // per tracked modifier: column, bins, bin function (0)
+    std::vector<core::ivec4> tracked;   // per tracked modifier: column, bins, bin function (0)
+    std::vector<core::vec4> receivers;  // what -asub samples directly (tables.h), with -asub only
     // The patterns (brightfunc, colorfunc, mixfunc coefficients, variable BSDF frames) the
     // tables name by index.
     std::vector<const PatternFunction *> patterns;

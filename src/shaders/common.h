@@ -30,6 +30,7 @@ CONST int kBindingTracked = 14;   // ivec4 per tracked modifier (tables.h's kTra
 // private arrays, which NVIDIA's driver limits to about 16 KiB an invocation.
 CONST int kBindingScratchItems = 15;  // Item (raytrace/core/rays.inl)
 CONST int kBindingScratchRows = 16;   // vec4 (xyz: a direction)
+CONST int kBindingReceivers = 17;     // vec4: what -asub samples directly (tables.h's receivers)
 
 // One dispatch: tasks [task_offset, task_offset + count) of rays x slices; a slice traces a
 // share of the rows of the first hemisphere (the rest of a path follows the cell that started

@@ -34,6 +34,7 @@ layout(std430, set = 0, binding = kBindingShapes) readonly buffer Shapes { Packe
 layout(std430, set = 0, binding = kBindingRelays) readonly buffer Relays { vec4 relays[]; };
 layout(std430, set = 0, binding = kBindingTracked) readonly buffer Tracked { ivec4 tracked[]; };
 layout(std430, set = 0, binding = kBindingKlems) readonly buffer Klems { float klems[]; };
+layout(std430, set = 0, binding = kBindingReceivers) readonly buffer Receivers { vec4 receivers[]; };
 
 // The stack and the rows in scratch buffers, a region per task (the core's STACK, ROW0, ROWD):
 // NVIDIA's driver refuses pipelines whose private arrays pass about 16 KiB an invocation. (Else,

@@ -293,16 +293,19 @@ TEST_F(VulkanContrib, SubsampledSlicesAsOneStream) {
     ExpectOneStream(gpu, cpu, other, 2u * 146 * 3, 0.1);
 }
 
-// -asub's probes on the GPU as on the CPU: twenty sensors under a glowing strip a third of a
-// cell wide, which many probes miss (the cells they leave whole give other numbers than split
-// ones would), with one random stream: as Embree's, far closer than two seeds.
+// -asub's probes and receiver samples on the GPU as on the CPU: twenty sensors under a glowing
+// strip a third of a cell wide, which many probes miss (the cells they leave whole give other
+// numbers than split ones would), and a ceiling above it, whose hemispheres sample the strip
+// directly, with one random stream: as Embree's, far closer than two seeds.
 TEST_F(VulkanContrib, SubsampledNearTargetsAsOneStream) {
     WriteSensorLine();
     WriteFile(tmp_.path() / "strip.rad",
               "void glow pane 0 0 4 1 1 1 0\n"
-              "pane polygon w 0 0 12 -3 -.015 1.2  -3 .015 1.2  3 .015 1.2  3 -.015 1.2\n");
+              "pane polygon w 0 0 12 -3 -.015 1.2  -3 .015 1.2  3 .015 1.2  3 -.015 1.2\n"
+              "void plastic ceiling 0 0 5 .5 .5 .5 0 0\n"
+              "ceiling polygon c 0 0 12 -9 -9 2  9 -9 2  9 9 2  -9 9 2\n");
     const std::string args =
-        "-asub 3 -I+ -ab 1 -ad 1024 -lw 1e-6" + kBins + "-m pane strip.rad < rays";
+        "-asub 3 -I+ -ab 2 -ad 1024 -lw 1e-6" + kBins + "-m pane strip.rad < rays";
     const std::vector<double> gpu = Run("vulkan", "-seed 1 " + args, tmp_.path()),
                               cpu = Run("embree", "-seed 1 " + args, tmp_.path()),
                               other = Run("embree", "-seed 2 " + args, tmp_.path());

@@ -33,6 +33,94 @@ real3 DiskToHemisphere(real2 xy, real3 ux, real3 uy, real3 normal) {
     return CheckNorm(xy.x * ux + xy.y * uy + z * normal);
 }
 
+#ifdef DAYFLUX_ASUB
+// -asub below the first hemisphere: a diffuse surface there also samples the receivers directly
+// (the glow triangles of tables.h's receivers table: a V matrix's window), a point on them picked
+// by area, one per hemisphere, as RADIANCE's direct calculation samples light sources. Where its
+// ray meets the point, it counts with the balance heuristic's share, and so does each of the
+// hemisphere's rays that meets a receiver straight away (multiple importance sampling: the two
+// shares add to one for every direction, so the sum stays unbiased, and the light a window
+// sends in reaches each surface of the room with far less noise than its few hemisphere rays
+// alone bring). A ray reaching a receiver through anything else (glass, a mirror) keeps its
+// whole coefficient: a sample counts only where nothing lies between.
+
+bool SamplesReceivers(int adepth) { return ASUB > 1 && adepth > 0 && receivers[0].y > 0.; }
+
+// The density of a hemisphere of `cells` rays toward dir, per unit solid angle and times its
+// rays (the cosine's: each ray's coefficient is the colour / cells).
+real HemisphereDensity(int cells, real3 dir, real3 normal) {
+    return real(cells) * dot(dir, normal) / kPi;
+}
+
+// The receivers' density toward a point at distance t whose surface the direction meets at
+// cosine cos_there, per unit solid angle.
+real ReceiverDensity(real t, real cos_there) {
+    return t * t / (real(receivers[0].x) * max(cos_there, kTiny));
+}
+
+// The share a hemisphere ray (its density r.mis) keeps where it meets a receiver at distance t.
+real HemisphereShare(IN(Ray) r, real t, real cos_there) {
+    return r.mis / (r.mis + ReceiverDensity(t, cos_there));
+}
+
+// One point of the receivers, picked by area, seen from point on a surface of colour whose
+// hemisphere has `cells` rays: a ray toward it pushed (ReceiverSampleMet counts it), carrying
+// colour cos / pi, minus the hemisphere's density toward it and the distance to it.
+void SampleReceivers(IN(Ray) r, IN(real3) colour, IN(real3) point, IN(real3) normal, int cells) {
+    int count = int(receivers[0].y);
+    real pick = Rand() * real(receivers[0].x);
+    int lo = 0, hi = count - 1;  // the first triangle whose cumulative area passes pick
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (real(receivers[1 + 3 * mid].w) <= pick)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    real a = Rand(), b = Rand();
+    if (a + b > 1.) {
+        a = 1. - a;
+        b = 1. - b;
+    }
+    int tri = 1 + 3 * lo;
+    real3 to = real3(XYZ(receivers[tri])) + a * real3(XYZ(receivers[tri + 1])) +
+               b * real3(XYZ(receivers[tri + 2])) - point;
+    real dist = length(to);
+    if (dist <= kTiny) return;
+    real3 dir = to / dist;
+    real cos_here = dot(dir, normal);
+    if (cos_here <= kTiny) return;
+    int at = PushSlot();
+    STACK(at).kind = kItemTrace;
+    STACK(at).r = r;
+    STACK(at).r.org = point;
+    STACK(at).r.dir = dir;
+    STACK(at).r.depth = r.depth + 1;
+    STACK(at).r.crtype = r.crtype | kAmbient;
+    STACK(at).r.aimed = -1;
+    STACK(at).r.coef = r.coef * colour * (cos_here / kPi);
+    STACK(at).r.mis = -HemisphereDensity(cells, dir, normal);
+    STACK(at).r.target = dist;
+}
+
+// A receiver sample's ray (r.mis < 0) met what h holds (if met): where that is its point (within
+// 0.1 %: positions are float on the GPU), its contribution, the estimate's share of it: colour
+// cos / pi / the receivers' density, times that density over the sum of both.
+void ReceiverSampleMet(IN(Ray) r, bool met, IN(Hit) h) {
+    if (!met || abs(h.t - r.target) > 1e-3 * r.target) return;
+    PackedSurface m = surfaces[h.surface];
+    if ((int(m.params.w) & kSurfaceSampled) == 0) return;
+    real cos_there = -dot(r.dir, h.normal);
+    real3 facing = cos_there < 0. ? -h.normal : h.normal;
+    cos_there = abs(cos_there);
+    if (cos_there <= kTiny) return;
+    Ray c = r;
+    c.coef /= ReceiverDensity(h.t, cos_there) - r.mis;
+    Contribute(m.tracked, c, h.point, facing, h.t, -1,
+               CONTRIBUTIONS != 0 ? Colour(m, c, h.point, facing, h.t) : real3(1));
+}
+#endif
+
 // A deeper hemisphere of one cell (most of them: the weights below the first level are small):
 // its ray pushed at once, as AmbientStep would push it, in any tangent frame. The random turn
 // matters only to the collision rule between cells; one cell's direction is cosine-distributed
@@ -51,6 +139,9 @@ void PushSingleCell(IN(Ray) r, IN(real3) colour, IN(real3) point, IN(real3) norm
     STACK(at).r.org = point;
     STACK(at).r.dir = DiskToHemisphere(SquareToDisk(v, u), ux, uy, normal);
     STACK(at).kind = kItemTrace;
+#ifdef DAYFLUX_ASUB
+    if (SamplesReceivers(r.adepth)) STACK(at).r.mis = HemisphereDensity(1, STACK(at).r.dir, normal);
+#endif
 }
 
 void PushHemisphere(IN(Ray) ray, IN(real3) colour, IN(real3) point, IN(real3) normal) {
@@ -69,6 +160,9 @@ void PushHemisphere(IN(Ray) ray, IN(real3) colour, IN(real3) point, IN(real3) no
     if (wt > d) wt = d;
     int n = int(sqrt(real(AD) * wt) + 0.5);
     if (n < 1) n = 1;
+#ifdef DAYFLUX_ASUB
+    if (SamplesReceivers(r.adepth)) SampleReceivers(r, colour, point, normal, n * n);
+#endif
     if (n == 1 && r.adepth > 0) {
         PushSingleCell(r, colour, point, normal);
         return;
@@ -272,6 +366,9 @@ bool AmbientStep(INOUT(Item) it) {
         Unpush(at);
         return false;
     }
+#ifdef DAYFLUX_ASUB
+    if (SamplesReceivers(d)) STACK(at).r.mis = HemisphereDensity(it.n * it.n, dir, it.normal);
+#endif
     STACK(at).r.org = it.point;
     STACK(at).r.dir = dir;
     STACK(at).kind = kItemTrace;

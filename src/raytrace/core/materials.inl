@@ -445,8 +445,17 @@ void Shade(INOUT(Ray) r, int object, int k, int source, INOUT(PackedSurface) m, 
         m = surfaces[m.fore];  // rayshade() with the alternate material
         light = false;
     } else if (k >= 0) {
-        Contribute(k, r, point, normal, t, source,
-                   CONTRIBUTIONS != 0 ? Colour(m, r, point, normal, t) : real3(1));
+#ifdef DAYFLUX_ASUB
+        if (r.mis > 0. && (int(m.params.w) & kSurfaceSampled) != 0) {
+            // a hemisphere ray meeting a receiver its surface sampled too: its share
+            Ray met = r;
+            met.coef *= HemisphereShare(r, t, rod);
+            Contribute(k, met, point, normal, t, source,
+                       CONTRIBUTIONS != 0 ? Colour(m, r, point, normal, t) : real3(1));
+        } else
+#endif
+            Contribute(k, r, point, normal, t, source,
+                       CONTRIBUTIONS != 0 ? Colour(m, r, point, normal, t) : real3(1));
     }
     if (m.kind == kMatAntimatter) {
         int inside = PassAntimatter(r, m, point);

@@ -30,6 +30,10 @@ struct Ray {
     uint next_clip;  // the set the rays it passes on (not reflections) start with (newcset)
 #ifdef DAYFLUX_ASUB
     real dscale;  // -asub: what the diffuse paths it starts are multiplied by (1, 0 or ASUB^2)
+    // -asub's receivers (hemisphere.inl): a deeper hemisphere's ray, its density against theirs;
+    // a receiver sample, minus the density of the hemisphere it was drawn beside (else 0)
+    real mis;
+    real target;  // a receiver sample: the distance to its point
 #endif
 #ifdef DAYFLUX_DIELECTRIC
     real3 cext;  // extinction of the medium it travels in (rayorigin() weighs children by it)
@@ -182,6 +186,10 @@ bool Spawn(IN(Ray) parent, int type, real3 rc, OUT(Ray) child) {
     child.aimed = reflected ? -1 : parent.aimed;
     child.clip = reflected ? parent.clip : parent.next_clip;
     child.next_clip = child.clip;
+#ifdef DAYFLUX_ASUB
+    child.mis = 0.;  // set where a hemisphere makes it
+    child.target = 0.;
+#endif
 #ifdef DAYFLUX_INSIDE
     if (!reflected && parent.counter >= 0)
         InsideAdd(child.inside, parent.counter, parent.counter_front != 0 ? 1 : -1);

@@ -59,6 +59,9 @@ CONST int kSurfaceMetal = 1;
 CONST int kSurfaceTransparent = 2;
 // A mirror naming a substitute material (m_mirror()'s string argument): fore is it (-1: void).
 CONST int kSurfaceMirrorAlternate = 4;
+// A receiver -asub samples directly (the receivers table below): a glow counting for a modifier,
+// on triangles only, clipped by no antimatter.
+CONST int kSurfaceSampled = 8;
 
 struct PackedSurface {
     vec4 color;    // rgb; w: glass refractive index
@@ -131,6 +134,11 @@ struct PackedSource {
 inline bool ShadowRaysAskBlockers(PackedSource s) {
     return int(s.u.w) == kSourceDistant && s.relay < 0 && s.colour.w < 0.5;
 }
+
+// The receivers -asub samples from diffuse surfaces below the first hemisphere (hemisphere.inl's
+// SampleReceivers): the triangles of the surfaces flagged kSurfaceSampled, recentred, as vec4s.
+// A header (x: their total area, y: how many), then three per triangle: (first vertex, the
+// triangles' cumulative area up to and including this one), (first edge, 0), (second edge, 0).
 
 // A tracked modifier (ivec4 per -m): its first column in a record, its number of bins, and its
 // bin function.

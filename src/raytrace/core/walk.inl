@@ -41,6 +41,12 @@ bool NextRay(OUT(int) at) {
 // driver's Intersect found (met, in h) or else a distant source (sourcehit()), and that is
 // shaded, pushing what it spawns.
 void ShadeMet(INOUT(Ray) r, bool met, INOUT(Hit) h) {
+#ifdef DAYFLUX_ASUB
+    if (r.mis < 0.) {
+        ReceiverSampleMet(r, met, h);
+        return;
+    }
+#endif
     if (met) {
         h.m = surfaces[h.surface];
         h.tracked = h.m.tracked;
@@ -107,6 +113,8 @@ bool TraceAllButCells(real3 org, real3 dir, uint index, uint replica, uint slice
     r.next_clip = 0u;
 #ifdef DAYFLUX_ASUB
     r.dscale = 1.0;
+    r.mis = 0.;
+    r.target = 0.;
 #endif
 #ifdef DAYFLUX_DIELECTRIC
     r.cext = real3(0);

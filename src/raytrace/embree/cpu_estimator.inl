@@ -13,6 +13,7 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
           surfaces(s.packed.surfaces.data()),
           sources(s.packed.sources.data()),
           relays(s.packed.relays.data()),
+          receivers(s.packed.receivers.data()),
           klems(s.packed.klems.data()),
           tracked(s.packed.tracked.data()),
           nsources_(static_cast<int>(s.packed.sources.size())),
@@ -247,6 +248,7 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
     const PackedSurface *surfaces;
     const PackedSource *sources;
     const vec4 *relays;
+    const vec4 *receivers;
     const float *klems;
     const ivec4 *tracked;
     int nsources_, ndirect_;

@@ -95,7 +95,7 @@ struct DeviceState {
     std::unique_ptr<vk::GpuDevice> device;
     std::vector<uint32_t> spirv;
     int positions = -1, indices = -1, triangles = -1, surfaces = -1, sources = -1, shapes = -1;
-    int bvh_nodes = -1, bvh_prims = -1, klems = -1, relays = -1, tracked = -1;
+    int bvh_nodes = -1, bvh_prims = -1, klems = -1, relays = -1, tracked = -1, receivers = -1;
     bool scratch = false;     // stack and rows in scratch buffers (GpuScratch)
     uint32_t item_bytes = 0;  // the shader's stack item (std430), for its scratch
     uint64_t dropped = 0;     // stack items lost in its last Trace
@@ -133,6 +133,7 @@ bool Upload(const PackedScene &packed, const std::vector<core::ivec4> &tracked, 
     dev.klems = device.Resident(Bytes(packed.klems));
     dev.relays = device.Resident(Bytes(packed.relays));
     dev.tracked = device.Resident(Bytes(tracked));
+    dev.receivers = device.Resident(Bytes(packed.receivers));
     return true;
 }
 
@@ -328,7 +329,11 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         if (dev.scratch) {
             buffers.push_back(G::Scratch(count * stack_bytes));  // kBindingScratchItems
             buffers.push_back(G::Scratch(count * rows_bytes));   // kBindingScratchRows
+        } else {
+            buffers.push_back(G::In(&none));  // bindings 15 and 16 unused
+            buffers.push_back(G::In(&none));
         }
+        buffers.push_back(G::OnDevice(dev.receivers));  // kBindingReceivers
         dev.device->Run(dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize, buffers);
         uint32_t stat[2];
         std::memcpy(stat, stats.data(), sizeof stat);
