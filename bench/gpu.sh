@@ -4,14 +4,14 @@
 #   1. the Vulkan devices the build sees (ray queries or not);
 #   2. the test suite's Vulkan tests on that device;
 #   3. the reference office (examples/reference-office's model; small: 1425 sensors, large:
-#      14250) V, DC (also with -asub 3) and C_ds on the GPU by both traversals, beside Embree on
-#      the same machine: wall seconds, and each GPU matrix's difference from Embree's at the same
-#      seed (the two run one estimator with one random stream, so this is float rounding, not
-#      noise); and DAYSIM's
-#      diffuse run (rtrace_dc-gpu -Dd, DAYSIM's settings) without (DSdif) and with (DSdifC, -aa
-#      0.1) the sensor cache; and T, genBSDF of the office's blinds (glass, slats, head box and
-#      guides) at -c 500; and the three- and five-phase matrices D, Vd (V_d) and Dd (D_d) of
-#      examples/reference-office/Makefile.phases (not in the default CASES: add them by name).
+#      14250) V and DC (each also with -asub 3) and C_ds on the GPU by both traversals, beside
+#      Embree on the same machine: wall seconds, and each GPU matrix's difference from
+#      Embree's at the same seed (the two run one estimator with one random stream, so this is
+#      float rounding, not noise); and DAYSIM's diffuse run (rtrace_dc-gpu -Dd, DAYSIM's
+#      settings) without (DSdif) and with (DSdifC, -aa 0.1) the sensor cache; and T, genBSDF of
+#      the office's blinds (glass, slats, head box and guides) at -c 500; and the three- and
+#      five-phase matrices D, Vd (V_d) and Dd (D_d) of examples/reference-office/Makefile.phases
+#      (not in the default CASES: add them by name).
 # Writes OUT/gpu.csv (model,case,program,sensors,wall_s,rel_rms_vs_embree), OUT/summary.txt and
 # the logs. On an H100 machine (16 cores for Embree), 2026-11-25: MODELS=small with the tests
 # 441 s, MODELS=large TESTS=0 402 s (96 s of it C_ds on the GPU): two calls within the device
@@ -22,9 +22,9 @@
 # environment: BUILD (build: a build tree, or bench/gpu_bundle.sh's copy), DEVICE (0; llvmpipe
 #   here), OUT (bench/results/gpu), MODELS ("small large"), QUICK (1: every 30th sensor and low
 #   settings, for lavapipe), TESTS (0 skips step 2), TEST_SHARDS (1: test processes side by side,
-#   each compiling its own pipelines: NVIDIA's compiler is most of step 2), CASES ("V DC DCsub
-#   Cds DSdif DSdifC T"; also D Vd Dd; DCsub: DC with -asub 3, whose probes a GPU slice of one
-#   row asks for three)
+#   each compiling its own pipelines: NVIDIA's compiler is most of step 2), CASES ("V Vsub DC
+#   DCsub Cds DSdif DSdifC T"; also D Vd Dd; DCsub: DC with -asub 3, whose probes a GPU slice of
+#   one row asks for three; Vsub: V with -asub 3, whose surfaces sample the window directly)
 # On the device machine (device/README.md): bench/gpu_bundle.sh here, then, there, with .gpu and
 # .gl carried: for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig; BUILD=.gpu bench/gpu.sh
 set -euo pipefail
@@ -36,7 +36,7 @@ MODELS=${MODELS:-"small large"}
 QUICK=${QUICK:-0}
 TESTS=${TESTS:-1}
 TEST_SHARDS=${TEST_SHARDS:-1}
-CASES=${CASES:-"V DC DCsub Cds DSdif DSdifC T"}
+CASES=${CASES:-"V Vsub DC DCsub Cds DSdif DSdifC T"}
 RCONTRIB=$BUILD/bin/rcontrib-gpu
 if [ -f "$BUILD/gpu.tar.xz" ] && [ ! -x "$RCONTRIB" ]; then  # bench/gpu_bundle.sh's archive
     tar -C "$BUILD" -xJf "$BUILD/gpu.tar.xz"
@@ -115,6 +115,7 @@ for model in $MODELS; do
         program=$RCONTRIB
         case $case in
             V) args="$V_ARGS vmaterials.rad model/office.rad model/glass.rad" ;;
+            Vsub) args="-asub 3 $V_ARGS vmaterials.rad model/office.rad model/glass.rad" ;;
             DC) args="$DC_ARGS model/materials.rad model/office.rad model/glass.rad model/sky.rad" ;;
             DCsub)
                 args="-asub 3 $DC_ARGS model/materials.rad model/office.rad model/glass.rad"

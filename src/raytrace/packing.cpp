@@ -299,15 +299,19 @@ class Packer {
             const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
                                  u[0] * w[1] - u[1] * w[0]};
             const double half = 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-            if (!(half > 0)) continue;  // degenerate: never met
+            if (!(half > 0)) continue;                     // degenerate: never met
+            if (scene_.triangle_object[i] >= (1 << 24)) {  // beyond float's integers: none
+                p_.receivers.assign(1, Vec4(0, 0, 0, 0));
+                return;
+            }
             area += half;
             ++count;
             p_.receivers.push_back(Vec4(a[0] - c[0], a[1] - c[1], a[2] - c[2], area));
-            p_.receivers.push_back(Vec4(u[0], u[1], u[2]));
+            p_.receivers.push_back(Vec4(u[0], u[1], u[2], scene_.triangle_object[i]));
             p_.receivers.push_back(Vec4(w[0], w[1], w[2]));
         }
-        p_.receivers[0] = Vec4(area, count, 0, 0);
         if (count == 0) return;
+        p_.receivers[0] = Vec4(area, count, 0, 0);
         for (core::PackedSurface &m : p_.surfaces)
             if (receives(static_cast<int>(&m - p_.surfaces.data())))
                 m.params.w =

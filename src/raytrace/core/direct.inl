@@ -41,6 +41,10 @@ void ShadowRay(IN(Item) it, int i, IN(PackedSource) s, real3 dir, real3 coef) {
 #ifdef DAYFLUX_DIELECTRIC
     STACK(at).r.t = 0.;
 #endif
+#ifdef DAYFLUX_ASUB
+    STACK(at).r.mis = 0.;  // (the ray it copies may be a hemisphere's)
+    STACK(at).r.target = 0.;
+#endif
 #ifdef DAYFLUX_INSIDE
     STACK(at).r.counter = -1;
 #endif

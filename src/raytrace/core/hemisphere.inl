@@ -36,20 +36,26 @@ real3 DiskToHemisphere(real2 xy, real3 ux, real3 uy, real3 normal) {
 #ifdef DAYFLUX_ASUB
 // -asub below the first hemisphere: a diffuse surface there also samples the receivers directly
 // (the glow triangles of tables.h's receivers table: a V matrix's window), a point on them picked
-// by area, one per hemisphere, as RADIANCE's direct calculation samples light sources. Where its
-// ray meets the point, it counts with the balance heuristic's share, and so does each of the
-// hemisphere's rays that meets a receiver straight away (multiple importance sampling: the two
-// shares add to one for every direction, so the sum stays unbiased, and the light a window
-// sends in reaches each surface of the room with far less noise than its few hemisphere rays
-// alone bring). A ray reaching a receiver through anything else (glass, a mirror) keeps its
-// whole coefficient: a sample counts only where nothing lies between.
+// by area beside each of its hemisphere's rays (up to kReceiverSamples), as RADIANCE's direct
+// calculation samples light sources. Where a sample's ray meets its point, it counts with the
+// balance heuristic's share, and so does each of the hemisphere's rays that meets a receiver
+// straight away (multiple importance sampling: the two shares add to one for every direction,
+// so the sum stays unbiased, and the light a window sends in reaches each surface of the room
+// with far less noise than its few hemisphere rays alone bring). A ray reaching a receiver
+// through anything else (glass, a mirror) keeps its whole coefficient: a sample counts only
+// where nothing lies between. The hemisphere's density is taken as the cosine's: where
+// RADIANCE's collision rule moves its rays (n > 1), it moves only the hemisphere's share.
+
+CONST int kReceiverSamples = 4;  // at most, per hemisphere: each waits on the stack
 
 bool SamplesReceivers(int adepth) { return ASUB > 1 && adepth > 0 && receivers[0].y > 0.; }
+int ReceiverSamples(int cells) { return min(cells, kReceiverSamples); }
 
-// The density of a hemisphere of `cells` rays toward dir, per unit solid angle and times its
-// rays (the cosine's: each ray's coefficient is the colour / cells).
+// The density of a hemisphere of `cells` rays toward dir per unit solid angle, per receiver
+// sample taken beside it (so that both are per sample; the hemisphere's cosine density times
+// cells / samples). Never nought for a ray it made: its sign marks it.
 real HemisphereDensity(int cells, real3 dir, real3 normal) {
-    return real(cells) * dot(dir, normal) / kPi;
+    return max(real(cells) / real(ReceiverSamples(cells)) * dot(dir, normal) / kPi, kTiny);
 }
 
 // The receivers' density toward a point at distance t whose surface the direction meets at
@@ -63,10 +69,11 @@ real HemisphereShare(IN(Ray) r, real t, real cos_there) {
     return r.mis / (r.mis + ReceiverDensity(t, cos_there));
 }
 
-// One point of the receivers, picked by area, seen from point on a surface of colour whose
-// hemisphere has `cells` rays: a ray toward it pushed (ReceiverSampleMet counts it), carrying
-// colour cos / pi, minus the hemisphere's density toward it and the distance to it.
-void SampleReceivers(IN(Ray) r, IN(real3) colour, IN(real3) point, IN(real3) normal, int cells) {
+// A point of the receivers, picked by area, seen from point on a surface of colour whose
+// hemisphere has `cells` rays: a ray toward it pushed (ReceiverSampleMet counts it), spawned as
+// the hemisphere's rays are (rayorigin()'s limits and roulette), its coefficient times cos / pi,
+// with the hemisphere's density toward it, the distance to it and the receiver's object.
+void SampleReceiver(IN(Ray) r, IN(real3) colour, IN(real3) point, IN(real3) normal, int cells) {
     int count = int(receivers[0].y);
     real pick = Rand() * real(receivers[0].x);
     int lo = 0, hi = count - 1;  // the first triangle whose cumulative area passes pick
@@ -91,23 +98,29 @@ void SampleReceivers(IN(Ray) r, IN(real3) colour, IN(real3) point, IN(real3) nor
     real cos_here = dot(dir, normal);
     if (cos_here <= kTiny) return;
     int at = PushSlot();
+    if (!Spawn(r, kAmbient, colour / real(ReceiverSamples(cells)), STACK(at).r)) {
+        Unpush(at);
+        return;
+    }
     STACK(at).kind = kItemTrace;
-    STACK(at).r = r;
     STACK(at).r.org = point;
     STACK(at).r.dir = dir;
-    STACK(at).r.depth = r.depth + 1;
-    STACK(at).r.crtype = r.crtype | kAmbient;
-    STACK(at).r.aimed = -1;
-    STACK(at).r.coef = r.coef * colour * (cos_here / kPi);
-    STACK(at).r.mis = -HemisphereDensity(cells, dir, normal);
+    STACK(at).r.coef *= cos_here / kPi;
+    STACK(at).r.mis = HemisphereDensity(cells, dir, normal);
     STACK(at).r.target = dist;
+    STACK(at).r.target_object = int(receivers[tri + 1].w);
 }
 
-// A receiver sample's ray (r.mis < 0) met what h holds (if met): where that is its point (within
-// 0.1 %: positions are float on the GPU), its contribution, the estimate's share of it: colour
-// cos / pi / the receivers' density, times that density over the sum of both.
+void SampleReceivers(IN(Ray) r, IN(real3) colour, IN(real3) point, IN(real3) normal, int cells) {
+    for (int k = 0; k < ReceiverSamples(cells); ++k)
+        SampleReceiver(r, colour, point, normal, cells);
+}
+
+// A receiver sample's ray (r.target > 0) met what h holds (if met): where that is its point on
+// its object (within 0.1 %: positions are float on the GPU), its contribution, the estimate's
+// share of it: colour cos / pi / the receivers' density, times that density over the sum of both.
 void ReceiverSampleMet(IN(Ray) r, bool met, IN(Hit) h) {
-    if (!met || abs(h.t - r.target) > 1e-3 * r.target) return;
+    if (!met || h.object != r.target_object || abs(h.t - r.target) > 1e-3 * r.target) return;
     PackedSurface m = surfaces[h.surface];
     if ((int(m.params.w) & kSurfaceSampled) == 0) return;
     real cos_there = -dot(r.dir, h.normal);
@@ -115,7 +128,7 @@ void ReceiverSampleMet(IN(Ray) r, bool met, IN(Hit) h) {
     cos_there = abs(cos_there);
     if (cos_there <= kTiny) return;
     Ray c = r;
-    c.coef /= ReceiverDensity(h.t, cos_there) - r.mis;
+    c.coef /= ReceiverDensity(h.t, cos_there) + r.mis;
     Contribute(m.tracked, c, h.point, facing, h.t, -1,
                CONTRIBUTIONS != 0 ? Colour(m, c, h.point, facing, h.t) : real3(1));
 }
@@ -160,11 +173,11 @@ void PushHemisphere(IN(Ray) ray, IN(real3) colour, IN(real3) point, IN(real3) no
     if (wt > d) wt = d;
     int n = int(sqrt(real(AD) * wt) + 0.5);
     if (n < 1) n = 1;
-#ifdef DAYFLUX_ASUB
-    if (SamplesReceivers(r.adepth)) SampleReceivers(r, colour, point, normal, n * n);
-#endif
     if (n == 1 && r.adepth > 0) {
         PushSingleCell(r, colour, point, normal);
+#ifdef DAYFLUX_ASUB
+        if (SamplesReceivers(r.adepth)) SampleReceivers(r, colour, point, normal, 1);
+#endif
         return;
     }
     // The grid's turn: at the first level from numbers keyed by the hemisphere, so that every
@@ -186,6 +199,10 @@ void PushHemisphere(IN(Ray) ray, IN(real3) colour, IN(real3) point, IN(real3) no
     if (r.adepth == 0) STACK(at).end *= ASUB * ASUB;  // steps: the cells' sub-samples
 #endif
     STACK(at).incident = RandomTangent(normal, t0, t1, t2, t3);
+#ifdef DAYFLUX_ASUB
+    // (above the hemisphere: traced first, they spawn nothing, so the stack stays as deep)
+    if (SamplesReceivers(r.adepth)) SampleReceivers(r, colour, point, normal, n * n);
+#endif
 }
 
 bool CollisionRule(int depth, int n) {

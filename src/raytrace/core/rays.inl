@@ -30,10 +30,12 @@ struct Ray {
     uint next_clip;  // the set the rays it passes on (not reflections) start with (newcset)
 #ifdef DAYFLUX_ASUB
     real dscale;  // -asub: what the diffuse paths it starts are multiplied by (1, 0 or ASUB^2)
-    // -asub's receivers (hemisphere.inl): a deeper hemisphere's ray, its density against theirs;
-    // a receiver sample, minus the density of the hemisphere it was drawn beside (else 0)
+    // -asub's receivers (hemisphere.inl): a deeper hemisphere's ray or a receiver sample, the
+    // hemisphere's density toward it (else 0); a sample, the distance to its point (else 0) and
+    // the receiver's object
     real mis;
-    real target;  // a receiver sample: the distance to its point
+    real target;
+    int target_object;
 #endif
 #ifdef DAYFLUX_DIELECTRIC
     real3 cext;  // extinction of the medium it travels in (rayorigin() weighs children by it)
@@ -189,6 +191,7 @@ bool Spawn(IN(Ray) parent, int type, real3 rc, OUT(Ray) child) {
 #ifdef DAYFLUX_ASUB
     child.mis = 0.;  // set where a hemisphere makes it
     child.target = 0.;
+    child.target_object = -1;
 #endif
 #ifdef DAYFLUX_INSIDE
     if (!reflected && parent.counter >= 0)

@@ -138,7 +138,8 @@ inline bool ShadowRaysAskBlockers(PackedSource s) {
 // The receivers -asub samples from diffuse surfaces below the first hemisphere (hemisphere.inl's
 // SampleReceivers): the triangles of the surfaces flagged kSurfaceSampled, recentred, as vec4s.
 // A header (x: their total area, y: how many), then three per triangle: (first vertex, the
-// triangles' cumulative area up to and including this one), (first edge, 0), (second edge, 0).
+// triangles' cumulative area up to and including this one), (first edge, its object), (second
+// edge, 0).
 
 // A tracked modifier (ivec4 per -m): its first column in a record, its number of bins, and its
 // bin function.

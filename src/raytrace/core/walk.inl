@@ -42,7 +42,7 @@ bool NextRay(OUT(int) at) {
 // shaded, pushing what it spawns.
 void ShadeMet(INOUT(Ray) r, bool met, INOUT(Hit) h) {
 #ifdef DAYFLUX_ASUB
-    if (r.mis < 0.) {
+    if (r.target > 0.) {
         ReceiverSampleMet(r, met, h);
         return;
     }
@@ -115,6 +115,7 @@ bool TraceAllButCells(real3 org, real3 dir, uint index, uint replica, uint slice
     r.dscale = 1.0;
     r.mis = 0.;
     r.target = 0.;
+    r.target_object = -1;
 #endif
 #ifdef DAYFLUX_DIELECTRIC
     r.cext = real3(0);
