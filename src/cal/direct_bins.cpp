@@ -125,6 +125,7 @@ std::unique_ptr<KlemsBins> KlemsBins::Make(const Context &cx, const Expression &
                      patches = Value(cx, "knaz(" + ring + ")");
         if (!(patches >= 1 && patches <= 4096) || !std::isfinite(upper)) return nullptr;
         k->upper_.push_back(upper);
+        k->cos_upper_.push_back(std::cos(upper / k->per_degree_));
         k->azimuths_.push_back(patches);
         k->first_.push_back(before);
         before += patches;
@@ -161,16 +162,38 @@ std::vector<std::array<double, 3>> KlemsBins::EdgeDirections() const {
 // (kazn), the ring's first bin (kcum).
 double KlemsBins::Bin(double dx, double dy, double dz) const {
     const double *n = n_, *u = u_;
-    const double pol = std::acos(Bound(-dx * n[0] - dy * n[1] - dz * n[2])) * per_degree_;
-    if (pol - 90 > 0) return -1;
-    size_t ring = 0;  // kring: the first ring whose upper angle pol does not pass
-    while (ring + 1 < upper_.size() && pol - upper_[ring] > 0) ++ring;
+    const double c = Bound(-dx * n[0] - dy * n[1] - dz * n[2]);
+    size_t ring = 0;  // kring: the first ring whose upper angle the polar angle does not pass
+    if (!RingByCosine(c, &ring)) {  // near an edge: as the .cal file decides it
+        const double pol = std::acos(c) * per_degree_;
+        if (pol - 90 > 0) return -1;
+        ring = 0;
+        while (ring + 1 < upper_.size() && pol - upper_[ring] > 0) ++ring;
+    } else if (c < 0) {
+        return -1;
+    }
     const double y = -dx * u[0] - dy * u[1] - dz * u[2] + (n[0] * dx + n[1] * dy + n[2] * dz) * nu_;
     const double x = minus_rhs_ * (dx * cross_[0] + dy * cross_[1] + dz * cross_[2]);
     const double azi = Azimuth(y, x, per_degree_);
     const double inc = 360 / azimuths_[ring];
     const double patch = (360 - .5 * inc) - azi > 0 ? std::floor((azi + .5 * inc) / inc) : 0;
     return first_[ring] + patch;
+}
+
+// The ring of polar cosine c by comparing cosines (acos was 4 % of a V matrix's run), where c
+// lies clear of every edge it is compared with (the horizon's and the rings'): there the
+// comparison decides as acos's would, whose rounding moves an angle by far less. False near an
+// edge.
+bool KlemsBins::RingByCosine(double c, size_t *ring) const {
+    constexpr double kClear = 1e-9;
+    if (std::abs(c) < kClear) return false;
+    size_t r = 0;
+    for (;; ++r) {
+        if (std::abs(c - cos_upper_[r]) < kClear) return false;
+        if (r + 1 >= cos_upper_.size() || c > cos_upper_[r]) break;
+    }
+    *ring = r;
+    return true;
 }
 
 // ---- Reinhart

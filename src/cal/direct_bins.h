@@ -40,15 +40,17 @@ class KlemsBins : public DirectBins {
 
   private:
     std::vector<std::array<double, 3>> EdgeDirections() const override;
+    bool RingByCosine(double c, size_t *ring) const;
     double n_[3] = {0, 0, 0};      // the surface normal, toward where rays come from
     double u_[3] = {0, 0, 0};      // the up vector
     double nu_ = 0;                // N . U
     double cross_[3] = {0, 0, 0};  // U x N, as the .cal file forms it
     double minus_rhs_ = -1;
-    double per_degree_ = 0;         // 1 / DEGREE
-    std::vector<double> upper_;     // ring r's upper polar angle (degrees), r = 1 .. rings
-    std::vector<double> azimuths_;  // ring r's patches
-    std::vector<double> first_;     // bins before ring r
+    double per_degree_ = 0;          // 1 / DEGREE
+    std::vector<double> upper_;      // ring r's upper polar angle (degrees), r = 1 .. rings
+    std::vector<double> cos_upper_;  // its cosine
+    std::vector<double> azimuths_;   // ring r's patches
+    std::vector<double> first_;      // bins before ring r
 };
 
 // reinhart.cal's rbin at its MF: 0 for the ground.

@@ -102,8 +102,9 @@ TEST(BinFunctions, KlemsMatchTheAngleBases) {
 
 // kbin, khbin and kqbin are computed directly (direct_bins.h) with the .cal files' arithmetic:
 // the same bins as the interpreter in every frame and handedness, on random directions and on
-// those along the rings' edges and the patches' edges, where a different order of operations
-// would round across a boundary.
+// those along the rings' edges (and just off them: the ring is found by cosines away from an
+// edge, by acos near it) and the patches' edges, where a different order of operations would
+// round across a boundary.
 TEST(BinFunctions, KlemsComputedDirectlyAsTheCalFiles) {
     const char *files[] = {"klems_full.cal", "klems_half.cal", "klems_quarter.cal"};
     const char *fn[] = {"kbin", "khbin", "kqbin"};
@@ -124,8 +125,13 @@ TEST(BinFunctions, KlemsComputedDirectlyAsTheCalFiles) {
                 const double n = cx.Value("knaz(" + std::to_string(r) + ")");
                 for (int k = 0; k < n; ++k) {  // patches centred on multiples of 360 / n
                     const double azi = (k + .5) * 2 * M_PI / n;
-                    dirs.push_back({-std::sin(pol) * std::cos(azi), -std::sin(pol) * std::sin(azi),
-                                    -std::cos(pol)});
+                    // on the edge and about it: where the ring is decided by cosines (clear of
+                    // the edge by 1e-9) and by acos (within it), both sides of that limit
+                    for (double off : {0., 1e-12, -1e-12, 3e-9, -3e-9, 1e-7, -1e-7}) {
+                        const double p = pol + off;
+                        dirs.push_back({-std::sin(p) * std::cos(azi), -std::sin(p) * std::sin(azi),
+                                        -std::cos(p)});
+                    }
                 }
             }
             for (const char *frame : frames) {
