@@ -26,6 +26,26 @@ core::vec4 Vec4(double x, double y, double z, double w = 0) {
                       static_cast<float>(w));
 }
 
+// A triangle of the flat scene: its first vertex, its edges from it and their cross product
+// (the normal by the winding, twice the area long).
+struct TriangleEdges {
+    const Vec3 *a;
+    double u[3], w[3], n[3];
+    double CrossLength() const { return std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]); }
+};
+TriangleEdges EdgesOf(const FlatScene &scene, size_t i) {
+    const auto &t = scene.triangles[i];
+    const Vec3 &a = scene.vertices[t[0]], &b = scene.vertices[t[1]], &c = scene.vertices[t[2]];
+    TriangleEdges e{&a,
+                    {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+                    {c[0] - a[0], c[1] - a[1], c[2] - a[2]},
+                    {0, 0, 0}};
+    e.n[0] = e.u[1] * e.w[2] - e.u[2] * e.w[1];
+    e.n[1] = e.u[2] * e.w[0] - e.u[0] * e.w[2];
+    e.n[2] = e.u[0] * e.w[1] - e.u[1] * e.w[0];
+    return e;
+}
+
 // The core's material kinds (tables.h).
 int PackedKind(Material::Kind kind) {
     switch (kind) {
@@ -225,19 +245,13 @@ class Packer {
     void Triangles() {
         p_.triangles.reserve(scene_.triangles.size());
         for (size_t i = 0; i < scene_.triangles.size(); ++i) {
-            const auto &t = scene_.triangles[i];
             const int object = scene_.triangle_object[i];
             const int mat = scene_.triangle_material[i];
             const Material &m = mat >= 0 ? table_.OfMeshMaterial(mat) : table_.OfObject(object);
             const int k =
                 mat >= 0 ? table_.TrackedOfMeshMaterial(mat) : table_.TrackedOfObject(object);
-            const Vec3 &a = scene_.vertices[t[0]], &b = scene_.vertices[t[1]],
-                       &c = scene_.vertices[t[2]];
-            const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
-                         w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-            const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-                                 u[0] * w[1] - u[1] * w[0]};
-            const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            const TriangleEdges e = EdgesOf(scene_, i);
+            const double *n = e.n, len = e.CrossLength();
             core::PackedTriangle pt{};
             pt.normal = len > 0 ? Vec4(n[0] / len, n[1] / len, n[2] / len) : Vec4(0, 0, 1);
             const uint64_t clip =
@@ -291,14 +305,8 @@ class Packer {
         int count = 0;
         for (size_t i = 0; i < scene_.triangles.size(); ++i) {
             if (!receives(p_.triangles[i].surface)) continue;
-            const auto &t = scene_.triangles[i];
-            const Vec3 &a = scene_.vertices[t[0]], &b = scene_.vertices[t[1]],
-                       &d = scene_.vertices[t[2]];
-            const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
-                         w[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
-            const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-                                 u[0] * w[1] - u[1] * w[0]};
-            const double half = 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            const TriangleEdges e = EdgesOf(scene_, i);
+            const double half = 0.5 * e.CrossLength();
             if (!(half > 0)) continue;                     // degenerate: never met
             if (scene_.triangle_object[i] >= (1 << 24)) {  // beyond float's integers: none
                 p_.receivers.assign(1, Vec4(0, 0, 0, 0));
@@ -306,9 +314,10 @@ class Packer {
             }
             area += half;
             ++count;
+            const Vec3 &a = *e.a;
             p_.receivers.push_back(Vec4(a[0] - c[0], a[1] - c[1], a[2] - c[2], area));
-            p_.receivers.push_back(Vec4(u[0], u[1], u[2], scene_.triangle_object[i]));
-            p_.receivers.push_back(Vec4(w[0], w[1], w[2]));
+            p_.receivers.push_back(Vec4(e.u[0], e.u[1], e.u[2], scene_.triangle_object[i]));
+            p_.receivers.push_back(Vec4(e.w[0], e.w[1], e.w[2]));
         }
         if (count == 0) return;
         p_.receivers[0] = Vec4(area, count, 0, 0);

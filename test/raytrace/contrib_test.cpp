@@ -78,6 +78,17 @@ std::string GlowingPane(double a, double b, double c) {
     return pane.str();
 }
 
+// A run without -asub, then one with it (plain_se holds the first's standard error): its mean
+// within 4 standard errors of exact, and the second `closer` times closer than the first.
+void ExpectExactThenCloser(double mean, double se, double exact, double closer, double *plain_se) {
+    EXPECT_GT(se, 0);
+    EXPECT_NEAR(mean, exact, 4 * se);
+    if (*plain_se == 0)
+        *plain_se = se;
+    else
+        EXPECT_LT(se, *plain_se / closer);
+}
+
 // A closed 2 m cube of reflectance .5 around the origin, modifier 'wall'.
 void WriteFurnace(const fs::path &file) {
     WriteFile(file, "void plastic wall 0 0 5 .5 .5 .5 0 0\n" + CubeOfPolygons("wall"));
@@ -275,17 +286,12 @@ TEST(RcontribGpu, ViewFactorOfAWindow) {
         SCOPED_TRACE(sampling);
         const auto [mean, se] = UpwardSensorMean(
             tmp.path(), std::string(sampling) + "-I+ -ab 1 -ad 1024 -lw 1e-6 -m pane win.rad", 200);
-        EXPECT_GT(se, 0);
-        EXPECT_NEAR(mean, exact, 4 * se);
         EXPECT_LT(se, 0.01 * exact);  // and the estimate is a good one
         // 3 x 3 sub-samples: the cells across the window's edge are 3 times as many and each a
         // ninth the size, so the error falls about 3^1.5 = 5.2 times (5.6 measured); nine
         // samples jittered over the whole cell would give 3. (Standard errors of 200 runs are
         // good to about 5 %.)
-        if (plain_se == 0)
-            plain_se = se;
-        else
-            EXPECT_LT(se, plain_se / 4.5);
+        ExpectExactThenCloser(mean, se, exact, 4.5, &plain_se);
     }
 }
 
@@ -349,12 +355,7 @@ TEST(RcontribGpu, SampledReceiversWithoutBias) {
         ASSERT_EQ(t.size(), 400u);
         double mean, se;
         test::MeanAndStandardError(t, &mean, &se);
-        EXPECT_GT(se, 0);
-        EXPECT_NEAR(mean, exact, 4 * se);
-        if (plain_se == 0)
-            plain_se = se;
-        else
-            EXPECT_LT(se, plain_se / 2.5);
+        ExpectExactThenCloser(mean, se, exact, 2.5, &plain_se);
     }
 }
 
