@@ -114,6 +114,7 @@ std::unique_ptr<KlemsBins> KlemsBins::Make(const Context &cx, const Expression &
     k->minus_rhs_ = -Value(cx, "RHS");
     // DEGREE is a constant (':'), so `x/DEGREE` is parsed as x times its reciprocal
     k->per_degree_ = 1. / Value(cx, "DEGREE");
+    k->cosine_rings_ = std::abs(k->per_degree_ * M_PI / 180 - 1) < 1e-12;
     const double rings = Value(cx, "kpola(0)");
     if (!(rings >= 1 && rings <= 64) || Value(cx, "knaz(0)") != rings ||
         !std::isfinite(k->minus_rhs_) || !(k->per_degree_ > 0))
@@ -125,6 +126,9 @@ std::unique_ptr<KlemsBins> KlemsBins::Make(const Context &cx, const Expression &
                      patches = Value(cx, "knaz(" + ring + ")");
         if (!(patches >= 1 && patches <= 4096) || !std::isfinite(upper)) return nullptr;
         k->upper_.push_back(upper);
+        // cosines fall as the angle grows only within [0, 180] degrees, and c < 0 is the
+        // horizon's test only with DEGREE in radians
+        if (!(upper >= 0 && upper <= 180)) k->cosine_rings_ = false;
         k->cos_upper_.push_back(std::cos(upper / k->per_degree_));
         k->azimuths_.push_back(patches);
         k->first_.push_back(before);
@@ -186,7 +190,7 @@ double KlemsBins::Bin(double dx, double dy, double dz) const {
 // edge.
 bool KlemsBins::RingByCosine(double c, size_t *ring) const {
     constexpr double kClear = 1e-9;
-    if (std::abs(c) < kClear) return false;
+    if (!cosine_rings_ || !(std::abs(c) >= kClear)) return false;  // (NaN too)
     size_t r = 0;
     for (;; ++r) {
         if (std::abs(c - cos_upper_[r]) < kClear) return false;

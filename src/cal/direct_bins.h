@@ -49,6 +49,7 @@ class KlemsBins : public DirectBins {
     double per_degree_ = 0;          // 1 / DEGREE
     std::vector<double> upper_;      // ring r's upper polar angle (degrees), r = 1 .. rings
     std::vector<double> cos_upper_;  // its cosine
+    bool cosine_rings_ = true;       // whether RingByCosine may decide
     std::vector<double> azimuths_;   // ring r's patches
     std::vector<double> first_;      // bins before ring r
 };

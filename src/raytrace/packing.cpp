@@ -290,15 +290,19 @@ class Packer {
 
     // The receivers -asub samples (tables.h): the triangles of glow surfaces that count for a
     // modifier, clipped by no antimatter, where no analytic shape has the same surface (a hit
-    // on it must be weighed as the samples are: only triangles are sampled).
+    // on it must be weighed as the samples are: only triangles are sampled) and no mesh does
+    // (a sample counts on the object it picked, and a mesh's faces are one object: one face
+    // could stand for another).
     void Receivers(bool sampled) {
         p_.receivers.assign(1, Vec4(0, 0, 0, 0));  // the header, even where none
         if (!sampled) return;
-        std::vector<char> on_shapes(p_.surfaces.size(), 0);
-        for (const core::PackedShape &g : p_.shapes) on_shapes[g.surface] = 1;
+        std::vector<char> unsampled(p_.surfaces.size(), 0);
+        for (const core::PackedShape &g : p_.shapes) unsampled[g.surface] = 1;
+        for (const core::PackedTriangle &t : p_.triangles)
+            if (t.mesh) unsampled[t.surface] = 1;
         const auto receives = [&](int s) {
             const core::PackedSurface &m = p_.surfaces[s];
-            return m.kind == core::kMatGlow && m.tracked >= 0 && m.clip == 0 && !on_shapes[s];
+            return m.kind == core::kMatGlow && m.tracked >= 0 && m.clip == 0 && !unsampled[s];
         };
         const double *c = p_.centre;
         double area = 0;

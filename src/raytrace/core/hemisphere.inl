@@ -98,19 +98,22 @@ void SampleReceiver(IN(Ray) r, IN(real3) colour, IN(real3) point, IN(real3) norm
     real cos_here = dot(dir, normal);
     if (cos_here <= kTiny) return;
     int at = PushSlot();
-    if (!Spawn(r, kAmbient, colour / real(ReceiverSamples(cells)), STACK(at).r)) {
+    // spawned as a hemisphere ray (so that -lr and -lw stop it as they stop those), then
+    // carrying the colour / samples
+    if (!Spawn(r, kAmbient, colour / real(cells), STACK(at).r)) {
         Unpush(at);
         return;
     }
     STACK(at).kind = kItemTrace;
     STACK(at).r.org = point;
     STACK(at).r.dir = dir;
-    STACK(at).r.coef *= cos_here / kPi;
+    STACK(at).r.coef *= real(cells) / real(ReceiverSamples(cells)) * cos_here / kPi;
     STACK(at).r.mis = HemisphereDensity(cells, dir, normal);
     STACK(at).r.target = dist;
     STACK(at).r.target_object = int(receivers[tri + 1].w);
 }
 
+// (A two-sided surface's samples behind wait under its front hemisphere: at most four items.)
 void SampleReceivers(IN(Ray) r, IN(real3) colour, IN(real3) point, IN(real3) normal, int cells) {
     for (int k = 0; k < ReceiverSamples(cells); ++k)
         SampleReceiver(r, colour, point, normal, cells);
