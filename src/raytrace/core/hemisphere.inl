@@ -53,7 +53,8 @@ int ReceiverSamples(int cells) { return min(cells, kReceiverSamples); }
 
 // The density of a hemisphere of `cells` rays toward dir per unit solid angle, per receiver
 // sample taken beside it (so that both are per sample; the hemisphere's cosine density times
-// cells / samples). Never nought for a ray it made: its sign marks it.
+// cells / samples). Never nought for a ray it made: Shade weighs the rays whose density is
+// above nought.
 real HemisphereDensity(int cells, real3 dir, real3 normal) {
     return max(real(cells) / real(ReceiverSamples(cells)) * dot(dir, normal) / kPi, kTiny);
 }
