@@ -298,8 +298,9 @@ class Packer {
         if (!sampled) return;
         std::vector<char> unsampled(p_.surfaces.size(), 0);
         for (const core::PackedShape &g : p_.shapes) unsampled[g.surface] = 1;
-        for (const core::PackedTriangle &t : p_.triangles)
-            if (t.mesh) unsampled[t.surface] = 1;
+        for (size_t i = 0; i < p_.triangles.size(); ++i)  // (with its own materials or not)
+            if (scene_.scene.objects[scene_.triangle_object[i]].type == "mesh")
+                unsampled[p_.triangles[i].surface] = 1;
         const auto receives = [&](int s) {
             const core::PackedSurface &m = p_.surfaces[s];
             return m.kind == core::kMatGlow && m.tracked >= 0 && m.clip == 0 && !unsampled[s];
