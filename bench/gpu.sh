@@ -17,6 +17,9 @@
 # 441 s, MODELS=large TESTS=0 402 s (96 s of it C_ds on the GPU): two calls within the device
 # tool's 10 minutes. On an H200, 2026-11-26: MODELS=small TEST_SHARDS=6 178 s (the tests 116 s
 # of it), MODELS=large TESTS=0 CASES="V DC DSdif DSdifC" about 200 s, C_ds large 60 s more.
+# On an H100, 2026-11-27, fresh machine: MODELS=small TEST_SHARDS=8 (every case) 494 s (the
+# tests 244 s, then each case's pipeline compiled cold), MODELS=large TESTS=0 CASES="Cds DCsub"
+# 222 s.
 #
 # usage: bench/gpu.sh    (from the repository root)
 # environment: BUILD (build: a build tree, or bench/gpu_bundle.sh's copy), DEVICE (0; llvmpipe
