@@ -31,6 +31,9 @@ CONST int kBindingTracked = 14;   // ivec4 per tracked modifier (tables.h's kTra
 CONST int kBindingScratchItems = 15;  // Item (raytrace/core/rays.inl)
 CONST int kBindingScratchRows = 16;   // vec4 (xyz: a direction)
 CONST int kBindingReceivers = 17;     // vec4: what -asub samples directly (tables.h's receivers)
+// The slices' records summed on the device (contrib_shader.h's SliceSumShader): double, the
+// dispatch's rays x columns x 3; kBindingAccum is then scratch that this stage reads.
+CONST int kBindingSliceSums = 18;
 
 // One dispatch: tasks [task_offset, task_offset + count) of rays x slices; a slice traces a
 // share of the rows of the first hemisphere (the rest of a path follows the cell that started

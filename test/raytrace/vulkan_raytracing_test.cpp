@@ -1,6 +1,7 @@
 // Ray queries against a small hand-checked scene on a Vulkan device (lavapipe in CI).
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <cstring>
 
 #include "raytrace/vulkan/raytracing.h"
@@ -185,6 +186,39 @@ TEST_F(VulkanRayQuery, ManyGroupsSpillIntoY) {
         if (hits[i].hit != 1 || hits[i].primitive != want) ++wrong;
     }
     EXPECT_EQ(wrong, 0);
+}
+
+// RunStages: each stage sees what the stages before it wrote, zeroed scratch is nought at the
+// start of every run (run twice: left as the first run wrote it, the second would double it),
+// and the accumulators come back after the last stage. On the device DAYFLUX_VULKAN_DEVICE names
+// (lavapipe by default), by our BVH's traversal: no ray queries needed.
+TEST(VulkanStages, LaterStagesReadZeroedScratchThatEarlierStagesWrote) {
+    std::string why;
+    const char *named = std::getenv("DAYFLUX_VULKAN_DEVICE");
+    auto devices =
+        vk::GpuDevice::OpenAll(&why, named && *named ? named : "llvmpipe", vk::Traversal::kBvh);
+    if (devices.empty()) GTEST_SKIP() << "no Vulkan device: " << why;
+    vk::GpuDevice &device = *devices[0];
+    const std::string head =
+        "#version 460\nlayout(local_size_x = 64) in;\n"
+        "layout(std430, binding = 0) buffer Scratch { uint scratch[]; };\n"
+        "layout(std430, binding = 1) buffer Out { uint doubled[]; };\n"
+        "void main() {\n  uint i = gl_GlobalInvocationID.x;\n  if (i >= 1000u) return;\n";
+    const auto add = vk::GpuDevice::CompileGlsl(head + "  scratch[i] += i + 1u;\n}\n", "add");
+    const auto twice =
+        vk::GpuDevice::CompileGlsl(head + "  doubled[i] = 2u * scratch[i];\n}\n", "twice");
+    for (int run = 0; run < 2; ++run) {
+        std::vector<uint8_t> out(1000 * sizeof(uint32_t));
+        device.RunStages(
+            {{&add, 1000, 64}, {&twice, 1000, 64}},
+            {vk::GpuDevice::ZeroedScratch(out.size()), vk::GpuDevice::Accumulator(&out)});
+        std::vector<uint32_t> got(1000);
+        std::memcpy(got.data(), out.data(), out.size());
+        int wrong = 0;
+        for (uint32_t i = 0; i < 1000; ++i) wrong += got[i] != 2 * (i + 1);
+        EXPECT_EQ(wrong, 0) << "run " << run << " on " << device.Name() << ": entry 999 is "
+                            << got[999];
+    }
 }
 
 }  // namespace

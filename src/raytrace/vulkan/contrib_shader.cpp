@@ -196,6 +196,28 @@ bool MakeContribShader(const PackedScene &packed, const ContribOptions &options,
     return true;
 }
 
+std::vector<uint32_t> CompileSliceSumShader() {
+    const std::string source =
+        "#version 460\n#include \"shaders/common.h\"\nlayout(local_size_x = " +
+        std::to_string(kSliceSumLocalSize) + ") in;\n" + R"glsl(
+layout(std430, set = 0, binding = kBindingAccum) readonly buffer Accum { double accum[]; };
+layout(std430, set = 0, binding = kBindingTasks) readonly buffer Tasks { GpuTasks tasks; };
+layout(std430, set = 0, binding = kBindingSliceSums) buffer Sums { double sums[]; };
+void main() {
+    uint i = gl_GlobalInvocationID.x +
+             gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    uint record = 3u * uint(tasks.ncols), slices = uint(tasks.slices);
+    uint rays = uint(tasks.count) / slices;
+    if (i >= rays * record) return;
+    uint ray = i / record, j = i - ray * record;
+    double sum = 0.0;  // (0 + the first slice, then the others: as the host adds them)
+    for (uint k = 0u; k < slices; ++k) sum += accum[(ray * slices + k) * record + j];
+    sums[i] = sum;
+}
+)glsl";
+    return vk::GpuDevice::CompileGlsl(source, "slice_sum.comp", IncludedFile);
+}
+
 std::vector<uint32_t> CompileContribShader(const ContribShader &shader, bool ray_queries,
                                            bool scratch) {
     // ([[dont_unroll]] keeps the BSDF's small loops, so its code is not copied.)

@@ -41,4 +41,11 @@ bool MakeContribShader(const PackedScene &packed, const ContribOptions &options,
 std::vector<uint32_t> CompileContribShader(const ContribShader &shader, bool ray_queries,
                                            bool scratch);
 
+// SPIR-V of the second stage of a dispatch whose rays' slices it holds whole (GpuTasks: count a
+// multiple of slices): each ray's record summed over its slices in their order, from
+// kBindingAccum into kBindingSliceSums, so that one record a ray comes back rather than one a
+// slice. Double accumulators only (the host's sums are double).
+constexpr int kSliceSumLocalSize = 64;
+std::vector<uint32_t> CompileSliceSumShader();
+
 }  // namespace dayflux

@@ -719,16 +719,15 @@ int GpuDevice::Resident(const std::vector<uint8_t> &data) {
 
 void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, uint32_t local_size_x,
                     const std::vector<Binding> &bindings) {
-    Impl &d = *impl_;
-    VkDevice dev = d.device;
-    CHECK(!d.ray_queries || d.tlas != VK_NULL_HANDLE);  // BuildScene first
-    CHECK(local_size_x > 0);
-    // With ray queries the acceleration structure is binding 0 and the buffers follow it.
-    const uint32_t first = d.ray_queries ? 1 : 0;
-    if (invocations == 0) return;
-    const uint32_t nb = static_cast<uint32_t>(bindings.size());
+    RunStages({{&spirv, invocations, local_size_x}}, bindings);
+}
 
-    // The pipeline, from the cache when this code ran before.
+// The compute pipeline of spirv with nb storage buffers (after the structure, with ray
+// queries), from the cache when this code ran before.
+static const Pipeline &PipelineFor(GpuDevice::Impl &d, const std::vector<uint32_t> &spirv,
+                                   uint32_t nb) {
+    VkDevice dev = d.device;
+    const uint32_t first = d.ray_queries ? 1 : 0;
     size_t key = std::hash<std::string_view>{}(std::string_view(
         reinterpret_cast<const char *>(spirv.data()), spirv.size() * sizeof(uint32_t)));
     key ^= nb + 0x9e3779b97f4a7c15ull + (key << 6) + (key >> 2);
@@ -780,7 +779,24 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
                       "buffers");
         it = d.pipelines.emplace(key, std::move(p)).first;
     }
-    const Pipeline &p = it->second;
+    return it->second;
+}
+
+void GpuDevice::RunStages(const std::vector<Stage> &stages, const std::vector<Binding> &bindings) {
+    Impl &d = *impl_;
+    VkDevice dev = d.device;
+    CHECK(!d.ray_queries || d.tlas != VK_NULL_HANDLE);  // BuildScene first
+    // With ray queries the acceleration structure is binding 0 and the buffers follow it.
+    const uint32_t first = d.ray_queries ? 1 : 0;
+    const uint32_t nb = static_cast<uint32_t>(bindings.size());
+    std::vector<std::pair<Stage, const Pipeline *>> runs;  // the stages with invocations
+    for (const Stage &st : stages) {
+        CHECK(st.local_size_x > 0);
+        if (st.invocations > 0) runs.push_back({st, &PipelineFor(d, *st.spirv, nb)});
+    }
+    if (runs.empty()) return;
+    // One descriptor set for every stage: their layouts are defined alike, so compatible.
+    const Pipeline &p = *runs[0].second;
 
     // Storage buffers, kept between runs and grown when too small.
     if (d.run_buffers.size() < nb) d.run_buffers.resize(nb);
@@ -796,8 +812,11 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
             Buffer &b = d.scratch_buffers[i];
             if (!b.buffer || b.size < size) {
                 d.Destroy(b);
-                b = d.Create(size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
+                b = d.Create(size,
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                             false);
             }
+            CHECK(!bindings[i].zeroed || size % 4 == 0);  // vkCmdFillBuffer's unit
             continue;
         }
         if (!bindings[i].host) {
@@ -883,13 +902,18 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
     vkUpdateDescriptorSets(dev, nb + first, writes.data(), 0, nullptr);
 
     // Groups beyond the x limit go in y (see the header for how the shader indexes then).
-    const uint64_t groups = (uint64_t{invocations} + local_size_x - 1) / local_size_x;
-    const uint32_t gx =
-        static_cast<uint32_t>(std::min<uint64_t>(groups, d.limits.maxComputeWorkGroupCount[0]));
-    const uint64_t gy = (groups + gx - 1) / gx;
-    if (gy > d.limits.maxComputeWorkGroupCount[1])
-        ErrorExit("Vulkan: " + std::to_string(invocations) + " invocations in groups of " +
-                  std::to_string(local_size_x) + " exceed " + d.name + "'s work group limits");
+    const auto groups_of = [&](const Stage &st) {
+        const uint64_t groups = (uint64_t{st.invocations} + st.local_size_x - 1) / st.local_size_x;
+        const uint32_t gx =
+            static_cast<uint32_t>(std::min<uint64_t>(groups, d.limits.maxComputeWorkGroupCount[0]));
+        const uint64_t gy = (groups + gx - 1) / gx;
+        if (gy > d.limits.maxComputeWorkGroupCount[1])
+            ErrorExit("Vulkan: " + std::to_string(st.invocations) + " invocations in groups of " +
+                      std::to_string(st.local_size_x) + " exceed " + d.name +
+                      "'s work group limits");
+        return std::pair<uint32_t, uint32_t>(gx, static_cast<uint32_t>(gy));
+    };
+    for (const auto &run : runs) groups_of(run.first);  // (before anything is recorded)
 
     VkCommandBuffer cb = d.BeginCommands();
     const auto barrier = [&](VkPipelineStageFlags from, VkAccessFlags written,
@@ -903,18 +927,31 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
         for (uint32_t i = 0; i < nb; ++i)
             if (bindings[i].accumulator && !bindings[i].host->empty()) each(i);
     };
-    bool any_accumulator = false;
+    bool any_accumulator = false, any_fill = false;
     accumulators([&](uint32_t i) {
         vkCmdFillBuffer(cb, d.accum_buffers[i].buffer, 0, bindings[i].host->size(), 0);
-        any_accumulator = true;
+        any_accumulator = any_fill = true;
     });
-    if (any_accumulator)
+    for (uint32_t i = 0; i < nb; ++i)
+        if (bindings[i].scratch && bindings[i].zeroed) {
+            vkCmdFillBuffer(cb, d.scratch_buffers[i].buffer, 0, bindings[i].scratch, 0);
+            any_fill = true;
+        }
+    if (any_fill)
         barrier(VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
-    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &set, 0, nullptr);
-    vkCmdDispatch(cb, gx, static_cast<uint32_t>(gy), 1);
+    for (size_t k = 0; k < runs.size(); ++k) {
+        if (k > 0)  // a stage reads what the stages before it wrote
+            barrier(VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                    VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+        const auto [gx, gy] = groups_of(runs[k].first);
+        vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, runs[k].second->pipeline);
+        vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, runs[k].second->layout, 0, 1,
+                                &set, 0, nullptr);
+        vkCmdDispatch(cb, gx, gy, 1);
+    }
     if (any_accumulator) {
         barrier(VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);

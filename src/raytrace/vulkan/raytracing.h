@@ -73,18 +73,26 @@ class GpuDevice {
     // an accumulator, a host vector's size of zeros in device memory that the shader adds to,
     // copied into the vector after the run; a resident buffer; or scratch, `scratch` bytes on
     // the device that the shader alone reads and writes (their contents undefined at the start).
+    // Zeroed scratch: `scratch` bytes of zeros on the device, for a later stage of the same
+    // run to read (RunStages).
     struct Binding {
         std::vector<uint8_t> *host = nullptr;
         bool read_back = true;
         int resident = -1;
         uint64_t scratch = 0;
         bool accumulator = false;
+        bool zeroed = false;
     };
-    static Binding In(std::vector<uint8_t> *host) { return {host, false, -1, 0, false}; }
-    static Binding InOut(std::vector<uint8_t> *host) { return {host, true, -1, 0, false}; }
-    static Binding Accumulator(std::vector<uint8_t> *host) { return {host, true, -1, 0, true}; }
-    static Binding OnDevice(int handle) { return {nullptr, false, handle, 0, false}; }
-    static Binding Scratch(uint64_t bytes) { return {nullptr, false, -1, bytes, false}; }
+    static Binding In(std::vector<uint8_t> *host) { return {host, false, -1, 0, false, false}; }
+    static Binding InOut(std::vector<uint8_t> *host) { return {host, true, -1, 0, false, false}; }
+    static Binding Accumulator(std::vector<uint8_t> *host) {
+        return {host, true, -1, 0, true, false};
+    }
+    static Binding OnDevice(int handle) { return {nullptr, false, handle, 0, false, false}; }
+    static Binding Scratch(uint64_t bytes) { return {nullptr, false, -1, bytes, false, false}; }
+    static Binding ZeroedScratch(uint64_t bytes) {
+        return {nullptr, false, -1, bytes, false, true};
+    }
     // The scratch one run may bind in all: a quarter of the device's local memory, at most
     // 2 GiB (a CPU device's, such as lavapipe's, 256 MiB: it is the machine's memory).
     uint64_t ScratchBudget() const;
@@ -102,6 +110,13 @@ class GpuDevice {
     // >= invocations. Pipelines are cached by code, so running the same spirv again is cheap.
     void Run(const std::vector<uint32_t> &spirv, uint32_t invocations, uint32_t local_size_x,
              const std::vector<Binding> &bindings);
+    // Several shaders, one after the other in one submission over the same bindings (each
+    // stage sees what the stages before it wrote), the accumulators copied back after the last.
+    struct Stage {
+        const std::vector<uint32_t> *spirv;
+        uint32_t invocations, local_size_x;
+    };
+    void RunStages(const std::vector<Stage> &stages, const std::vector<Binding> &bindings);
 
     struct Impl;
 

@@ -94,6 +94,7 @@ struct Geometry {
 struct DeviceState {
     std::unique_ptr<vk::GpuDevice> device;
     std::vector<uint32_t> spirv;
+    std::vector<uint32_t> sum_spirv;  // CompileSliceSumShader's (empty: float accumulators)
     int positions = -1, indices = -1, triangles = -1, surfaces = -1, sources = -1, shapes = -1;
     int bvh_nodes = -1, bvh_prims = -1, klems = -1, relays = -1, tracked = -1, receivers = -1;
     bool scratch = false;     // stack and rows in scratch buffers (GpuScratch)
@@ -296,9 +297,15 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
     const uint64_t accum_budget =
         std::min(dev.device->IsCpu() ? kAccumBudget : dev.device->ScratchBudget() / 2,
                  dev.device->MaxBufferBytes());
-    const size_t per_run = std::clamp<size_t>(
+    size_t per_run = std::clamp<size_t>(
         std::min<uint64_t>(accum_budget / (record * AccumBytes()), scratch_tasks), 1,
         kMaxTasksPerRun);
+    // A dispatch holding its rays' slices whole sums them on the device (a second stage), so
+    // that one record a ray comes back, not one a slice: C_ds's records (5185 x 3 doubles, 20
+    // slices a sensor) were 35 GB copied back and added on the host for the large office, most
+    // of its run on a GPU (docs/benchmarks.md). The same sums in the same order.
+    const bool sum_slices = slices > 1 && !dev.sum_spirv.empty() && per_run >= size_t(slices);
+    if (sum_slices) per_run -= per_run % slices;
     std::vector<uint8_t> ray_bytes = Bytes(in), accum;
     for (size_t offset = 0; offset < total; offset += per_run) {
         const size_t count = std::min(per_run, total - offset);
@@ -308,14 +315,21 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         tasks.count = static_cast<int>(count);
         std::vector<uint8_t> task_bytes(sizeof tasks);
         std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
-        accum.resize(count * record * AccumBytes());  // zeroed on the device
+        // zeroed on the device; with sum_slices, the rays' sums
+        accum.resize((sum_slices ? count / slices : count) * record * AccumBytes());
         std::vector<uint8_t> stats(16, 0);
         using G = vk::GpuDevice;
-        std::vector<G::Binding> buffers = {G::In(&ray_bytes),         G::OnDevice(dev.positions),
-                                           G::OnDevice(dev.indices),  G::OnDevice(dev.triangles),
-                                           G::OnDevice(dev.surfaces), G::OnDevice(dev.sources),
-                                           G::Accumulator(&accum),    G::In(&task_bytes),
-                                           G::InOut(&stats),          G::OnDevice(dev.shapes)};
+        std::vector<G::Binding> buffers = {
+            G::In(&ray_bytes),
+            G::OnDevice(dev.positions),
+            G::OnDevice(dev.indices),
+            G::OnDevice(dev.triangles),
+            G::OnDevice(dev.surfaces),
+            G::OnDevice(dev.sources),
+            sum_slices ? G::ZeroedScratch(count * record * AccumBytes()) : G::Accumulator(&accum),
+            G::In(&task_bytes),
+            G::InOut(&stats),
+            G::OnDevice(dev.shapes)};
         std::vector<uint8_t> none;
         if (!dev.device->RayQueries()) {  // our BVH at binding 0, its entries after the rest
             buffers.insert(buffers.begin(), G::OnDevice(dev.bvh_nodes));
@@ -333,16 +347,24 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
             buffers.push_back(G::In(&none));  // bindings 15 and 16 unused
             buffers.push_back(G::In(&none));
         }
-        buffers.push_back(G::OnDevice(dev.receivers));  // kBindingReceivers
-        dev.device->Run(dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize, buffers);
+        buffers.push_back(G::OnDevice(dev.receivers));                          // kBindingReceivers
+        buffers.push_back(sum_slices ? G::Accumulator(&accum) : G::In(&none));  // SliceSums
+        const auto sums = static_cast<uint32_t>(count / slices * record);
+        if (sum_slices)
+            dev.device->RunStages({{&dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize},
+                                   {&dev.sum_spirv, sums, kSliceSumLocalSize}},
+                                  buffers);
+        else
+            dev.device->Run(dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize, buffers);
         uint32_t stat[2];
         std::memcpy(stat, stats.data(), sizeof stat);
         dev.dropped += stat[0];
         dev.reports |= stat[1];
         const auto add = [&](const auto *a) {
-            for (size_t t = 0; t < count; ++t) {
+            const size_t step = sum_slices ? slices : 1;  // tasks a record read back stands for
+            for (size_t t = 0; t < count; t += step) {
                 double *dst = records + ((offset + t) / slices) * record;
-                const auto *src = a + t * record;
+                const auto *src = a + t / step * record;
                 for (size_t j = 0; j < record; ++j) dst[j] += src[j];
             }
         };
@@ -378,6 +400,7 @@ std::unique_ptr<ContribEngine> CreateVulkanContribEngine(
         dev.scratch = engine.scratch == GpuScratch::kOn ||
                       (engine.scratch == GpuScratch::kAuto && !dev.device->IsCpu());
         dev.spirv = CompileContribShader(shader, dev.device->RayQueries(), dev.scratch);
+        if (!engine.float_accumulators) dev.sum_spirv = CompileSliceSumShader();
         if (dev.scratch) {
             dev.item_bytes =
                 vk::GpuDevice::RuntimeArrayStride(dev.spirv, uint32_t(core::kBindingScratchItems));
