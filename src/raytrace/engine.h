@@ -38,6 +38,10 @@ struct EngineOptions {
     // first hemisphere is split between tasks, so their sums are short; records are summed in
     // double on the host).
     bool float_accumulators = false;
+    // For tests: false sums a sensor's slices on the host, each task's record read back (as
+    // with float accumulators); a bound on the tasks a dispatch takes (0: as memory allows).
+    bool gpu_slice_sums = true;
+    int gpu_tasks_per_dispatch = 0;
     // The CPU: the paths of a sensor's first-hemisphere cells (-I) walked at once by a thread,
     // their rays traced together in Embree's packets (1: one after the other; at most 16).
     int cpu_paths_at_once = 8;

@@ -31,7 +31,7 @@ CONST int kBindingTracked = 14;   // ivec4 per tracked modifier (tables.h's kTra
 CONST int kBindingScratchItems = 15;  // Item (raytrace/core/rays.inl)
 CONST int kBindingScratchRows = 16;   // vec4 (xyz: a direction)
 CONST int kBindingReceivers = 17;     // vec4: what -asub samples directly (tables.h's receivers)
-// The slices' records summed on the device (contrib_shader.h's SliceSumShader): double, the
+// The slices' records summed on the device (contrib_shader.h's CompileSliceSumShader): double, the
 // dispatch's rays x columns x 3; kBindingAccum is then scratch that this stage reads.
 CONST int kBindingSliceSums = 18;
 

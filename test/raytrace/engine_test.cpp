@@ -187,6 +187,44 @@ TEST(Engine, KeyedTraceAsInTheWholeRunVulkan) {
     ExpectKeyedAsInRun(engine);
 }
 
+// The GPU's slices summed on the device give the records the host's sums of every task's record
+// gave, to the bit, also where a run takes several dispatches (each holding its sensors' slices
+// whole: -I at -ad 16 cuts a sensor into five slices, its four rows among them; dispatches of
+// 15 tasks, then 10).
+TEST(Engine, SlicesSummedOnTheDeviceAsOnTheHostVulkan) {
+    const FlatScene flat = SceneOf(std::string(kSky) +
+                                   "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
+                                   "grey polygon roof 0 0 12 .3 -9 1  9 -9 1  9 9 1  -2 9 1\n");
+    ContribOptions options;
+    options.irradiance = true;
+    options.ambient_bounces = 1;
+    options.ambient_divisions = 16;
+    const size_t n = 8;
+    std::vector<double> rays;
+    for (size_t i = 0; i < n; ++i) rays.insert(rays.end(), {0.1 * double(i), 0, 0, 0, 0, 1});
+    const auto records = [&](bool on_device, int tasks_per_dispatch) {
+        EngineOptions engine;
+        engine.backend = "vulkan";
+        const char *device = std::getenv("DAYFLUX_VULKAN_DEVICE");
+        engine.device = device && *device ? device : "llvmpipe";
+        engine.gpu_slice_sums = on_device;
+        engine.gpu_tasks_per_dispatch = tasks_per_dispatch;
+        const std::unique_ptr<ContribEngine> e =
+            CreateContribEngine(flat, options, Tracking("skyglow"), RayInit, engine);
+        std::vector<double> out(3 * n, 0.0);
+        if (e->Label().rfind("vulkan", 0) != 0) return std::vector<double>();
+        e->Trace(rays.data(), n, 0, 0, out.data());
+        return out;
+    };
+    const std::vector<double> host = records(false, 0);
+    if (host.empty()) GTEST_SKIP() << "no Vulkan engine";
+    EXPECT_EQ(records(true, 0), host);
+    EXPECT_EQ(records(true, 17), host);  // 17 tasks a dispatch at most: 15 (three sensors)
+    EXPECT_EQ(records(false, 17), host);
+    EXPECT_GT(host[0], 0.05);  // some sky seen, and some not
+    EXPECT_LT(host[0], M_PI - 0.5);
+}
+
 // The caster of an engine, counting the shadow rays the blockers stopped; with drop_blockers,
 // given none (every shadow ray then walks through what it meets).
 class BlockerCounter : public Backend {

@@ -210,7 +210,7 @@ void main() {
     uint rays = uint(tasks.count) / slices;
     if (i >= rays * record) return;
     uint ray = i / record, j = i - ray * record;
-    double sum = 0.0;  // (0 + the first slice, then the others: as the host adds them)
+    precise double sum = 0.0;  // (0 + the first slice, then the others: as the host adds them)
     for (uint k = 0u; k < slices; ++k) sum += accum[(ray * slices + k) * record + j];
     sums[i] = sum;
 }

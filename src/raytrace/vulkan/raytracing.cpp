@@ -724,13 +724,17 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
 
 // The compute pipeline of spirv with nb storage buffers (after the structure, with ray
 // queries), from the cache when this code ran before.
+static size_t PipelineKey(const std::vector<uint32_t> &spirv, uint32_t nb) {
+    size_t key = std::hash<std::string_view>{}(std::string_view(
+        reinterpret_cast<const char *>(spirv.data()), spirv.size() * sizeof(uint32_t)));
+    return key ^ (nb + 0x9e3779b97f4a7c15ull + (key << 6) + (key >> 2));
+}
+
 static const Pipeline &PipelineFor(GpuDevice::Impl &d, const std::vector<uint32_t> &spirv,
                                    uint32_t nb) {
     VkDevice dev = d.device;
     const uint32_t first = d.ray_queries ? 1 : 0;
-    size_t key = std::hash<std::string_view>{}(std::string_view(
-        reinterpret_cast<const char *>(spirv.data()), spirv.size() * sizeof(uint32_t)));
-    key ^= nb + 0x9e3779b97f4a7c15ull + (key << 6) + (key >> 2);
+    const size_t key = PipelineKey(spirv, nb);
     auto it = d.pipelines.find(key);
     if (it != d.pipelines.end() && (it->second.code != spirv || it->second.buffer_count != nb)) {
         VK_CHECK(vkDeviceWaitIdle(dev));
@@ -789,10 +793,16 @@ void GpuDevice::RunStages(const std::vector<Stage> &stages, const std::vector<Bi
     // With ray queries the acceleration structure is binding 0 and the buffers follow it.
     const uint32_t first = d.ray_queries ? 1 : 0;
     const uint32_t nb = static_cast<uint32_t>(bindings.size());
-    std::vector<std::pair<Stage, const Pipeline *>> runs;  // the stages with invocations
-    for (const Stage &st : stages) {
-        CHECK(st.local_size_x > 0);
-        if (st.invocations > 0) runs.push_back({st, &PipelineFor(d, *st.spirv, nb)});
+    // The stages with invocations. (Two codes of one key would evict each other's pipeline
+    // from the cache while the other is held: refused.)
+    std::vector<std::pair<Stage, const Pipeline *>> runs;
+    for (size_t k = 0; k < stages.size(); ++k) {
+        CHECK(stages[k].local_size_x > 0);
+        for (size_t e = 0; e < k; ++e)
+            CHECK(PipelineKey(*stages[e].spirv, nb) != PipelineKey(*stages[k].spirv, nb) ||
+                  *stages[e].spirv == *stages[k].spirv);
+        if (stages[k].invocations > 0)
+            runs.push_back({stages[k], &PipelineFor(d, *stages[k].spirv, nb)});
     }
     if (runs.empty()) return;
     // One descriptor set for every stage: their layouts are defined alike, so compatible.

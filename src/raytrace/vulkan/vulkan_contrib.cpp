@@ -147,10 +147,12 @@ vk::Traversal DeviceTraversal(GpuTraversal t) {
 class VulkanContribEngine : public ContribEngine {
   public:
     VulkanContribEngine(const PackedScene &packed, const ContribOptions &options,
-                        bool float_accumulators, std::vector<DeviceState> devices)
+                        bool float_accumulators, int tasks_per_dispatch,
+                        std::vector<DeviceState> devices)
         : devices_(std::move(devices)),
           o_(options),
           float_accumulators_(float_accumulators),
+          tasks_per_dispatch_(tasks_per_dispatch),
           columns_(packed.columns),
           nsources_(static_cast<int>(packed.sources.size())),
           ndirect_(packed.ndirect),
@@ -228,6 +230,7 @@ class VulkanContribEngine : public ContribEngine {
     std::string names_;
     ContribOptions o_;
     bool float_accumulators_;
+    int tasks_per_dispatch_;  // EngineOptions::gpu_tasks_per_dispatch
     int columns_, nsources_, ndirect_;
     double centre_[3], extent_;
     int max_rows_;  // divisions along one side of the first hemisphere (slices are rows)
@@ -300,10 +303,12 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
     size_t per_run = std::clamp<size_t>(
         std::min<uint64_t>(accum_budget / (record * AccumBytes()), scratch_tasks), 1,
         kMaxTasksPerRun);
+    if (tasks_per_dispatch_ > 0) per_run = std::min(per_run, size_t(tasks_per_dispatch_));
     // A dispatch holding its rays' slices whole sums them on the device (a second stage), so
     // that one record a ray comes back, not one a slice: C_ds's records (5185 x 3 doubles, 20
     // slices a sensor) were 35 GB copied back and added on the host for the large office, most
-    // of its run on a GPU (docs/benchmarks.md). The same sums in the same order.
+    // of its run on a GPU (docs/benchmarks.md). The same sums in the same order, so the same
+    // records where they start at nought (every caller's).
     const bool sum_slices = slices > 1 && !dev.sum_spirv.empty() && per_run >= size_t(slices);
     if (sum_slices) per_run -= per_run % slices;
     std::vector<uint8_t> ray_bytes = Bytes(in), accum;
@@ -400,7 +405,8 @@ std::unique_ptr<ContribEngine> CreateVulkanContribEngine(
         dev.scratch = engine.scratch == GpuScratch::kOn ||
                       (engine.scratch == GpuScratch::kAuto && !dev.device->IsCpu());
         dev.spirv = CompileContribShader(shader, dev.device->RayQueries(), dev.scratch);
-        if (!engine.float_accumulators) dev.sum_spirv = CompileSliceSumShader();
+        if (!engine.float_accumulators && engine.gpu_slice_sums)
+            dev.sum_spirv = CompileSliceSumShader();
         if (dev.scratch) {
             dev.item_bytes =
                 vk::GpuDevice::RuntimeArrayStride(dev.spirv, uint32_t(core::kBindingScratchItems));
@@ -409,7 +415,7 @@ std::unique_ptr<ContribEngine> CreateVulkanContribEngine(
         if (!Upload(packed, tracked_table, geometry, dev, why)) return nullptr;
     }
     return std::make_unique<VulkanContribEngine>(packed, options, engine.float_accumulators,
-                                                 std::move(devices));
+                                                 engine.gpu_tasks_per_dispatch, std::move(devices));
 }
 
 }  // namespace dayflux
