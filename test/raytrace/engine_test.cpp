@@ -143,21 +143,32 @@ TEST(Engine, TracesRecordsInProcess) {
 // draw in the whole run, on the CPU (runs of consecutive keys) and on a GPU (one dispatch, the
 // keys as offsets in the rays' buffer): a sky half covered, aslant, makes each record depend
 // on them.
+// A sky half covered, aslant, seen with -I -ab 1 -ad 16 from eight points in a row (the rays:
+// origin, direction). The engine holds the scene: it must outlive the engine.
+struct HalfCoveredSky {
+    FlatScene flat = SceneOf(std::string(kSky) +
+                             "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
+                             "grey polygon roof 0 0 12 .3 -9 1  9 -9 1  9 9 1  -2 9 1\n");
+    std::vector<double> rays;
+    HalfCoveredSky() {
+        for (size_t i = 0; i < 8; ++i) rays.insert(rays.end(), {0.1 * double(i), 0, 0, 0, 0, 1});
+    }
+    std::unique_ptr<ContribEngine> Engine(const EngineOptions &engine_options) const {
+        ContribOptions options;
+        options.irradiance = true;
+        options.ambient_bounces = 1;
+        options.ambient_divisions = 16;
+        return CreateContribEngine(flat, options, Tracking("skyglow"), RayInit, engine_options);
+    }
+};
+
 void ExpectKeyedAsInRun(const EngineOptions &engine_options) {
-    const FlatScene flat = SceneOf(std::string(kSky) +
-                                   "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
-                                   "grey polygon roof 0 0 12 .3 -9 1  9 -9 1  9 9 1  -2 9 1\n");
-    ContribOptions options;
-    options.irradiance = true;
-    options.ambient_bounces = 1;
-    options.ambient_divisions = 16;
-    const std::unique_ptr<ContribEngine> engine =
-        CreateContribEngine(flat, options, Tracking("skyglow"), RayInit, engine_options);
+    const HalfCoveredSky scene;
+    const std::unique_ptr<ContribEngine> engine = scene.Engine(engine_options);
     if (engine->Label().rfind(engine_options.backend, 0) != 0)
         GTEST_SKIP() << "no " << engine_options.backend << " engine: " << engine->Label();
-    const size_t n = 8;
-    std::vector<double> rays;
-    for (size_t i = 0; i < n; ++i) rays.insert(rays.end(), {0.1 * double(i), 0, 0, 0, 0, 1});
+    const std::vector<double> &rays = scene.rays;
+    const size_t n = rays.size() / 6;
     std::vector<double> whole(3 * n, 0.0);
     engine->Trace(rays.data(), n, 100, 0, whole.data());
     const std::vector<uint64_t> keys = {101, 104, 105, 107};
@@ -192,28 +203,18 @@ TEST(Engine, KeyedTraceAsInTheWholeRunVulkan) {
 // whole: -I at -ad 16 cuts a sensor into five slices, its four rows among them; dispatches of
 // 15 tasks, then 10).
 TEST(Engine, SlicesSummedOnTheDeviceAsOnTheHostVulkan) {
-    const FlatScene flat = SceneOf(std::string(kSky) +
-                                   "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
-                                   "grey polygon roof 0 0 12 .3 -9 1  9 -9 1  9 9 1  -2 9 1\n");
-    ContribOptions options;
-    options.irradiance = true;
-    options.ambient_bounces = 1;
-    options.ambient_divisions = 16;
-    const size_t n = 8;
-    std::vector<double> rays;
-    for (size_t i = 0; i < n; ++i) rays.insert(rays.end(), {0.1 * double(i), 0, 0, 0, 0, 1});
-    const auto records = [&](bool on_device, int tasks_per_dispatch) {
+    const auto records = [](bool on_device, int tasks_per_dispatch) {
         EngineOptions engine;
         engine.backend = "vulkan";
         const char *device = std::getenv("DAYFLUX_VULKAN_DEVICE");
         engine.device = device && *device ? device : "llvmpipe";
         engine.gpu_slice_sums = on_device;
         engine.gpu_tasks_per_dispatch = tasks_per_dispatch;
-        const std::unique_ptr<ContribEngine> e =
-            CreateContribEngine(flat, options, Tracking("skyglow"), RayInit, engine);
-        std::vector<double> out(3 * n, 0.0);
+        const HalfCoveredSky scene;
+        const std::unique_ptr<ContribEngine> e = scene.Engine(engine);
         if (e->Label().rfind("vulkan", 0) != 0) return std::vector<double>();
-        e->Trace(rays.data(), n, 0, 0, out.data());
+        std::vector<double> out(scene.rays.size() / 2, 0.0);
+        e->Trace(scene.rays.data(), scene.rays.size() / 6, 0, 0, out.data());
         return out;
     };
     const std::vector<double> host = records(false, 0);
