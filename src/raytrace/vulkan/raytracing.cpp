@@ -722,14 +722,15 @@ void GpuDevice::Run(const std::vector<uint32_t> &spirv, uint32_t invocations, ui
     RunStages({{&spirv, invocations, local_size_x}}, bindings);
 }
 
-// The compute pipeline of spirv with nb storage buffers (after the structure, with ray
-// queries), from the cache when this code ran before.
+// The pipeline cache's key for spirv with nb storage buffers.
 static size_t PipelineKey(const std::vector<uint32_t> &spirv, uint32_t nb) {
     size_t key = std::hash<std::string_view>{}(std::string_view(
         reinterpret_cast<const char *>(spirv.data()), spirv.size() * sizeof(uint32_t)));
     return key ^ (nb + 0x9e3779b97f4a7c15ull + (key << 6) + (key >> 2));
 }
 
+// The compute pipeline of spirv with nb storage buffers (after the structure, with ray
+// queries), from the cache when this code ran before.
 static const Pipeline &PipelineFor(GpuDevice::Impl &d, const std::vector<uint32_t> &spirv,
                                    uint32_t nb) {
     VkDevice dev = d.device;
