@@ -354,13 +354,11 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         }
         buffers.push_back(G::OnDevice(dev.receivers));                          // kBindingReceivers
         buffers.push_back(sum_slices ? G::Accumulator(&accum) : G::In(&none));  // SliceSums
-        const auto sums = static_cast<uint32_t>(count / slices * record);
+        std::vector<G::Stage> stages = {{&dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize}};
         if (sum_slices)
-            dev.device->RunStages({{&dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize},
-                                   {&dev.sum_spirv, sums, kSliceSumLocalSize}},
-                                  buffers);
-        else
-            dev.device->Run(dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize, buffers);
+            stages.push_back({&dev.sum_spirv, static_cast<uint32_t>(count / slices * record),
+                              kSliceSumLocalSize});
+        dev.device->RunStages(stages, buffers);
         uint32_t stat[2];
         std::memcpy(stat, stats.data(), sizeof stat);
         dev.dropped += stat[0];
