@@ -242,9 +242,6 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
         m.transparent = true;
         m.tspec = f[6];
         m.alpha2 = f[4] * f[4];
-        if (m.alpha2 > kTiny && m.trans * m.tspec > kTiny)
-            ErrorExit(&p.loc,
-                      "trans '" + p.name + "': rough specular transmission is not traced yet");
     } else if (t == "mixfunc") {
         if (p.sargs.size() > 4)
             ErrorExit(&p.loc, "mixfunc '" + p.name +

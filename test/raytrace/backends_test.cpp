@@ -245,6 +245,25 @@ TEST_P(Backends, AntimatterCutsAWindow) {
     EXPECT_LT(se, 0.01 * exact);
 }
 
+// A frosted sheet (trans, roughness .2, no diffuse reflection) between an upward sensor and a
+// uniform sky of radiance 1: whatever the sheet transmits reaches the sky, so the sensor sees pi
+// in each of m_normal()'s three ways: specular transmission sampled about the ray's direction
+// (.8) beside the hemisphere behind (.2); all of it specular (the samples alone); and specular
+// transmission below -st (.01) folded into the hemisphere behind (.99 + .01, not .99). No
+// variance: every path ends in the sky with its whole coefficient (-lw 1e-6 cuts none).
+TEST_P(Backends, RoughTransmissionUnderAUniformSkyGivesPi) {
+    WriteFile(tmp_.path() / "sky.rad", kSky);
+    for (const char *tspec : {".8", "1", ".01"}) {
+        SCOPED_TRACE(tspec);
+        WriteFile(tmp_.path() / "sheet.rad",
+                  std::string("void trans frost 0 0 7 1 1 1 0 .2 1 ") + tspec +
+                      "\nfrost polygon sheet 0 0 12 -50 -50 1 50 -50 1 50 50 1 -50 50 1\n");
+        const auto [mean, se] =
+            UpwardSensor("-I+ -ab 2 -ad 256 -lw 1e-6" + kBins + "-m skyglow sky.rad sheet.rad", 10);
+        EXPECT_NEAR(mean, M_PI, 2e-5 * M_PI);
+    }
+}
+
 // Antimatter with a material for its inside (m_clip()'s first modifier): a hole cut through a
 // black slab 0.5 m thick shows the mirror `pipe` (reflectance 1) where a ray that went through
 // the slab's face meets the cut's sides. Every ray from the sensor below that enters the hole

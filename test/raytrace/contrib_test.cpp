@@ -223,6 +223,51 @@ TEST(RcontribGpu, RoughSpecularAsRadiance) {
     EXPECT_NEAR(v[3], 1.806924, 5 * 1.12 * 0.0035);
 }
 
+// Rough specular transmission against RADIANCE 5.4 (rcontrib -u+ -dj 0 -I+ -ab 2 -ad 20000
+// -lw 1e-7, the mean of 100 records per sensor): a horizontal frosted sheet (trans, roughness
+// .15) between two sensors and a sun and a 40-degree glow patch above it, one sensor upward, one
+// tilted toward the sun. Three sheets: transmission sampled about the ray's direction (the patch
+// is seen through the sheet where it is, so samples about the normal halve the upward sensor's
+// share), with dirnorm()'s transmitted lobe toward the sun (a); below -st (.5 x .03), folded into
+// the hemisphere behind with the whole transmission (b); and below -st with no diffuse
+// transmission, where m_normal() sends no hemisphere behind at all and only the lobe passes the
+// sun: nothing of the patch, exactly (c). Tolerances: 5 x the combined sd (ours at -ad 16000 over
+// 20 records, RADIANCE's mean's).
+TEST(RcontribGpu, RoughTransmissionAsRadiance) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "sky.rad", SunScene(50 * M_PI / 180) +
+                                          "void glow skyglow 0 0 4 .2 .2 .2 0\n"
+                                          "skyglow source sky 0 0 4 0 -.5 .866 40\n");
+    const std::string sheet = "\nfrost polygon sheet 0 0 12 -50 -50 1 50 -50 1 50 50 1 -50 50 1\n";
+    WriteFile(tmp.path() / "a.rad", "void trans frost 0 0 7 .8 .7 .6 .05 .15 .9 .8" + sheet);
+    WriteFile(tmp.path() / "b.rad", "void trans frost 0 0 7 .8 .7 .6 0 .15 .5 .03" + sheet);
+    WriteFile(tmp.path() / "c.rad", "void trans frost 0 0 7 .8 .7 .6 0 .15 .02 1" + sheet);
+    const std::string run =
+        "printf '0 0 0 0 0 1\\n0 0 0 0 0.64 0.77\\n' | rcontrib-gpu -dj 0 -I+ -ab 2 -ad 16000 "
+        "-lw 1e-7 -faa -h -m solar -m skyglow sky.rad ";
+    // per sheet: sun and patch for each sensor (red), RADIANCE's mean and the tolerance
+    struct Expected {
+        const char *file;
+        double value[4], tolerance[4];
+    };
+    const Expected cases[] = {
+        {"a.rad",
+         {3.541313e-05, 0.2145403, 4.333932e-05, 0.1074245},
+         {3.4e-7, 1.3e-2, 2.6e-7, 8.0e-3}},
+        {"b.rad",
+         {2.081556e-05, 0.1234323, 1.853216e-05, 0.1079884},
+         {1.2e-8, 7.3e-3, 5.1e-8, 5.5e-3}},
+        {"c.rad", {8.273485e-07, 0, 1.084707e-06, 0}, {1.0e-8, 0, 7.5e-9, 0}},
+    };
+    for (const Expected &e : cases) {
+        SCOPED_TRACE(e.file);
+        const std::vector<double> v = RunForValues(run + e.file, tmp.path());
+        ASSERT_EQ(v.size(), 12u);
+        for (int k = 0; k < 4; ++k)
+            EXPECT_NEAR(v[3 * k], e.value[k], e.tolerance[k]) << "value " << k;
+    }
+}
+
 // mixfunc against RADIANCE 5.4 (rcontrib -u- -ab 2 -ad 20000 -lw 1e-6): a floor half white, half
 // black (by the sign of Px) and a screen above the sensor 30 % black, 70 % void (transparent).
 // Tolerance: 5 x the combined sd (ours at -ad 4000 over 10 seeds; RADIANCE's about half). The

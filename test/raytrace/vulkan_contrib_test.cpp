@@ -353,15 +353,18 @@ TEST_F(VulkanContrib, ModifiersWithTheirOwnParametersAsEmbree) {
         {0, .8, 0, 0, 0, .8, .28, 0, 0});
 }
 
-// Rough specular reflection (sampled, and as a lobe toward the sun) and a rough surface below
-// -st folded into the diffuse part: a sensor facing a rough metal floor and a rough plastic wall
-// under a sky and a sun, both backends within their standard errors.
+// Rough specular reflection (sampled, and as a lobe toward the sun), a rough surface below -st
+// folded into the diffuse part, and rough specular transmission (sampled, and as a lobe toward
+// the sun): sensors facing a rough metal floor, half of it under a frosted pane, and a rough
+// plastic wall under a sky and a sun, both backends within their standard errors.
 TEST_F(VulkanContrib, RoughSpecularAsEmbree) {
     WriteFile(tmp_.path() / "scene.rad",
               "void metal brushed 0 0 5 .8 .7 .6 .9 .1\n"
               "void plastic satin 0 0 5 .5 .5 .5 .015 .08\n"
               "brushed polygon floor 0 0 12 -5 -5 0  5 -5 0  5 5 0  -5 5 0\n"
               "satin polygon wall 0 0 12 -5 5 0  5 5 0  5 5 4  -5 5 4\n"
+              "void trans frost 0 0 7 .8 .8 .8 .03 .12 .6 .7\n"
+              "frost polygon pane 0 0 12 -5 -5 .5  .5 -5 .5  .5 5 .5  -5 5 .5\n"
               "void light solar 0 0 3 1e4 1e4 1e4\nsolar source sun 0 0 4 0 -.6 .8 .533\n");
     WriteFile(tmp_.path() / "rays", "0 -1 1 0 .4 -1\n1 0 1 0 .2 -1\n-1 2 1 .1 .3 -1\n");
     // -ss 4 takes several specular samples where a ray's weight is high: the input rays, here

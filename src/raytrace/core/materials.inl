@@ -5,14 +5,16 @@
 
 bool hit_front;  // whether the ray being shaded met its surface's front
 
-// gaussamp() for reflection: SPECULAR rays about the mirror direction, their half vectors drawn
-// from the Gaussian of roughness^2 alpha2; one ray (up to 10 tries to leave above the surface)
-// or, with -ss above 1.5, -ss x weight rays sharing the coefficient. (RADIANCE reweights those
-// samples' values afterwards; rcontrib's contributions, taken as the rays arrive, keep the plain
-// share, and so do ours.)
-void PushGaussianReflection(IN(Ray) r, real3 scolor, real alpha2, real3 point, real3 normal) {
+// gaussamp(): SPECULAR rays drawn from the Gaussian of roughness^2 alpha2, reflected (their
+// half vectors about the normal, leaving above the surface) or transmitted (the ray's direction
+// offset in the tangent plane, leaving behind it); one ray (up to 10 tries) or, with -ss above
+// 1.5, -ss x weight rays sharing the coefficient. (RADIANCE reweights reflected samples' values
+// afterwards; rcontrib's contributions, taken as the rays arrive, keep the plain share, and so do
+// ours.) normal faces the ray.
+void PushGaussianSamples(IN(Ray) r, real3 colour, real alpha2, real3 point, real3 normal,
+                         bool transmit) {
     Ray c;
-    if (!Spawn(r, kSpecular, scolor, c)) return;
+    if (!Spawn(r, kSpecular, colour, c)) return;
     int target = 1;
     if (SS > 1.5) {
         target = int(SS * r.weight + .5);
@@ -32,9 +34,16 @@ void PushGaussianReflection(IN(Ray) r, real3 scolor, real alpha2, real3 point, r
         real rv1 = Rand();
         if (SS >= 0. && SS < 1.) rv1 = 1. - SS * rv1;
         real d = rv1 <= kTiny ? 1. : sqrt(alpha2 * -log(rv1));
-        real3 h = normal + d * (cos(phi) * u + sin(phi) * v);
-        real3 dir = r.dir + (-2. * dot(h, r.dir) / (1. + d * d)) * h;
-        if (dot(dir, normal) <= kTiny) continue;
+        real3 offset = d * (cos(phi) * u + sin(phi) * v);
+        real3 dir;
+        if (transmit) {
+            dir = r.dir + offset;
+            if (dot(dir, normal) >= -kTiny) continue;
+        } else {
+            real3 h = normal + offset;
+            dir = r.dir + (-2. * dot(h, r.dir) / (1. + d * d)) * h;
+            if (dot(dir, normal) <= kTiny) continue;
+        }
         c.org = point;
         c.dir = normalize(dir);
         PushTrace(c);
@@ -278,7 +287,9 @@ void ShadeBasic(IN(Ray) r, IN(PackedSurface) m, IN(real3) point, IN(real3) norma
     }
     // plastic, metal, trans (m_normal()): pure specular reflection with RADIANCE's Fresnel
     // estimate raising the specularity at grazing angles, or rough (Gaussian) reflection sampled
-    // or, below -st, folded into the diffuse part; pure specular and diffuse transmission.
+    // or, below -st, folded into the diffuse part; diffuse transmission, and specular
+    // transmission pure (shadow rays pass) or rough: sampled, or below -st folded into the
+    // hemisphere behind, which m_normal() traces only where some transmission is diffuse.
     real spec = m.params.x;
     bool metal = (int(m.params.w) & kSurfaceMetal) != 0;
     bool pure = m.alpha2 <= kTiny;
@@ -290,8 +301,11 @@ void ShadeBasic(IN(Ray) r, IN(PackedSurface) m, IN(real3) point, IN(real3) norma
     }
     real trans = real(m.params.y) * (1. - rspec), tspec = trans * real(m.params.z);
     real tdiff = trans - tspec;
-    if (tspec > kTiny) PushChild(r, kTrans, c * tspec, point, r.dir);  // shadow rays too
+    bool rough_trans_below_threshold = !pure && tspec > kTiny && ST >= tspec - kTiny;
+    if (pure && tspec > kTiny) PushChild(r, kTrans, c * tspec, point, r.dir);  // shadow rays too
     if ((r.crtype & kShadow) != 0) return;  // the rest blocks shadow rays
+    if (!pure && tspec > kTiny && !rough_trans_below_threshold)
+        PushGaussianSamples(r, c * tspec, m.alpha2, point, normal, true);
     real3 sc = real3(0);
     bool rough_below_threshold = false;
     if (rspec > kTiny) {
@@ -302,13 +316,14 @@ void ShadeBasic(IN(Ray) r, IN(PackedSurface) m, IN(real3) point, IN(real3) norma
         else if (ST >= rspec - kTiny)
             rough_below_threshold = true;
         else
-            PushGaussianReflection(r, sc, m.alpha2, point, normal);
+            PushGaussianSamples(r, sc, m.alpha2, point, normal, false);
     }
     real rdiff = 1.0 - trans - rspec;
     if (pure && rdiff <= kTiny && tdiff <= kTiny) return;
     PushDirect(r, c, rdiff, tdiff, trans, pure && spec >= kFresnelThreshold, point, normal, sc,
-               pure || rspec <= kTiny ? 0.0 : real(m.alpha2));
-    if (tdiff > kTiny) PushHemisphere(r, c * tdiff, point, -normal);  // the hemisphere behind
+               pure ? 0.0 : real(m.alpha2));
+    if (tdiff > kTiny)  // the hemisphere behind
+        PushHemisphere(r, c * (rough_trans_below_threshold ? trans : tdiff), point, -normal);
     if (rdiff > kTiny)
         PushHemisphere(r, c * rdiff + (rough_below_threshold ? sc : real3(0)), point, normal);
 }

@@ -7,6 +7,7 @@
 #define DAYFLUX_CORE_TABLES_H
 
 #include "raytrace/core/language.h"
+#include "raytrace/core/sampling.h"  // kTiny
 
 #ifdef __cplusplus
 namespace dayflux::core {
@@ -77,14 +78,16 @@ struct PackedSurface {
 };
 
 // Whether a shadow ray meeting the surface, from either side, ends there and brings nothing
-// (Shade pushes no ray for it): black, or plastic and metal without specular transmission,
-// clipped by no antimatter and counting for no modifier. Such surfaces form the blockers that
+// (Shade pushes no ray for it): black, or plastic, metal and trans without pure specular
+// transmission (rough transmission is sampled only for rays other than shadow rays), clipped
+// by no antimatter and counting for no modifier. Such surfaces form the blockers that
 // a driver may test shadow rays against at once (direct.inl's ShadowRay).
 inline bool StopsShadowRays(PackedSurface m) {
     if (m.clip != 0u || m.tracked >= 0) return false;
     // (tspec = params.y (1 - rspec) params.z is nought only where one of them is: out-of-range
     // values of either may still transmit)
-    return m.kind == kMatBlack || (m.kind == kMatDiffuse && (m.params.y == 0. || m.params.z == 0.));
+    return m.kind == kMatBlack ||
+           (m.kind == kMatDiffuse && (m.params.y == 0. || m.params.z == 0. || m.alpha2 > kTiny));
 }
 
 // An analytic surface (sphere/bubble, cone/cup, cylinder/tube, ring), recentred.
