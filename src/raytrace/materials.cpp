@@ -267,18 +267,21 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
         mixes_.push_back(std::move(info));
         if (p.modifier >= 0) ErrorExit(&p.loc, "mixfunc '" + p.name + "': inappropriate modifier");
         return m;
-    } else if (t == "BSDF") {
-        // 6+ thick file ux uy uz funcfile [transform]; 0; 0|3|6|9 diffuse colours
-        if (p.sargs.size() < 6 || f.size() > 9 || f.size() % 3)
-            ErrorExit(&p.loc, "BSDF '" + p.name + "': bad # arguments");
+    } else if (t == "BSDF" || t == "aBSDF") {
+        // BSDF: 6+ thick file ux uy uz funcfile [transform]; aBSDF: 5+ file ux uy uz funcfile
+        // [transform] (no thickness); 0; 0|3|6|9 diffuse colours
+        const size_t file = t == "BSDF" ? 1 : 0;
+        if (p.sargs.size() < file + 5 || f.size() > 9 || f.size() % 3)
+            ErrorExit(&p.loc, t + " '" + p.name + "': bad # arguments");
         auto info = std::make_unique<BsdfInfo>();
-        info->proxy = p.sargs[0] != "0";
+        info->proxy = file == 1 && p.sargs[0] != "0";
+        info->aperture = file == 0;
         info->name = p.name;
         std::string path;
         try {
-            path = FindOnRaypath(p.sargs[1]);
+            path = FindOnRaypath(p.sargs[file]);
         } catch (const UserError &e) {
-            ErrorExit(&p.loc, "BSDF '" + p.name + "': " + e.what());
+            ErrorExit(&p.loc, t + " '" + p.name + "': " + e.what());
         }
         auto &klems = klems_by_path_[path];
         if (!klems) klems = std::make_shared<const KlemsScattering>(LoadKlemsBsdf(path));
@@ -287,14 +290,14 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
         e.type = "brightfunc";
         e.info = FindPrimitiveType("brightfunc");
         e.modifier = -1;
-        e.sargs = {p.sargs[0], p.sargs[5]};
+        e.sargs = {file == 1 ? p.sargs[0] : "0", p.sargs[file + 4]};
         info->thickness = std::make_unique<PatternFunction>(e);
         e.type = "colorfunc";
         e.info = FindPrimitiveType("colorfunc");
-        e.sargs = {p.sargs[2], p.sargs[3], p.sargs[4], p.sargs[5]};
-        if (p.sargs.size() > 6)
+        e.sargs = {p.sargs[file + 1], p.sargs[file + 2], p.sargs[file + 3], p.sargs[file + 4]};
+        if (p.sargs.size() > file + 5)
             ErrorExit(&p.loc,
-                      "BSDF '" + p.name + "': transforms of its up vector are not supported yet");
+                      t + " '" + p.name + "': transforms of its up vector are not supported yet");
         info->up = std::make_unique<PatternFunction>(e);
         for (size_t k = 0; k < f.size(); ++k) {
             RGB &c = k < 3   ? info->front_reflection

@@ -99,7 +99,8 @@ struct BsdfInfo {
     std::shared_ptr<const KlemsScattering> klems;
     std::unique_ptr<PatternFunction> thickness, up;
     RGB front_reflection{0, 0, 0}, back_reflection{0, 0, 0}, transmission{0, 0, 0};
-    bool proxy = false;  // a thickness other than "0" (RADIANCE's isBSDFproxy)
+    bool proxy = false;     // a thickness other than "0" (RADIANCE's isBSDFproxy)
+    bool aperture = false;  // aBSDF: a peak about the straight-through direction passes unscattered
     std::string name;
 };
 

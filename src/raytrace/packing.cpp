@@ -196,6 +196,8 @@ class Packer {
                 p_.bsdf = true;
                 s.fore = Klems(*m.bsdf);
                 if (m.bsdf->proxy) s.params.w = core::kSurfaceTransparent;
+                // (RADIANCE's T_TRANSP: -i passes through it, as through a proxy)
+                if (m.bsdf->aperture) s.params.w = core::kSurfaceTransparent | core::kSurfaceAperture;
                 break;
             case Material::kLight:
             case Material::kIllum:
@@ -443,6 +445,10 @@ int PackKlemsData(const KlemsScattering &k, std::vector<float> *out) {
         v.resize(v.size() + kPartHeader, 0.f);
         v[h + kPartInFront] = p.in_front, v[h + kPartOutFront] = p.out_front;
         v[h + kPartMaxHemi] = static_cast<float>(p.data.max_hemi);
+        double min_psa = M_PI;  // get_extrema()'s minProjSA: the smallest patch of either basis
+        for (const double o : p.out_table.ohm) min_psa = std::min(min_psa, o);
+        for (const double o : p.in_table.ohm) min_psa = std::min(min_psa, o);
+        v[h + kPartMinProjSA] = static_cast<float>(min_psa);
         v[h + kPartInSize] = static_cast<float>(p.data.in.Size());
         v[h + kPartOutSize] = static_cast<float>(p.data.out.Size());
         v[h + kPartInRings] = static_cast<float>(p.in_table.nphis.size());

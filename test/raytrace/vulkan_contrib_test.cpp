@@ -922,6 +922,42 @@ TEST_F(VulkanContrib, DaylightMatrixAsEmbree) {
     ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 1000);
 }
 
+// aBSDF (a fabric with some openness: a peak about the straight-through direction and a
+// surround) between a sun and sensors (-I+) and view rays (-I-) below it: shadow rays passing
+// the peak, view rays straight through it and their samples leaving its direction out (-st 0:
+// all sampled), and the surround given to sources near it; both backends within their
+// standard errors.
+TEST_F(VulkanContrib, ApertureBsdfAsEmbree) {
+    fs::copy_file(DataDir() / "bsdf/frads_klems_aniso_high.xml", tmp_.path() / "fabric.xml");
+    WriteFile(tmp_.path() / "scene.rad",
+              "void aBSDF w 5 fabric.xml 0 1 0 . 0 0\n"
+              "w polygon sheet 0 0 12 -50 -50 1 50 -50 1 50 50 1 -50 50 1\n"
+              "void light solar 0 0 3 1e4 1e4 1e4\nsolar source sun 0 0 4 0 .6428 .766 .533\n");
+    WriteFile(tmp_.path() / "rays",
+              "0 0 0 0 0 1\n0 0 0 0 .64 .77\n0 0 0 0 .6428 .766\n0 0 0 .3 .2 .93\n");
+    for (const char *run : {"-I+ -m skyglow -m solar", "-I- -st 0 -m skyglow -m solar"}) {
+        const std::string mod = run;
+        const auto [gpu, se_gpu, cpu, se_cpu] =
+            RunBoth(std::string("-dj 0 -ab 2 -ad 1024 -lw 1e-4") + kBins + run +
+                        " scene.rad sky.rad < rays",
+                    tmp_.path());
+        ASSERT_EQ(gpu.size(), 4u * 292 * 3) << mod;
+        ASSERT_EQ(cpu.size(), gpu.size()) << mod;
+        double sum_gpu = 0, sum_cpu = 0, var = 0;
+        int beyond = 0;
+        for (size_t i = 0; i < gpu.size(); ++i) {
+            sum_gpu += gpu[i], sum_cpu += cpu[i];
+            const double s2 = se_gpu[i] * se_gpu[i] + se_cpu[i] * se_cpu[i];
+            var += s2;
+            if (std::fabs(gpu[i] - cpu[i]) > kZ * std::sqrt(s2) + 1e-6 * std::fabs(cpu[i]))
+                ++beyond;
+        }
+        EXPECT_GT(sum_cpu, 0) << mod;
+        EXPECT_LE(beyond, 1) << mod;
+        EXPECT_NEAR(sum_gpu, sum_cpu, 4 * std::sqrt(var) + 1e-6 * sum_cpu) << mod;
+    }
+}
+
 // The BSDF material on the GPU: the tutorial room with venetian blinds (a Klems BSDF) in its
 // window, a sky and a sun: specular samples from the matrix, the Lambertian part as ambient, the
 // sun through the BSDF. Ten sensors, each traced 8 times: per-modifier totals of both backends

@@ -42,9 +42,83 @@ real3 KJitter(real size, real u, real v) {
     return normalize(kview + real3(size * (.5 - u), size * (.5 - v), 0));
 }
 
-// direct_specular_OK(): the non-diffuse BSDF toward a source (world direction), averaged over
-// 4 x ss x weight jittered views; -1 when none is to be added.
-real DirectSpecular(int b, real3 source_dir, real weight) {
+// compute_through() for aBSDF: where the transmission for a ray met on side `front` peaks about
+// its straight-through direction, the peak's value times its projected solid angle (through) and
+// the mean BTDF around it (surround), both grey and before the pattern; 0 where there is no such
+// peak (or the pattern is black there). Of 29 directions about the straight-through one, a
+// smallest patch apart, those of distinct values, brightest first, join the peak while their
+// patches are that small and their value is above an eighth of the peak's mean; the rest are
+// the surround.
+void ComputeThrough(int b, bool front, bool pattern_lit, OUT(real) through, OUT(real) surround) {
+    through = 0.;
+    surround = 0.;
+    int q = PartT(b, front);
+    if (q < 0 || !pattern_lit) return;
+    real min_psa = real(klems[q + kPartMinProjSA]), srchrad = sqrt(min_psa);
+    real3 dirs[29];
+    real values[29];
+    DONT_UNROLL for (int i = 0; i < 29; ++i) {
+        // RADIANCE's dir2check: the centre, then the 8 neighbours at 0.6, 1.2 and 1.8 and the 4
+        // on the axes at 2.4 (floats, as it keeps them)
+        int ring = (i + 7) / 8;
+        int k = i == 0 ? 0 : (i - 1) % 8;
+        real step = real(ring == 1   ? float(0.6)
+                         : ring == 2 ? float(1.2)
+                         : ring == 3 ? float(1.8)
+                                     : float(2.4));
+        real2 d = k == 0   ? real2(-1, 0)
+                  : k == 1 ? real2(0, 1)
+                  : k == 2 ? real2(0, -1)
+                  : k == 3 ? real2(1, 0)
+                  : k == 4 ? real2(-1, 1)
+                  : k == 5 ? real2(-1, -1)
+                  : k == 6 ? real2(1, 1)
+                           : real2(1, -1);
+        if (i == 0) d = real2(0);
+        real3 tdir = normalize(real3(-kview.x + d.x * step * srchrad,
+                                     -kview.y + d.y * step * srchrad, -kview.z));
+        real value = KlemsEval(b, kview, tdir);
+        // insertion: brightest first, the earlier of equal values first (a stable sort)
+        int at = i;
+        while (at > 0 && values[at - 1] < value) {
+            values[at] = values[at - 1];
+            dirs[at] = dirs[at - 1];
+            --at;
+        }
+        values[at] = value;
+        dirs[at] = tdir;
+    }
+    if (values[0] <= kTiny) return;
+    real peak = 0., peak_sum = 0., peak_omega = 0., surround_sum = 0., surround_omega = 0.;
+    int ns = 0;
+    DONT_UNROLL for (int i = 0; i < 29; ++i) {
+        if (i > 0 && values[i] == values[i - 1]) continue;  // the same patch, assumed
+        real tomega = SizeMin(b, kview, dirs[i]);
+        if (tomega > 1.5 * min_psa || peak_sum > 8. * values[i] * real(ns)) {
+            if (i == 0) return;
+            surround_sum += values[i] * tomega;
+            surround_omega += tomega;
+            continue;
+        }
+        peak += values[i] * tomega;
+        peak_omega += tomega;
+        peak_sum += values[i];
+        ++ns;
+    }
+    if (surround_omega <= kTiny) return;  // no surround, no peak
+    if ((peak_sum / real(ns) - KlemsLambertian(b, true, kview.z > 0.) / kPi) * peak_omega < .0005)
+        return;  // below 0.05 % transmission
+    through = peak;
+    surround = surround_sum / surround_omega;
+}
+
+// direct_specular_OK(): the non-diffuse BSDF toward a source (world direction, of solid angle
+// omega), averaged over 4 x ss x weight jittered views; -1 when none is to be added. Through an
+// aBSDF's peak (through: it has one; `front` the side its ray met), near enough the
+// straight-through direction, the surround given instead (and at_surround set).
+real DirectSpecular(int b, real3 source_dir, real weight, real omega, bool through, bool front,
+                    real surround, OUT(bool) at_surround) {
+    at_surround = false;
     real3 vsrc = ToLocal(source_dir);
     bool sf = vsrc.z > 0., vf = kview.z > 0.;
     real lamb;
@@ -54,6 +128,16 @@ real DirectSpecular(int b, real3 source_dir, real weight) {
     } else {
         if (!HasTransmission(b)) return -1.;
         lamb = KlemsLambertian(b, true, vf);
+    }
+    if (sf != vf && through) {  // the peak's light comes through unscattered: not counted here
+        real dx = vsrc.x + kview.x, dy = vsrc.y + kview.y;
+        real min_psa = real(klems[PartT(b, front) + kPartMinProjSA]);
+        real tomega = omega * abs(vsrc.z);
+        if (dx * dx + dy * dy <=
+            (2.5 * 4. / kPi) * (tomega + min_psa + 2. * sqrt(tomega * min_psa))) {
+            at_surround = true;  // (the caller weighs it by the pattern)
+            return surround;
+        }
     }
     real diffuse = lamb > 1e-6 ? lamb / kPi : 0.;
     real tomega = 0., tsr = 0., sum = 0.;

@@ -342,9 +342,10 @@ void DirectStep(IN(Item) it, int i) {
 
 #ifdef DAYFLUX_BSDF
 // dir_bsdf() (dir_brdf(), dir_btdf()): the diffuse parts and the BSDF toward the source; the
-// item's fresnel holds 1 front, 2 reflection, 4 transmission, n the BSDF's data, colour and spec
-// its diffuse reflection and transmission, incident its pattern's colour, normal the normal
-// facing the ray, and (rdiff, tdiff, trans) its up vector.
+// item's fresnel holds 1 front, 2 reflection, 4 transmission, 8 an aBSDF's peak (alpha2 its
+// surround, grey), n the BSDF's data, colour and spec its diffuse reflection and transmission,
+// incident its pattern's colour, normal the normal facing the ray, and (rdiff, tdiff, trans) its
+// up vector.
 void DirectStepBsdf(IN(Item) it, int i) {
     LOCAL(PackedSource) s = sources[i];
     if (s.colour.w > 0.5) return;
@@ -358,8 +359,13 @@ void DirectStepBsdf(IN(Item) it, int i) {
     real3 coef = Bright(diffuse) > kTiny ? diffuse * abs(ldot) * omega / kPi : real3(0);
     bool front = (it.fresnel & 1) != 0;
     if (KlemsFrame(real3(it.rdiff, it.tdiff, it.trans), front ? it.normal : -it.normal, it.r.dir)) {
-        real spec = DirectSpecular(it.n, dir, it.r.weight);
-        if (spec >= 0.) coef += spec * (ldot < 0. ? it.incident : real3(1)) * abs(ldot) * omega;
+        bool at_surround;
+        real spec = DirectSpecular(it.n, dir, it.r.weight, omega, (it.fresnel & 8) != 0, front,
+                                   it.alpha2, at_surround);
+        // (m_bsdf() weighs an aBSDF's surround by the pattern twice: it comes weighed once)
+        real3 pattern = at_surround ? it.incident * it.incident : it.incident;
+        if (at_surround && Bright(spec * it.incident) <= kTiny) spec = -1.;
+        if (spec >= 0.) coef += spec * (ldot < 0. ? pattern : real3(1)) * abs(ldot) * omega;
     }
     ShadowRay(it, i, s, dir, coef);
 }

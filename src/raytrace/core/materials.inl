@@ -96,11 +96,13 @@ void ShadeDielectric(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, 
 #endif
 
 #ifdef DAYFLUX_BSDF
-// m_bsdf() for MAT_BSDF with Klems data: the non-diffuse parts of reflection and transmission
-// sampled from the matrices (or, below -st, folded into the diffuse part), the diffuse parts as
-// ambient hemispheres on either side, and the sources through the BSDF itself. A thickness
-// makes the surface a proxy: rays other than scattered ones pass, and transmitted rays leave
-// from that far behind it. normal faces the ray.
+// m_bsdf() for MAT_BSDF and MAT_ABSDF with Klems data: the non-diffuse parts of reflection and
+// transmission sampled from the matrices (or, below -st, folded into the diffuse part), the
+// diffuse parts as ambient hemispheres on either side, and the sources through the BSDF itself.
+// A thickness makes the surface a proxy: rays other than scattered ones pass, and transmitted
+// rays leave from that far behind it. An aBSDF's peak about the straight-through direction
+// (ComputeThrough) passes shadow rays, and the rays that are neither specular nor ambient, as
+// one unscattered ray, whose direction its samples then leave out. normal faces the ray.
 void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t) {
     int b = m.fore;
     bool front = hit_front;
@@ -112,7 +114,8 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
         PushChild(r, kTrans, real3(1), point, r.dir);  // hide the proxy
         return;
     }
-    if ((r.crtype & kShadow) != 0) return;
+    bool aperture = (int(m.params.w) & kSurfaceAperture) != 0;
+    if ((r.crtype & kShadow) != 0 && !aperture) return;
     real3 pcol = Colour(m, r, point, front_normal, t);  // colour 1: the pattern alone
     int e = front ? kKlemsFrontReflection : kKlemsBackReflection;
     real3 rdiff = (KlemsLambertian(b, false, front) +
@@ -127,6 +130,12 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
         reports |= kReportBsdfFrame;
         return;
     }
+    real through = 0., surround = 0.;
+    if (aperture) ComputeThrough(b, front, Bright(pcol) > kTiny, through, surround);
+    if ((r.crtype & kShadow) != 0) {
+        if (through > 0.) PushChild(r, kTrans, through * pcol, point, r.dir);
+        return;
+    }
     ksr = sqrt(SizeMinMax(b, kview));
     real3 behind = point - thick * front_normal;
     // sample_sdf() for reflection, then transmission: a specular ray from the part serving the
@@ -135,10 +144,26 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
         real3 unsampled = real3(0);
         int q = xmit == 1 ? PartT(b, kview.z > 0.) : PartR(b, kview.z > 0.);
         if (q >= 0) {
+            // an aBSDF's peak, for rays neither specular nor ambient: one ray straight through
+            bool view = xmit == 1 && (r.crtype & (kSpecular | kAmbient)) == 0 &&
+                        Bright(through * pcol) > kTiny;
+            real viewed = 0.;
+            if (view) {
+                int at = PushSlot();
+                if (Spawn(r, kTrans, through * pcol, STACK(at).r)) {
+                    STACK(at).r.org = point;
+                    STACK(at).r.dir = r.dir;
+                    STACK(at).kind = kItemTrace;
+                    viewed = Bright(through * pcol);
+                } else {
+                    Unpush(at);
+                    view = false;
+                }
+            }
             real hemi = 0.;
-            if (klems[q + kPartMaxHemi] > kTiny) {
+            if (klems[q + kPartMaxHemi] - viewed > kTiny) {
                 real u = Rand(), v = Rand();
-                hemi = max(0., SpecularHemi(b, KJitter(ksr.y, u, v), xmit == 1));
+                hemi = max(0., SpecularHemi(b, KJitter(ksr.y, u, v), xmit == 1) - viewed);
             }
             if (hemi <= ST + kTiny) {  // (no pattern on reflection)
                 if (hemi > kTiny) unsampled = hemi * (xmit == 1 ? pcol : real3(1));
@@ -157,6 +182,10 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
                     real pu = Rand(), pv = Rand();
                     real value = KlemsSample(q, vsmp, xrand, pu, pv, outv);
                     if (value <= kTiny) break;
+                    if (view) {  // the peak's direction: the straight ray carries it
+                        real dx = vsmp.x + outv.x, dy = vsmp.y + outv.y;
+                        if (dx * dx + dy * dy <= ksr.x * ksr.x) continue;
+                    }
                     if (target > 1) value /= real(target);
                     Ray c;
                     if (!Spawn(r, kSpecular, value * (xmit == 1 ? pcol : real3(1)), c)) {
@@ -193,13 +222,15 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
     it.tdiff = up.y;
     it.trans = up.z;
     it.n = b;
+    it.alpha2 = surround;
     it.next = 0;
     it.end = NSOURCES;
     it.part = 0;
     it.turn = Pcg(rng ^ 0x68e31da4u);
     bool reflect_only = Bright(tdiff) <= kTiny && !HasTransmission(b);
     it.point = point;
-    it.fresnel = (front ? 1 : 0) | 2 | (reflect_only || thick != 0. ? 0 : 4);
+    it.fresnel = (front ? 1 : 0) | 2 | (reflect_only || thick != 0. ? 0 : 4) |
+                 (Bright(through * pcol) > kTiny ? 8 : 0);
     PushItem(it);
     if (thick != 0. && !reflect_only) {
         it.point = behind;

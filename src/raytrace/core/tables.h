@@ -63,6 +63,9 @@ CONST int kSurfaceMirrorAlternate = 4;
 // A receiver -asub samples directly (the receivers table below): a glow counting for a modifier,
 // on triangles only, clipped by no antimatter.
 CONST int kSurfaceSampled = 8;
+// An aBSDF (kMatBsdf): a peak of its transmission about the straight-through direction passes
+// rays unscattered.
+CONST int kSurfaceAperture = 16;
 
 struct PackedSurface {
     vec4 color;    // rgb; w: glass refractive index
@@ -179,7 +182,8 @@ CONST int kPartOutBasis = 11;  // 4
 CONST int kPartValues = 15;
 CONST int kPartCdf = 16;
 CONST int kPartReverseCdf = 17;
-CONST int kPartHeader = 18;
+CONST int kPartMinProjSA = 18;  // the smallest projected solid angle of its patches
+CONST int kPartHeader = 19;
 // A basis table's offsets, from a part's kPartInBasis or kPartOutBasis: its rings' bounding
 // cosines (rings + 1), azimuth counts, first patches and the patches' projected solid angles.
 CONST int kBasisCosines = 0;
