@@ -197,7 +197,10 @@ class Packer {
                 s.fore = Klems(*m.bsdf);
                 if (m.bsdf->proxy) s.params.w = core::kSurfaceTransparent;
                 // (RADIANCE's T_TRANSP: -i passes through it, as through a proxy)
-                if (m.bsdf->aperture) s.params.w = core::kSurfaceTransparent | core::kSurfaceAperture;
+                if (m.bsdf->aperture) {
+                    p_.aperture = true;
+                    s.params.w = core::kSurfaceTransparent | core::kSurfaceAperture;
+                }
                 break;
             case Material::kLight:
             case Material::kIllum:

@@ -40,6 +40,7 @@ struct PackedScene {
     // What the scene needs of the core (its DAYFLUX_* features), and how deep its mixfuncs nest.
     bool bsdf = false, dielectric = false, local_sources = false, mirror_images = false;
     bool inside = false;      // antimatter with a material for its inside
+    bool aperture = false;    // an aBSDF (a BSDF too)
     int mix_depth = 0;        // mixfuncs of mixfuncs, as many levels deep
     std::string mix_deepest;  // the object whose material nests them so
 };

@@ -249,7 +249,7 @@ TEST_P(Backends, AntimatterCutsAWindow) {
 // uniform sky of radiance 1: whatever the sheet transmits reaches the sky, so the sensor sees pi
 // in each of m_normal()'s three ways: specular transmission sampled about the ray's direction
 // (.8) beside the hemisphere behind (.2); all of it specular (the samples alone); and specular
-// transmission below -st (.01) folded into the hemisphere behind (.99 + .01, not .99). No
+// transmission of .01, below -st (.02), folded into the hemisphere behind (.99 + .01, not .99). No
 // variance: every path ends in the sky with its whole coefficient (-lw 1e-6 cuts none).
 TEST_P(Backends, RoughTransmissionUnderAUniformSkyGivesPi) {
     WriteFile(tmp_.path() / "sky.rad", kSky);

@@ -272,9 +272,10 @@ TEST(RcontribGpu, RoughTransmissionAsRadiance) {
 // records per ray): a horizontal sheet between a sun and a 40-degree glow patch above and two
 // upward sensors (-I+) and three view rays (-I-) below. Clear glass (Klems data with a strong
 // peak): the sun reaches the sensors only by shadow rays passing the peak, exactly, and a view
-// ray straight through meets the sun, or the patch, with the peak's value; one that misses both
-// sees nothing (its samples leave out the peak's direction). A fabric with some openness (a peak
-// and a surround, which the sources near the peak's direction are given instead of the peak).
+// ray straight through meets the sun, or the patch, with the peak's value (what is left to
+// sample lies below -st: none is drawn). A fabric with some openness (a peak and a surround,
+// which the sources near the peak's direction are given instead of the peak), and its view rays
+// with every specular sample taken (-st 0), which must leave the peak's direction out.
 // Each ray 10 times (40 with -st 0), averaged; tolerances 5 x the combined standard error (ours
 // over 20-2000 records, RADIANCE's mean's), 1e-6 relative where neither program has any noise.
 TEST(RcontribGpu, ApertureBsdfAsRadiance) {

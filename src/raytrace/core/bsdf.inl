@@ -42,6 +42,7 @@ real3 KJitter(real size, real u, real v) {
     return normalize(kview + real3(size * (.5 - u), size * (.5 - v), 0));
 }
 
+#ifdef DAYFLUX_APERTURE
 // compute_through() for aBSDF: where the transmission for a ray met on side `front` peaks about
 // its straight-through direction, the peak's value times its projected solid angle (through) and
 // the mean BTDF around it (surround), both grey and before the pattern; 0 where there is no such
@@ -62,10 +63,10 @@ void ComputeThrough(int b, bool front, bool pattern_lit, OUT(real) through, OUT(
         // on the axes at 2.4 (floats, as it keeps them)
         int ring = (i + 7) / 8;
         int k = i == 0 ? 0 : (i - 1) % 8;
-        real step = real(ring == 1   ? float(0.6)
-                         : ring == 2 ? float(1.2)
-                         : ring == 3 ? float(1.8)
-                                     : float(2.4));
+        real offset = real(ring == 1   ? float(0.6)
+                           : ring == 2 ? float(1.2)
+                           : ring == 3 ? float(1.8)
+                                       : float(2.4));
         real2 d = k == 0   ? real2(-1, 0)
                   : k == 1 ? real2(0, 1)
                   : k == 2 ? real2(0, -1)
@@ -75,8 +76,8 @@ void ComputeThrough(int b, bool front, bool pattern_lit, OUT(real) through, OUT(
                   : k == 6 ? real2(1, 1)
                            : real2(1, -1);
         if (i == 0) d = real2(0);
-        real3 tdir = normalize(real3(-kview.x + d.x * step * srchrad,
-                                     -kview.y + d.y * step * srchrad, -kview.z));
+        real3 tdir = normalize(
+            real3(-kview.x + d.x * offset * srchrad, -kview.y + d.y * offset * srchrad, -kview.z));
         real value = KlemsEval(b, kview, tdir);
         // insertion: brightest first, the earlier of equal values first (a stable sort)
         int at = i;
@@ -111,6 +112,7 @@ void ComputeThrough(int b, bool front, bool pattern_lit, OUT(real) through, OUT(
     through = peak;
     surround = surround_sum / surround_omega;
 }
+#endif
 
 // direct_specular_OK(): the non-diffuse BSDF toward a source (world direction, of solid angle
 // omega), averaged over 4 x ss x weight jittered views; -1 when none is to be added. Through an
@@ -129,6 +131,7 @@ real DirectSpecular(int b, real3 source_dir, real weight, real omega, bool throu
         if (!HasTransmission(b)) return -1.;
         lamb = KlemsLambertian(b, true, vf);
     }
+#ifdef DAYFLUX_APERTURE
     if (sf != vf && through) {  // the peak's light comes through unscattered: not counted here
         real dx = vsrc.x + kview.x, dy = vsrc.y + kview.y;
         real min_psa = real(klems[PartT(b, front) + kPartMinProjSA]);
@@ -139,6 +142,7 @@ real DirectSpecular(int b, real3 source_dir, real weight, real omega, bool throu
             return surround;
         }
     }
+#endif
     real diffuse = lamb > 1e-6 ? lamb / kPi : 0.;
     real tomega = 0., tsr = 0., sum = 0.;
     int nsamp = 1, count = 0;

@@ -294,9 +294,14 @@ bool SourceSample(IN(Item) it, int i, IN(PackedSource) s, OUT(real3) dir, OUT(re
 bool ShadesFront(real trans) { return trans < 1. - kTiny; }
 bool ShadesBack(real trans) { return trans > kTiny; }
 
+// A diffuse surface's direct item's flags (its fresnel field): RADIANCE's Fresnel estimate on the
+// diffuse parts, and a rough specular transmission (trans - tdiff of the colour) to add as a lobe.
+CONST int kDirectFresnel = 1;
+CONST int kDirectRoughTransmission = 2;
+
 // direct() with dirnorm() for a diffuse surface: the shadow ray toward a sample of source i,
 // carrying the diffuse coefficient (and the rough specular lobes': reflected, with spec, and
-// transmitted, trans - tdiff of the colour).
+// transmitted).
 void DirectStep(IN(Item) it, int i) {
     LOCAL(PackedSource) s = sources[i];
     if (s.colour.w > 0.5) return;  // glow: found only by escaping rays
@@ -307,7 +312,7 @@ void DirectStep(IN(Item) it, int i) {
     // the wrong side of an opaque surface, or of a fully transmitting one
     if (ldot < 0. ? !ShadesBack(it.trans) : !ShadesFront(it.trans)) return;
     real lrdiff = it.rdiff, ltdiff = it.tdiff;
-    if (it.fresnel != 0 && (lrdiff > kTiny || ltdiff > kTiny)) {
+    if ((it.fresnel & kDirectFresnel) != 0 && (lrdiff > kTiny || ltdiff > kTiny)) {
         real f = 1. - FresnelEstimate(abs(ldot));
         lrdiff *= f;
         ltdiff *= f;
@@ -328,8 +333,8 @@ void DirectStep(IN(Item) it, int i) {
         real g = exp(-d4 / a2) * d3 / (kPi * d2 * d2 * a2);
         if (g > kTiny) coef += it.spec * g * ldot * omega;
     }
-    real tspec = it.trans - it.tdiff;
-    if (it.alpha2 > 0. && ldot < -kTiny && tspec > kTiny) {
+    if (it.alpha2 > 0. && ldot < -kTiny && (it.fresnel & kDirectRoughTransmission) != 0) {
+        real tspec = it.trans - it.tdiff;
         // rough specular transmission: a Gaussian about the ray's direction (which it keeps
         // through the surface), widened by the source
         real a2 = it.alpha2 + omega / kPi;
@@ -373,10 +378,10 @@ void DirectStepBsdf(IN(Item) it, int i) {
 
 // Pushes a diffuse surface's direct item (nothing for black surfaces: five-phase "black" models
 // send no shadow rays at all).
-void PushDirect(IN(Ray) ray, real3 colour, real rdiff, real tdiff, real trans, bool fresnel,
+void PushDirect(IN(Ray) ray, real3 colour, real rdiff, real tdiff, real trans, int flags,
                 real3 point, real3 normal, real3 spec, real alpha2) {
     if (NDIRECT == 0) return;  // glow sources are found only by escaping rays
-    bool rough = alpha2 > 0. && (Max3(spec) > 0. || trans - tdiff > kTiny);
+    bool rough = alpha2 > 0. && (Max3(spec) > 0. || (flags & kDirectRoughTransmission) != 0);
     if ((Max3(colour) <= 0. || (rdiff <= kTiny && tdiff <= kTiny)) && !rough) return;
 #if defined(DAYFLUX_ASUB) || !defined(__cplusplus)
     Ray r = ray;
@@ -395,7 +400,7 @@ void PushDirect(IN(Ray) ray, real3 colour, real rdiff, real tdiff, real trans, b
     STACK(at).rdiff = rdiff;
     STACK(at).tdiff = tdiff;
     STACK(at).trans = trans;
-    STACK(at).fresnel = fresnel ? 1 : 0;
+    STACK(at).fresnel = flags;
     STACK(at).spec = spec;
     STACK(at).alpha2 = rough ? alpha2 : 0.;
     STACK(at).incident = r.dir;

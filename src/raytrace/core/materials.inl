@@ -130,8 +130,10 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
         reports |= kReportBsdfFrame;
         return;
     }
-    real through = 0., surround = 0.;
+    real through = 0., surround = 0.;  // (nought in scenes without aBSDF)
+#ifdef DAYFLUX_APERTURE
     if (aperture) ComputeThrough(b, front, Bright(pcol) > kTiny, through, surround);
+#endif
     if ((r.crtype & kShadow) != 0) {
         if (through > 0.) PushChild(r, kTrans, through * pcol, point, r.dir);
         return;
@@ -145,6 +147,8 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
         int q = xmit == 1 ? PartT(b, kview.z > 0.) : PartR(b, kview.z > 0.);
         if (q >= 0) {
             // an aBSDF's peak, for rays neither specular nor ambient: one ray straight through
+            // (the samples leave its direction out even where rayorigin() refused that ray, as
+            // sample_sdcomp() does)
             bool view = xmit == 1 && (r.crtype & (kSpecular | kAmbient)) == 0 &&
                         Bright(through * pcol) > kTiny;
             real viewed = 0.;
@@ -157,7 +161,6 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
                     viewed = Bright(through * pcol);
                 } else {
                     Unpush(at);
-                    view = false;
                 }
             }
             real hemi = 0.;
@@ -332,13 +335,12 @@ void ShadeBasic(IN(Ray) r, IN(PackedSurface) m, IN(real3) point, IN(real3) norma
     }
     real trans = real(m.params.y) * (1. - rspec), tspec = trans * real(m.params.z);
     real tdiff = trans - tspec;
-    bool rough_trans_below_threshold = !pure && tspec > kTiny && ST >= tspec - kTiny;
+    bool rough_trans = !pure && tspec > kTiny;
+    bool rough_trans_below_threshold = rough_trans && ST >= tspec - kTiny;
     if (pure && tspec > kTiny) PushChild(r, kTrans, c * tspec, point, r.dir);  // shadow rays too
     if ((r.crtype & kShadow) != 0) return;  // the rest blocks shadow rays
-    if (!pure && tspec > kTiny && !rough_trans_below_threshold)
-        PushGaussianSamples(r, c * tspec, m.alpha2, point, normal, true);
     real3 sc = real3(0);
-    bool rough_below_threshold = false;
+    bool rough_below_threshold = false, sample_reflection = false;
     if (rspec > kTiny) {
         sc = real3(rspec);
         if (metal) sc = fest > kTiny ? fest + c * spec * (1. - fest) : c * rspec;
@@ -347,12 +349,21 @@ void ShadeBasic(IN(Ray) r, IN(PackedSurface) m, IN(real3) point, IN(real3) norma
         else if (ST >= rspec - kTiny)
             rough_below_threshold = true;
         else
-            PushGaussianSamples(r, sc, m.alpha2, point, normal, false);
+            sample_reflection = true;
+    }
+    // gaussamp(): the transmitted samples, then the reflected ones, from one call (the GPU's
+    // compiler inlines a function at every call)
+    DONT_UNROLL for (int lobe = 0; lobe < 2; ++lobe) {
+        bool transmit = lobe == 0;
+        if (transmit ? rough_trans && !rough_trans_below_threshold : sample_reflection)
+            PushGaussianSamples(r, transmit ? c * tspec : sc, m.alpha2, point, normal, transmit);
     }
     real rdiff = 1.0 - trans - rspec;
     if (pure && rdiff <= kTiny && tdiff <= kTiny) return;
-    PushDirect(r, c, rdiff, tdiff, trans, pure && spec >= kFresnelThreshold, point, normal, sc,
-               pure ? 0.0 : real(m.alpha2));
+    PushDirect(r, c, rdiff, tdiff, trans,
+               (pure && spec >= kFresnelThreshold ? kDirectFresnel : 0) |
+                   (rough_trans ? kDirectRoughTransmission : 0),
+               point, normal, sc, pure ? 0.0 : real(m.alpha2));
     if (tdiff > kTiny)  // the hemisphere behind
         PushHemisphere(r, c * (rough_trans_below_threshold ? trans : tdiff), point, -normal);
     if (rdiff > kTiny)

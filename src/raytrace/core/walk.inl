@@ -141,7 +141,7 @@ bool TraceAllButCells(real3 org, real3 dir, uint index, uint replica, uint slice
     int source_first = int(slice) * per_slice;
     if (source_first < NSOURCES) {
         rng = Key(cell_key, 0u, 17u, 5u);  // slice 0's: the direct item turns alike in all
-        PushDirect(r, lamb, 1.0, 0.0, 0.0, false, point, dir, real3(0), 0.0);
+        PushDirect(r, lamb, 1.0, 0.0, 0.0, 0, point, dir, real3(0), 0.0);
         if (top > 0) {
             STACK(top - 1).next = source_first;
             STACK(top - 1).end = min(NSOURCES, source_first + per_slice);

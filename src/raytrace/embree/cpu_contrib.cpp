@@ -174,6 +174,7 @@ class CpuEstimator {
 #define DAYFLUX_LOCAL_SOURCES 1
 #define DAYFLUX_MIRROR_IMAGES 1
 #define DAYFLUX_INSIDE 1
+#define DAYFLUX_APERTURE 1
 #define DAYFLUX_ESTIMATOR FullEstimator
 #include "raytrace/embree/cpu_estimator.inl"
 #undef DAYFLUX_ESTIMATOR

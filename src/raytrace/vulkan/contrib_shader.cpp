@@ -119,6 +119,7 @@ std::string Macros(const PackedScene &packed, const ContribOptions &options, boo
         define("ASUB", std::to_string(options.ambient_subsamples));
     }
     if (packed.bsdf) define("DAYFLUX_BSDF", "1");
+    if (packed.aperture) define("DAYFLUX_APERTURE", "1");
     if (packed.dielectric) define("DAYFLUX_DIELECTRIC", "1");
     if (packed.mirror_images) define("DAYFLUX_MIRROR_IMAGES", "1");
     if (packed.local_sources) define("DAYFLUX_LOCAL_SOURCES", "1");
