@@ -148,6 +148,28 @@ class VulkanContrib : public ::testing::Test {
         for (int i = 0; i < 20; ++i) rays += std::to_string(-1.9 + 0.2 * i) + " 0 0 0 0 1\n";
         WriteFile(tmp_.path() / "rays", rays);
     }
+    // Both backends on args (run in the test's folder), `entries` entries (their first channel):
+    // at most one beyond kZ combined standard errors (plus `slack` of its value, for the GPU's
+    // float where values have no noise; with slack 0 such entries are not compared), and the
+    // totals within 4 combined standard errors.
+    void ExpectSameTotals(const std::string &args, size_t entries, double slack) {
+        const auto [gpu, se_gpu, cpu, se_cpu] = RunBoth(args, tmp_.path());
+        ASSERT_EQ(gpu.size(), entries * 3) << args;
+        ASSERT_EQ(cpu.size(), gpu.size()) << args;
+        double sum_gpu = 0, sum_cpu = 0, var = 0;
+        int beyond = 0;
+        for (size_t i = 0; i < gpu.size(); ++i) {
+            sum_gpu += gpu[i], sum_cpu += cpu[i];
+            const double s2 = se_gpu[i] * se_gpu[i] + se_cpu[i] * se_cpu[i];
+            var += s2;
+            if ((s2 > 0 || slack > 0) &&
+                std::fabs(gpu[i] - cpu[i]) > kZ * std::sqrt(s2) + slack * std::fabs(cpu[i]))
+                ++beyond;
+        }
+        EXPECT_GT(sum_cpu, 0) << args;
+        EXPECT_LE(beyond, 1) << args;
+        EXPECT_NEAR(sum_gpu, sum_cpu, 4 * std::sqrt(var) + std::max(slack, 1e-9) * sum_cpu) << args;
+    }
     // Both backends on args (run in the test's folder), `entries` entries compared one by one
     // (their first channel) within kZ combined standard errors, each of those at most max_se of
     // the value where max_se > 0 (enough samples to tell). Returns the CPU's total.
@@ -369,25 +391,10 @@ TEST_F(VulkanContrib, RoughSpecularAsEmbree) {
     WriteFile(tmp_.path() / "rays", "0 -1 1 0 .4 -1\n1 0 1 0 .2 -1\n-1 2 1 .1 .3 -1\n");
     // -ss 4 takes several specular samples where a ray's weight is high: the input rays, here
     // sent as they are (-I-) to the floor and wall.
-    for (const char *run : {"-I+ -m skyglow", "-I+ -m solar", "-I- -ss 4 -m skyglow"}) {
-        const std::string mod = run;
-        const std::string args = std::string("-ab 2 -ad 1024 -lw 1e-4 -dj .5") + kBins + run +
-                                 " scene.rad sky.rad < rays";
-        const auto [gpu, se_gpu, cpu, se_cpu] = RunBoth(args, tmp_.path());
-        ASSERT_EQ(gpu.size(), 3u * 146 * 3);
-        ASSERT_EQ(cpu.size(), gpu.size());
-        double sum_gpu = 0, sum_cpu = 0, var = 0;
-        int beyond = 0;
-        for (size_t i = 0; i < gpu.size(); ++i) {
-            sum_gpu += gpu[i], sum_cpu += cpu[i];
-            const double s2 = se_gpu[i] * se_gpu[i] + se_cpu[i] * se_cpu[i];
-            var += s2;
-            if (s2 > 0 && std::fabs(gpu[i] - cpu[i]) > kZ * std::sqrt(s2)) ++beyond;
-        }
-        EXPECT_GT(sum_cpu, 0) << mod;
-        EXPECT_LE(beyond, 1) << mod;
-        EXPECT_NEAR(sum_gpu, sum_cpu, 4 * std::sqrt(var) + 1e-9 * sum_cpu) << mod;
-    }
+    for (const char *run : {"-I+ -m skyglow", "-I+ -m solar", "-I- -ss 4 -m skyglow"})
+        ExpectSameTotals(std::string("-ab 2 -ad 1024 -lw 1e-4 -dj .5") + kBins + run +
+                             " scene.rad sky.rad < rays",
+                         3 * 146, 0);
 }
 
 // Records as rcontrib makes them: -c 2 averages two rays, a zero direction counts as a ray that
@@ -935,27 +942,10 @@ TEST_F(VulkanContrib, ApertureBsdfAsEmbree) {
               "void light solar 0 0 3 1e4 1e4 1e4\nsolar source sun 0 0 4 0 .6428 .766 .533\n");
     WriteFile(tmp_.path() / "rays",
               "0 0 0 0 0 1\n0 0 0 0 .64 .77\n0 0 0 0 .6428 .766\n0 0 0 .3 .2 .93\n");
-    for (const char *run : {"-I+ -m skyglow -m solar", "-I- -st 0 -m skyglow -m solar"}) {
-        const std::string mod = run;
-        const auto [gpu, se_gpu, cpu, se_cpu] =
-            RunBoth(std::string("-dj 0 -ab 2 -ad 1024 -lw 1e-4") + kBins + run +
-                        " scene.rad sky.rad < rays",
-                    tmp_.path());
-        ASSERT_EQ(gpu.size(), 4u * 292 * 3) << mod;
-        ASSERT_EQ(cpu.size(), gpu.size()) << mod;
-        double sum_gpu = 0, sum_cpu = 0, var = 0;
-        int beyond = 0;
-        for (size_t i = 0; i < gpu.size(); ++i) {
-            sum_gpu += gpu[i], sum_cpu += cpu[i];
-            const double s2 = se_gpu[i] * se_gpu[i] + se_cpu[i] * se_cpu[i];
-            var += s2;
-            if (std::fabs(gpu[i] - cpu[i]) > kZ * std::sqrt(s2) + 1e-6 * std::fabs(cpu[i]))
-                ++beyond;
-        }
-        EXPECT_GT(sum_cpu, 0) << mod;
-        EXPECT_LE(beyond, 1) << mod;
-        EXPECT_NEAR(sum_gpu, sum_cpu, 4 * std::sqrt(var) + 1e-6 * sum_cpu) << mod;
-    }
+    for (const char *run : {"-I+ -m skyglow -m solar", "-I- -st 0 -m skyglow -m solar"})
+        ExpectSameTotals(std::string("-dj 0 -ab 2 -ad 1024 -lw 1e-4") + kBins + run +
+                             " scene.rad sky.rad < rays",
+                         4 * 292, 1e-6);
 }
 
 // The BSDF material on the GPU: the tutorial room with venetian blinds (a Klems BSDF) in its
