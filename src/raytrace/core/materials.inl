@@ -134,8 +134,10 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
 #ifdef DAYFLUX_APERTURE
     if (aperture) ComputeThrough(b, front, Bright(pcol) > kTiny, through, surround);
 #endif
+    real3 thru = through * pcol;  // the peak's coefficient
+    bool has_thru = Bright(thru) > kTiny;
     if ((r.crtype & kShadow) != 0) {
-        if (through > 0.) PushChild(r, kTrans, through * pcol, point, r.dir);
+        if (through > 0.) PushChild(r, kTrans, thru, point, r.dir);
         return;
     }
     ksr = sqrt(SizeMinMax(b, kview));
@@ -149,20 +151,8 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
             // an aBSDF's peak, for rays neither specular nor ambient: one ray straight through
             // (the samples leave its direction out even where rayorigin() refused that ray, as
             // sample_sdcomp() does)
-            bool view = xmit == 1 && (r.crtype & (kSpecular | kAmbient)) == 0 &&
-                        Bright(through * pcol) > kTiny;
-            real viewed = 0.;
-            if (view) {
-                int at = PushSlot();
-                if (Spawn(r, kTrans, through * pcol, STACK(at).r)) {
-                    STACK(at).r.org = point;
-                    STACK(at).r.dir = r.dir;
-                    STACK(at).kind = kItemTrace;
-                    viewed = Bright(through * pcol);
-                } else {
-                    Unpush(at);
-                }
-            }
+            bool view = xmit == 1 && (r.crtype & (kSpecular | kAmbient)) == 0 && has_thru;
+            real viewed = view && PushChild(r, kTrans, thru, point, r.dir) ? Bright(thru) : 0.;
             real hemi = 0.;
             if (klems[q + kPartMaxHemi] - viewed > kTiny) {
                 real u = Rand(), v = Rand();
@@ -232,8 +222,7 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
     it.turn = Pcg(rng ^ 0x68e31da4u);
     bool reflect_only = Bright(tdiff) <= kTiny && !HasTransmission(b);
     it.point = point;
-    it.fresnel = (front ? 1 : 0) | 2 | (reflect_only || thick != 0. ? 0 : 4) |
-                 (Bright(through * pcol) > kTiny ? 8 : 0);
+    it.fresnel = (front ? 1 : 0) | 2 | (reflect_only || thick != 0. ? 0 : 4) | (has_thru ? 8 : 0);
     PushItem(it);
     if (thick != 0. && !reflect_only) {
         it.point = behind;

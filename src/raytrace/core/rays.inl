@@ -224,16 +224,18 @@ void PushTrace(IN(Ray) r) {
     STACK(at).kind = kItemTrace;
 }
 
-// A child ray from org along dir, if rayorigin() lets it live (spawned in its slot).
-void PushChild(IN(Ray) r, int type, IN(real3) coef, IN(real3) org, IN(real3) dir) {
+// A child ray from org along dir, if rayorigin() lets it live (spawned in its slot); whether it
+// did.
+bool PushChild(IN(Ray) r, int type, IN(real3) coef, IN(real3) org, IN(real3) dir) {
     int at = PushSlot();
     if (!Spawn(r, type, coef, STACK(at).r)) {
         Unpush(at);
-        return;
+        return false;
     }
     STACK(at).r.org = org;
     STACK(at).r.dir = dir;
     STACK(at).kind = kItemTrace;
+    return true;
 }
 
 // sourcehit(): a ray that meets no surface reaches the first distant source whose disc holds its
