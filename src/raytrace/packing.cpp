@@ -265,6 +265,10 @@ class Packer {
             NoteMixNesting(m, object);
             pt.object = object;
             pt.mesh = mat >= 0 ? 1 : 0;
+            // (RADIANCE shades a mesh's triangle as a face where the mesh's modifier is void
+            // and the triangle's is not)
+            const Primitive &o = scene_.scene.objects[object];
+            pt.planar = o.type == "polygon" || (mat >= 0 && o.modifier < 0) ? 1 : 0;
             p_.triangles.push_back(pt);
         }
     }

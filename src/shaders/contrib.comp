@@ -198,6 +198,7 @@ bool Intersect(Ray r, out Hit h) {
         h.normal = ShapeNormal(s.kind, s.inward != 0, s.p0.xyz, s.p0.w, s.p1.xyz, s.p1.w, h.point);
         h.surface = s.surface;
         h.object = s.object;
+        h.planar = s.kind == kShapeRing;
         h.t = t;
         return true;
     }
@@ -207,6 +208,7 @@ bool Intersect(Ray r, out Hit h) {
     h.point = PointOnTriangle(r.org, r.dir, a, b, c, tri.normal.xyz, t);
     h.surface = tri.surface;
     h.object = tri.object;
+    h.planar = tri.planar != 0;
     h.normal = tri.normal.xyz;
     h.t = t;
     return true;

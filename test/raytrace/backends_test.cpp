@@ -245,6 +245,26 @@ TEST_P(Backends, AntimatterCutsAWindow) {
     EXPECT_LT(se, 0.01 * exact);
 }
 
+// A rough metal ball under a large spherical lamp, seen by a ray grazing its top: the lamp's
+// rough reflection is dirnorm()'s Gaussian lobe, which m_normal() widens by the source's size
+// only on flat surfaces (faces and rings: SP_FLAT), so on the ball it stays narrow. RADIANCE
+// 5.4 (rcontrib -I- -ab 0 -dj 0, no noise): 8.609127; widened, the lobe would give 1.19.
+TEST_P(Backends, RoughLobeOnACurvedSurfaceAsRadiance) {
+    WriteFile(tmp_.path() / "ball.rad",
+              "void light lamp 0 0 3 100 100 100\nlamp sphere bulb 0 0 4 0 0 3 .6\n"
+              "void metal rough 0 0 5 .8 .8 .8 .9 .08\nrough sphere ball 0 0 4 0 0 1 1\n");
+    const CommandResult r = RunCommand("echo '0 -3 2 0 1 -0.05' | " + program_ +
+                                           " -h -I- -ab 0 -dj 0" + kBins + "-m lamp ball.rad",
+                                       tmp_.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::istringstream ss(r.out);
+    double total = 0;
+    int k = 0;
+    for (double x; ss >> x; ++k)
+        if (k % 3 == 0) total += x;
+    EXPECT_NEAR(total, 8.609127, (Gpu() ? 1e-4 : 1e-6) * 8.609127);
+}
+
 // A frosted sheet (trans, roughness .2, no diffuse reflection) between an upward sensor and a
 // uniform sky of radiance 1: whatever the sheet transmits reaches the sky, so the sensor sees pi
 // in each of m_normal()'s three ways: specular transmission sampled about the ray's direction

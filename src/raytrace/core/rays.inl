@@ -75,6 +75,7 @@ struct Item {
 // t), or a distant source for rays that find none (source >= 0).
 struct Hit {
     int object, surface, tracked, source;
+    bool planar;  // a face or a ring (m_normal()'s SP_FLAT: a rough lobe widens by a source's size)
     PackedSurface m;
     real3 point, normal;
     real t;

@@ -204,9 +204,11 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
         if (th.shape >= 0) {
             h.object = flat.shapes[th.shape].object;
             h.surface = packed.shapes[packed.shape_of[th.shape]].surface;
+            h.planar = flat.shapes[th.shape].kind == AnalyticShape::kRing;
         } else {
             h.object = flat.triangle_object[th.triangle];
             h.surface = packed.triangles[th.triangle].surface;
+            h.planar = packed.triangles[th.triangle].planar != 0;
         }
         h.point = real3(th.point[0], th.point[1], th.point[2]) - centre_;
         h.normal = real3(th.normal[0], th.normal[1], th.normal[2]);
