@@ -51,8 +51,8 @@ struct PackedTriangle {
     int surface;  // index into the surfaces
     int object;   // scene object (sources' objects are compared with it)
     int mesh;     // 1: a mesh's (not planar as a polygon is: it may meet rays leaving it)
-    int planar;   // 1: flat to m_normal() (SP_FLAT: a polygon's, or a mesh's with its own material,
-                  // which RADIANCE shades as a face)
+    int planar;   // 1: flat to m_normal() (SP_FLAT: a polygon's, or a void mesh's with a
+                  // material of its own, which RADIANCE shades as a face)
 };
 
 // A material as the integrator needs it, with the tracked modifier it counts for.
