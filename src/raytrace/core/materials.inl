@@ -3,8 +3,8 @@
 // m_dielectric(), m_mirror() (with its substitute and the relay of shadow rays toward sources'
 // images), raymixture() (mixfunc), m_bsdf() (Klems data), and rcontrib's -i.
 
-bool hit_front;  // whether the ray being shaded met its surface's front
-bool hit_flat;   // whether that surface is flat (Hit.planar)
+bool hit_front;   // whether the ray being shaded met its surface's front
+bool hit_planar;  // whether that surface is flat to m_normal() (Hit.planar)
 
 // gaussamp(): SPECULAR rays drawn from the Gaussian of roughness^2 alpha2, reflected (their
 // half vectors about the normal, leaving above the surface) or transmitted (the ray's direction
@@ -352,7 +352,7 @@ void ShadeBasic(IN(Ray) r, IN(PackedSurface) m, IN(real3) point, IN(real3) norma
     if (pure && rdiff <= kTiny && tdiff <= kTiny) return;
     PushDirect(r, c, rdiff, tdiff, trans,
                (pure && spec >= kFresnelThreshold ? kDirectFresnel : 0) |
-                   (rough_trans ? kDirectRoughTransmission : 0) | (hit_flat ? kDirectFlat : 0),
+                   (rough_trans ? kDirectRoughTransmission : 0) | (hit_planar ? kDirectFlat : 0),
                point, normal, sc, pure ? 0.0 : real(m.alpha2));
     if (tdiff > kTiny)  // the hemisphere behind
         PushHemisphere(r, c * (rough_trans_below_threshold ? trans : tdiff), point, -normal);

@@ -71,7 +71,7 @@ void ShadeMet(INOUT(Ray) r, bool met, INOUT(Hit) h) {
         PushChild(r, kTrans, real3(1), h.point, r.dir);
         return;
     }
-    hit_flat = met && h.planar;
+    hit_planar = met && h.planar;
     Shade(r, h.object, h.tracked, h.source, h.m, h.point, h.normal, h.t);
 }
 

@@ -202,9 +202,10 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
         const FlatScene &flat = scene_.flat;
         const PackedScene &packed = scene_.packed;
         if (th.shape >= 0) {
+            const PackedShape &shape = packed.shapes[packed.shape_of[th.shape]];
             h.object = flat.shapes[th.shape].object;
-            h.surface = packed.shapes[packed.shape_of[th.shape]].surface;
-            h.planar = flat.shapes[th.shape].kind == AnalyticShape::kRing;
+            h.surface = shape.surface;
+            h.planar = shape.kind == kShapeRing;  // (as the GPU's Intersect decides it)
         } else {
             h.object = flat.triangle_object[th.triangle];
             h.surface = packed.triangles[th.triangle].surface;
