@@ -1057,6 +1057,13 @@ TEST(RcontribGpu, BadInput) {
     EXPECT_NE(r.err.find("absdf.rad:3: aBSDF 'shade': cannot find 'a.xml' on RAYPATH"),
               std::string::npos)
         << r.err;
+    WriteFile(tmp.path() / "absdf4.rad", std::string(kSky) +
+                                             "void aBSDF shade 4 a.xml 0 0 1 0 0\n"
+                                             "shade polygon p 0 0 9 0 0 1 1 0 1 0 1 1\n");
+    r = RunCommand("echo '0 0 0 0 0 1' | rcontrib-gpu -I+ -m skyglow absdf4.rad", tmp.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("absdf4.rad:3: aBSDF 'shade' needs 5+ strings"), std::string::npos)
+        << r.err;
     r = RunCommand("echo '0 0 0 0 0' | rcontrib-gpu -y 1 -m skyglow sky.rad", tmp.path());
     EXPECT_NE(r.status, 0);
     r = RunCommand("echo '0 0 0 0 0 1' | rcontrib-gpu -m skyglow nosuch.rad", tmp.path());
