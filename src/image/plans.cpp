@@ -4,13 +4,12 @@
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfOutputFile.h>
+#include <ImfStdIO.h>
 #include <cairo.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <map>
 
 #include "matrix/rgbe.h"
@@ -299,8 +298,9 @@ void WritePlanExr(const std::string &path, const PlanRaster &plan, double scale,
                   int pixels_per_cell) {
     int w, h;
     const std::vector<float> px = Enlarge(plan, scale, std::max(1, pixels_per_cell), &w, &h);
-    // OpenEXR seeks in its output, so it writes a temporary beside the target, renamed after.
-    const std::string temp = path + ".tmp" + std::to_string(getpid());
+    // OpenEXR seeks in its output, so the picture is made in memory and written as any output
+    // is (a FIFO or a device takes it too).
+    Imf::StdOSStream stream;
     try {
         Imf::Header header(w, h);
         Imf::FrameBuffer fb;
@@ -310,19 +310,15 @@ void WritePlanExr(const std::string &path, const PlanRaster &plan, double scale,
                 c, Imf::Slice(Imf::FLOAT, reinterpret_cast<char *>(const_cast<float *>(px.data())),
                               sizeof(float), sizeof(float) * w));
         }
-        Imf::OutputFile file(temp.c_str(), header);
+        Imf::OutputFile file(stream, header);
         file.setFrameBuffer(fb);
         file.writePixels(h);
     } catch (const std::exception &e) {
-        std::remove(temp.c_str());
         ErrorExit(path + ": " + e.what());
     }
-    std::error_code ec;
-    std::filesystem::rename(temp, path, ec);
-    if (ec) {
-        std::remove(temp.c_str());
-        ErrorExit(path + ": " + ec.message());
-    }
+    OutputFile out(path);
+    out.Write(stream.str());
+    out.Commit();
 }
 
 }  // namespace dayflux

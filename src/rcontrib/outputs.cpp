@@ -245,6 +245,8 @@ long RcontribOutputs::RecoverableRecords() {
     for (Stream &s : streams_) {
         if (s.name == "-") ErrorExit("cannot recover from stdout");
         if (s.name[0] == '!') ErrorExit("cannot recover from command");
+        if (ResolveOutput(s.name).direct)
+            ErrorExit("cannot recover '" + s.name + "': it is not a regular file");
         const std::string partial = OutputFile::PartialName(s.name);
         long n = RecordsIn(partial, s, true, &s.prefix_bytes);
         s.recover_from = partial;

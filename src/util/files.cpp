@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <climits>
 #include <cstring>
 
 #include "util/signals.h"
@@ -235,6 +236,50 @@ bool InputSource::OnlySpaceLeft() {
     return true;
 }
 
+namespace {
+
+// The descriptor a name of the process's own open files stands for (/dev/stdout, /dev/fd/N,
+// /proc/self/fd/N), or -1.
+int DescriptorNamed(const std::string &path) {
+    if (path == "/dev/stdout") return 1;
+    if (path == "/dev/stderr") return 2;
+    const std::string own = "/proc/" + std::to_string(getpid()) + "/fd/";
+    for (const std::string &prefix :
+         {std::string("/dev/fd/"), std::string("/proc/self/fd/"), own}) {
+        if (path.size() <= prefix.size() || path.size() > prefix.size() + 6 ||
+            path.compare(0, prefix.size(), prefix) != 0)
+            continue;
+        const std::string digits = path.substr(prefix.size());
+        if (digits.find_first_not_of("0123456789") == std::string::npos) return std::stoi(digits);
+    }
+    return -1;
+}
+
+}  // namespace
+
+OutputTarget ResolveOutput(const std::string &path) {
+    // Linux follows at most 40 links in a path; so do we, a link at a time, because the rename
+    // must land on the final target and a dangling link's target is still to be made.
+    std::string at = path;
+    for (int hops = 0; hops <= 40; ++hops) {
+        const int fd = DescriptorNamed(at);
+        if (fd >= 0) return {at, true, fd};
+        struct stat st;
+        if (lstat(at.c_str(), &st) != 0) return {at, false, -1};  // made by the rename
+        if (!S_ISLNK(st.st_mode)) return {at, !S_ISREG(st.st_mode), -1};
+        // A link of /proc names an open file ("pipe:[123]"), not a path: opened as it is.
+        if (at.rfind("/proc/", 0) == 0) return {at, true, -1};
+        std::string to(PATH_MAX, '\0');
+        const ssize_t n = readlink(at.c_str(), to.data(), to.size());
+        if (n <= 0) return {at, true, -1};  // the open says why
+        to.resize(static_cast<size_t>(n));
+        const size_t slash = at.rfind('/');
+        if (to[0] != '/' && slash != std::string::npos) to = at.substr(0, slash + 1) + to;
+        at = to;
+    }
+    ErrorExit("cannot open '" + path + "' for output: too many levels of symbolic links");
+}
+
 OutputFile::OutputFile(const std::string &spec, uint64_t keep_bytes) {
     if (spec.empty() || spec == "-") {
         name_ = "<stdout>";
@@ -250,15 +295,47 @@ OutputFile::OutputFile(const std::string &spec, uint64_t keep_bytes) {
         is_pipe_ = true;
         return;
     }
-    temp_ = PartialName(spec);
+    const OutputTarget target = ResolveOutput(spec);
+    if (target.direct) {
+        if (keep_bytes > 0) ErrorExit("cannot continue '" + spec + "': it is not a regular file");
+        OpenDirect(target);
+    } else {
+        OpenPartial(target.path, keep_bytes);
+    }
+    std::setvbuf(fp_, nullptr, _IOFBF, kBufferSize);
+}
+
+// A FIFO, a device or a descriptor: written in place as RADIANCE's fopen(name, "w") writes it.
+// A descriptor is duplicated, not opened anew, so a shell's ">>" or a file shared with other
+// writers keeps its offset.
+void OutputFile::OpenDirect(const OutputTarget &target) {
+    is_direct_ = true;
+    if (target.fd >= 0) std::fflush(nullptr);
+    int fd;
+    do
+        fd = target.fd >= 0
+                 ? fcntl(target.fd, F_DUPFD_CLOEXEC, 3)
+                 : open(target.path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+    while (fd < 0 && errno == EINTR);  // a FIFO's open waits for its reader
+    if (fd < 0) ErrorExit("cannot open '" + name_ + "' for output: " + std::strerror(errno));
+    fp_ = fdopen(fd, "wb");
+    if (!fp_) {
+        close(fd);
+        ErrorExit("cannot open '" + name_ + "' for output: " + std::strerror(errno));
+    }
+}
+
+void OutputFile::OpenPartial(const std::string &target, uint64_t keep_bytes) {
+    target_ = target;
+    temp_ = target + ".partial";
     const int fd = open(temp_.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0666);
-    if (fd < 0) ErrorExit("cannot open '" + spec + "' for output: " + std::strerror(errno));
+    if (fd < 0) ErrorExit("cannot open '" + name_ + "' for output: " + std::strerror(errno));
     // The lock ends with the process, so a partial file left by a killed run is free again.
     // File systems without locks (some NFS and Lustre mounts) only lose the check.
     if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
         if (errno == EWOULDBLOCK) {
             close(fd);
-            ErrorExit("cannot write '" + spec + "': another run is writing it ('" + temp_ +
+            ErrorExit("cannot write '" + name_ + "': another run is writing it ('" + temp_ +
                       "' is locked)");
         }
         static bool warned = false;
@@ -276,9 +353,8 @@ OutputFile::OutputFile(const std::string &spec, uint64_t keep_bytes) {
     fp_ = fdopen(fd, "wb");
     if (!fp_) {
         close(fd);
-        ErrorExit("cannot open '" + spec + "' for output: " + std::strerror(errno));
+        ErrorExit("cannot open '" + name_ + "' for output: " + std::strerror(errno));
     }
-    std::setvbuf(fp_, nullptr, _IOFBF, kBufferSize);
 }
 
 OutputFile::~OutputFile() {
@@ -288,7 +364,7 @@ OutputFile::~OutputFile() {
     } else if (!is_stdout_) {
         if (fp_) std::fclose(fp_);
         // A partial file this run continued held records before it: they stay.
-        if (!continues_partial_) std::remove(temp_.c_str());
+        if (!continues_partial_ && !is_direct_) std::remove(temp_.c_str());
     }
 }
 
@@ -317,14 +393,14 @@ void OutputFile::Commit() {
     errno = 0;
     if (std::fflush(fp_) != 0 || std::ferror(fp_))
         ErrorExit("error writing to '" + name_ + "': " + std::strerror(errno));
-    if (std::rename(temp_.c_str(), name_.c_str()) != 0)
-        ErrorExit("cannot rename '" + temp_ + "' to '" + name_ + "': " + std::strerror(errno));
+    if (!is_direct_ && std::rename(temp_.c_str(), target_.c_str()) != 0)
+        ErrorExit("cannot rename '" + temp_ + "' to '" + target_ + "': " + std::strerror(errno));
     finished_ = true;
     const bool closed = std::fclose(fp_) == 0;
     fp_ = nullptr;
     if (!closed) {
         const std::string why = std::strerror(errno);
-        std::remove(name_.c_str());
+        if (!is_direct_) std::remove(target_.c_str());
         ErrorExit("error writing to '" + name_ + "': " + why);
     }
 }

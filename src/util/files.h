@@ -1,6 +1,8 @@
 // Inputs and outputs as RADIANCE programs name them: a file, "-" for the standard streams, or
-// "!command" for a shell pipe. Outputs to files are written to a temporary beside the target and
-// renamed on success, so a failed run never leaves a complete-looking file behind.
+// "!command" for a shell pipe. Outputs to regular files are written to a temporary beside the
+// target and renamed on success, so a failed run never leaves a complete-looking file behind;
+// FIFOs, devices and the standard streams' names are written directly, since a rename would
+// replace the node.
 #pragma once
 
 #include <cstdint>
@@ -97,23 +99,39 @@ class InputSource {
     std::string word_;
 };
 
-// A destination for program output: stdout ("-" or ""), "!command", or a file written as
-// "name.partial" and renamed onto name when complete. A run that stops early leaves the partial
-// file (which -r can continue) or, after an error, nothing; the partial file is locked while it is
-// written, so two runs never write one output at once.
+// Where an output path is written. RADIANCE's fopen(name, "w") writes through symbolic links, so
+// a link's final target is the file written (and renamed onto). Anything that exists and is not
+// a regular file (a FIFO, a device, a socket) and the links of /proc (/dev/stdout, /dev/fd/N) are
+// written directly.
+struct OutputTarget {
+    std::string path;     // the file to write or rename onto
+    bool direct = false;  // written in place, never through a partial file
+    int fd = -1;          // >= 0: the name is this process's descriptor fd (/dev/stdout)
+};
+OutputTarget ResolveOutput(const std::string &path);
+
+// A destination for program output: stdout ("-" or ""), "!command", or a regular file written as
+// "name.partial" beside it (beside a symbolic link's target) and renamed onto it when complete. A
+// run that stops early leaves the partial file (which -r can continue) or, after an error,
+// nothing; the partial file is locked while it is written, so two runs never write one output at
+// once. FIFOs and devices are written directly (ResolveOutput).
 class OutputFile {
   public:
-    // keep_bytes > 0: continue name.partial after its first keep_bytes (which it must hold).
+    // keep_bytes > 0: continue the partial file after its first keep_bytes (which it must hold).
     explicit OutputFile(const std::string &spec, uint64_t keep_bytes = 0);
     ~OutputFile();
     OutputFile(const OutputFile &) = delete;
     OutputFile &operator=(const OutputFile &) = delete;
 
-    static std::string PartialName(const std::string &spec) { return spec + ".partial"; }
+    // The partial file an output named spec is written to (beside a link's target).
+    static std::string PartialName(const std::string &spec) {
+        return ResolveOutput(spec).path + ".partial";
+    }
 
     FILE *Stream() { return fp_; }
     const std::string &Name() const { return name_; }
-    bool IsFile() const { return !is_pipe_ && !is_stdout_; }
+    // A file written through a partial file (what -r can continue).
+    bool IsFile() const { return !is_pipe_ && !is_stdout_ && !is_direct_; }
     void Write(const void *data, size_t n);
     void Write(std::string_view s) { Write(s.data(), s.size()); }
     // Flushes and, for files, renames the partial file onto the target. Throws on a write error.
@@ -123,11 +141,16 @@ class OutputFile {
     bool KeepPartial();
 
   private:
+    void OpenDirect(const OutputTarget &target);
+    void OpenPartial(const std::string &target, uint64_t keep_bytes);
+
     std::string name_;
-    std::string temp_;
+    std::string temp_;    // the partial file
+    std::string target_;  // what it is renamed onto: name_, or a symbolic link's target
     FILE *fp_ = nullptr;
     bool is_pipe_ = false;
     bool is_stdout_ = false;
+    bool is_direct_ = false;          // a FIFO, a device or a descriptor, written in place
     bool finished_ = false;           // committed, or kept partial
     bool continues_partial_ = false;  // opened on the records of an earlier run (-r)
 };

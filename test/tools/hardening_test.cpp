@@ -2,6 +2,7 @@
 // what, and an exit status of 1 (never an abort or a crash); the likely mistakes RADIANCE takes
 // silently get a warning or an error before any tracing.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <string>
 
@@ -177,6 +178,45 @@ TEST(Hardening, TimeStepsBeyondTheCapAreRefused) {
     r = RunCommand("gendaymtx -m 1 -max_steps 0 three.wea", tmp.path());
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.err.find("-max_steps needs a whole number"), std::string::npos) << r.err;
+}
+
+// Issue 41: an output naming a FIFO, a device or a symbolic link was renamed over, replacing the
+// node (as root, /dev/null for the whole system). The programs now write into it: the reader of
+// a FIFO gets the records, a device node (/dev/null's, made here) stays, a link is written
+// through as RADIANCE writes it.
+TEST(Hardening, OutputsThatAreNotRegularFilesAreWrittenNotReplaced) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "three.wea",
+              "place here\nlatitude 40.78\nlongitude 73.96\ntime_zone 75\nsite_elevation 40\n"
+              "weather_data_file_units 1\n6 21 12.5 800 200\n6 21 13.5 700 150\n");
+    CommandResult r =
+        RunCommand("gendaymtx -m 1 -D suns -M mods three.wea > /dev/null", tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string suns = ReadFile(tmp.path() / "suns");
+    ASSERT_NE(suns.find("solar"), std::string::npos);
+    // A FIFO with its reader (which would wait for ever on a replaced FIFO).
+    r = RunCommand(
+        "mkfifo fifo && { timeout 60 cat fifo > got & } && "
+        "gendaymtx -m 1 -D fifo three.wea > /dev/null && wait && test -p fifo",
+        tmp.path());
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(ReadFile(tmp.path() / "got"), suns);
+    // A symbolic link: written through, the link kept.
+    WriteFile(tmp.path() / "room.rad", kRoom);
+    WriteFile(tmp.path() / "rays", "0 0 0 0 0 1\n");
+    r = RunCommand(
+        "mkdir data && ln -s data/real link && "
+        "rcontrib-gpu -h -fo -o link -m sky room.rad < rays && test -L link",
+        tmp.path());
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(ReadFile(tmp.path() / "data" / "real"),
+              "1.000000e+00\t1.000000e+00\t1.000000e+00\t\n");
+    if (geteuid() != 0) GTEST_SKIP() << "mknod of a character device needs root";
+    r = RunCommand(
+        "mknod null c 1 3 && gendaymtx -m 1 -D null three.wea > /dev/null && "
+        "test \"$(stat -c %F:%t,%T null)\" = 'character special file:1,3'",
+        tmp.path());
+    EXPECT_EQ(r.status, 0) << r.err;
 }
 
 }  // namespace
