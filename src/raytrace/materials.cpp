@@ -31,6 +31,8 @@ SceneMaterials::SceneMaterials(const FlatScene &scene, const std::vector<Tracked
     // marksources(): the scene's own objects, not those of instances.
     for (const AnalyticShape &sh : scene_.shapes) {
         if (sh.kind != AnalyticShape::kSource || sh.object >= scene_.top_level_objects) continue;
+        if (objs[sh.object].modifier < 0) continue;  // void: no source, as RADIANCE skips it
+        CheckSourceEmits(sh.object);
         const double l = std::sqrt(sh.p0[0] * sh.p0[0] + sh.p0[1] * sh.p0[1] + sh.p0[2] * sh.p0[2]);
         Source s;
         for (int k = 0; k < 3; ++k) s.dir[k] = sh.p0[k] / l;
@@ -55,6 +57,24 @@ SceneMaterials::SceneMaterials(const FlatScene &scene, const std::vector<Tracked
             AddLocalSource(static_cast<int>(i));
     }
     WarnOfUnusedModifiers();
+}
+
+// A distant source whose material is not glow, light, illum or spotlight is no light source in
+// RADIANCE (marksources() leaves it out, and a ray never reaches it); written so, it is almost
+// always a mistake (a sky given the ground's plastic), so it is refused with its line.
+void SceneMaterials::CheckSourceEmits(int object) const {
+    const Material::Kind kind = materials_[object].kind;
+    if (kind == Material::kGlow || kind == Material::kLight || kind == Material::kIllum) return;
+    const auto &objs = scene_.scene.objects;
+    int mod = objs[object].modifier;
+    while (mod >= 0 && objs[mod].info->kind != PrimitiveKind::kMaterial &&
+           objs[mod].info->kind != PrimitiveKind::kLight &&
+           objs[mod].info->kind != PrimitiveKind::kMixture)
+        mod = objs[mod].modifier;
+    const std::string what = mod >= 0 ? objs[mod].type + " '" + objs[mod].name + "'" : "void";
+    ErrorExit(&objs[object].loc, "source '" + objs[object].name + "': its material is " + what +
+                                     ", which gives no light (a distant source needs glow, "
+                                     "light, illum or spotlight)");
 }
 
 // RADIANCE gives a -m that no surface uses all-zero columns without a word; it is most often a

@@ -156,6 +156,7 @@ class SceneMaterials {
 
   private:
     int TrackedIndex(const std::string &modifier) const;
+    void CheckSourceEmits(int object) const;
     void WarnOfUnusedModifiers() const;
     const Material &Resolved(int mod, std::vector<int> &pattern_of);
     void AddLocalSource(int object);

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstring>
 #include <string>
 
 #include "test_util.h"
@@ -217,6 +219,42 @@ TEST(Hardening, OutputsThatAreNotRegularFilesAreWrittenNotReplaced) {
         "test \"$(stat -c %F:%t,%T null)\" = 'character special file:1,3'",
         tmp.path());
     EXPECT_EQ(r.status, 0) << r.err;
+}
+
+// Issue 41: a `source` whose material gives no light was shaded at infinity (a NaN ray, Embree's
+// assertion) or read a pattern it did not have (SIGSEGV). RADIANCE leaves such a source out of
+// its light sources; written so, it is a mistake, refused with its line by every program that
+// traces (one scene reader, one table of materials). A void source is skipped, as in RADIANCE.
+TEST(Hardening, SourceWhoseMaterialGivesNoLightIsRefused) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "rays", "0 0 0 0 0 1\n");
+    for (const auto &[material, said] :
+         {std::pair{"void plastic m 0 0 5 .5 .5 .5 0 0", "plastic 'm'"},
+          std::pair{"void glass m 0 0 3 .9 .9 .9", "glass 'm'"},
+          std::pair{"void glow a 0 0 4 1 1 1 0\nvoid glow b 0 0 4 2 2 2 0\n"
+                    "void mixfunc m 4 a b Dx . 0 0",
+                    "mixfunc 'm'"}}) {
+        WriteFile(tmp.path() / "sky.rad", std::string(material) +
+                                              "\nm source dome 0 0 4 0 0 1 180\n"
+                                              "void glow sky 0 0 4 1 1 1 0\n");
+        const std::string line =
+            std::to_string(std::count(material, material + std::strlen(material), '\n') + 2);
+        for (const char *program : {"rcontrib-gpu -h -m sky", "rtrace_dc-gpu -h -ab 1 -N 148 -Dd"}) {
+            const CommandResult r =
+                RunCommand(std::string(program) + " sky.rad < rays", tmp.path());
+            EXPECT_EQ(r.status, 1) << program << " " << material;
+            EXPECT_NE(r.err.find("sky.rad:" + line + ": source 'dome': its material is " + said +
+                                 ", which gives no light"),
+                      std::string::npos)
+                << program << ": " << r.err;
+        }
+    }
+    WriteFile(tmp.path() / "sky.rad",
+              "void source nothing 0 0 4 0 0 1 180\nvoid glow sky 0 0 4 1 1 1 0\n"
+              "sky source dome 0 0 4 0 0 1 180\n");
+    const CommandResult r = RunCommand("rcontrib-gpu -h -m sky sky.rad < rays", tmp.path());
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.out, "1.000000e+00\t1.000000e+00\t1.000000e+00\t\n");
 }
 
 }  // namespace

@@ -150,18 +150,21 @@ real3 Colour(IN(PackedSurface) m, IN(Ray) r, real3 point, real3 normal, real t) 
 }
 
 // Adds a ray's coefficient (times radiance with -V) to the bin tracked modifier k's bin
-// expression gives (source: the distant source it reached, or -1). Negative bins are ignored.
+// expression gives (source: the distant source it reached, or -1). Negative bins are ignored, as
+// RADIANCE ignores them; one beyond -bn, or NaN, is reported and ignored, checked as a double
+// because int() of one beyond the int range is undefined (INT_MIN on x86, a write before the
+// record).
 void Contribute(int k, IN(Ray) r, IN(real3) point, IN(real3) normal, real t, int source,
                 IN(real3) radiance) {
     SetRayVariables(r, point, normal, t);
     ivec4 entry = tracked[k];
     double b = BinOf(k, source);
-    if (b < -0.5) return;
-    int bin = int(floor(b + 0.5));
-    if (bin >= entry[kTrackedBins]) {
+    if (b <= -0.5) return;
+    if (!(b < double(entry[kTrackedBins]) - 0.5)) {
         reports |= kReportBadBin;
         return;
     }
+    int bin = int(floor(b + 0.5));
     AddToRecord(entry[kTrackedColumn] + bin, CONTRIBUTIONS != 0 ? r.coef * radiance : r.coef);
 }
 
