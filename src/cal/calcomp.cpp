@@ -1,5 +1,6 @@
 #include "cal/calcomp.h"
 
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstddef>
@@ -48,6 +49,16 @@ constexpr std::ptrdiff_t kMaxStackBytes = 1 << 20;
 bool IsIdChar(int c) { return std::isalnum(c) || c == '_' || c == '.' || c == '`'; }
 
 }  // namespace
+
+void WarnOfDomainError(Library fn, bool range) {
+    static std::atomic<uint64_t> warned{0};
+    const uint64_t bit = uint64_t{1} << (2 * static_cast<int>(fn) + (range ? 1 : 0));
+    if (warned.fetch_or(bit) & bit) return;
+    std::string name = "power";
+    for (const LibraryEntry &e : kLibrary)
+        if (e.fn == fn) name = e.name;
+    Warning(name + (range ? ": range error" : ": domain error") + " (0 used, as RADIANCE does)");
+}
 
 // Evaluation with activation frames: arguments are expressions of the caller, evaluated on first
 // use and remembered, as RADIANCE does (so if() evaluates only the branch it takes).
@@ -245,7 +256,7 @@ struct Evaluator {
                 return Eval(n->kids[0].get(), f) / d;
             }
             case Node::kPow:
-                return std::pow(Eval(n->kids[0].get(), f), Eval(n->kids[1].get(), f));
+                return Power(Eval(n->kids[0].get(), f), Eval(n->kids[1].get(), f));
             case Node::kNeg:
                 return -Eval(n->kids[0].get(), f);
         }

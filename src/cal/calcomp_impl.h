@@ -39,8 +39,26 @@ enum class Library {
     kArg
 };
 
-// The library's functions of one or two numbers (atan2 takes two; rand is RADIANCE's hash).
+// RADIANCE's libfunc() and epow(): a library function's or a power's result that is NaN or
+// infinite is a domain or range error, warned of ("sqrt: domain error") and replaced by 0.
+// Warned once a process per function here (RADIANCE writes a line a call).
+void WarnOfDomainError(Library fn, bool range);
+inline double Checked(Library fn, double v) {
+    if (std::isfinite(v)) [[likely]]
+        return v;
+    WarnOfDomainError(fn, !std::isnan(v));
+    return 0;
+}
+// x^y as epow() gives it (kNone stands for the power in the warning).
+inline double Power(double x, double y) { return Checked(Library::kNone, std::pow(x, y)); }
+
+// The library's functions of one or two numbers (atan2 takes two; rand is RADIANCE's hash), with
+// libfunc()'s check of the result.
+double LibraryMathUnchecked(Library fn, double x, double y);
 inline double LibraryMath(Library fn, double x, double y = 0) {
+    return Checked(fn, LibraryMathUnchecked(fn, x, y));
+}
+inline double LibraryMathUnchecked(Library fn, double x, double y) {
     switch (fn) {
         case Library::kRand:
             x *= 1.0 / (1.0 + x * x) + 2.71828182845904;

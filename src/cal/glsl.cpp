@@ -16,14 +16,15 @@ constexpr const char *kMathLibrary = R"GLSL(
 const double cal_PI = 3.14159265358979323846LF;
 const double cal_LN2 = 0.693147180559945309417LF;
 double cal_exp(double x) {
-    if (x > 709.0LF) return 1.0LF / 0.0LF;
+    if (x > 709.782712893384LF) return 1.0LF / 0.0LF;  // ln of the largest double
     if (x < -745.0LF) return 0.0LF;
     double k = floor(x / cal_LN2 + 0.5LF);
     // ln 2 in two parts, so that x - k ln2 keeps its accuracy.
     double r = (x - k * 0.693145751953125LF) - k * 1.42860682030941723212e-6LF;
     double term = 1.0LF, sum = 1.0LF;
     for (int i = 1; i < 20; ++i) { term *= r / double(i); sum += term; }
-    return ldexp(sum, int(k));
+    // 2^1024 is no double: the largest results are scaled in two steps.
+    return k > 1023.0LF ? ldexp(sum * 2.0LF, int(k) - 1) : ldexp(sum, int(k));
 }
 double cal_log(double x) {
     if (x <= 0.0LF) return x == 0.0LF ? -1.0LF / 0.0LF : 0.0LF / 0.0LF;
@@ -82,8 +83,18 @@ double cal_atan2(double y, double x) {
     double a = cal_atan_unit(x / y);
     return y > 0.0LF ? cal_PI / 2.0LF - a : -cal_PI / 2.0LF - a;
 }
-double cal_asin(double x) { return cal_atan2(x, sqrt((1.0LF - x) * (1.0LF + x))); }
-double cal_acos(double x) { return cal_atan2(sqrt((1.0LF - x) * (1.0LF + x)), x); }
+// GLSL leaves sqrt of a negative number undefined: outside [-1, 1] these are NaN, as in C.
+double cal_asin(double x) {
+    if (!(abs(x) <= 1.0LF)) return 0.0LF / 0.0LF;
+    return cal_atan2(x, sqrt((1.0LF - x) * (1.0LF + x)));
+}
+double cal_acos(double x) {
+    if (!(abs(x) <= 1.0LF)) return 0.0LF / 0.0LF;
+    return cal_atan2(sqrt((1.0LF - x) * (1.0LF + x)), x);
+}
+double cal_sqrt(double x) { return !(x >= 0.0LF) ? 0.0LF / 0.0LF : sqrt(x); }
+// libfunc()'s and epow()'s rule: a NaN or infinite result is a domain or range error, and 0.
+double cal_ok(double v) { return isnan(v) || isinf(v) ? 0.0LF : v; }
 double cal_pow(double x, double y) {
     if (y == 0.0LF) return 1.0LF;
     if (x == 0.0LF) return y > 0.0LF ? 0.0LF : 1.0LF / 0.0LF;
@@ -189,12 +200,12 @@ class Generator {
         static const std::map<std::string, std::string> unary = {
             {"sin", "cal_sin"},     {"cos", "cal_cos"},   {"tan", "cal_tan"}, {"asin", "cal_asin"},
             {"acos", "cal_acos"},   {"atan", "cal_atan"}, {"exp", "cal_exp"}, {"log", "cal_log"},
-            {"log10", "cal_log10"}, {"sqrt", "sqrt"},     {"floor", "floor"}, {"ceil", "ceil"},
+            {"log10", "cal_log10"}, {"sqrt", "cal_sqrt"}, {"floor", "floor"}, {"ceil", "ceil"},
             {"rand", "cal_rand"}};
         auto it = unary.find(name);
         if (it != unary.end()) {
             need(1);
-            return it->second + "(" + a[0] + ")";
+            return "cal_ok(" + it->second + "(" + a[0] + "))";
         }
         if (name == "arg") {
             need(1);
@@ -202,7 +213,7 @@ class Generator {
         }
         if (name == "atan2") {
             need(2);
-            return "cal_atan2(" + a[0] + ", " + a[1] + ")";
+            return "cal_ok(cal_atan2(" + a[0] + ", " + a[1] + "))";
         }
         Fail("function '" + name + "' has no GLSL version");
     }
@@ -252,7 +263,7 @@ class Generator {
             case Node::kDiv:
                 return "cal_div(" + kid(0) + ", " + kid(1) + ")";
             case Node::kPow:
-                return "cal_pow(" + kid(0) + ", " + kid(1) + ")";
+                return "cal_ok(cal_pow(" + kid(0) + ", " + kid(1) + "))";
             case Node::kNeg: {
                 std::string s = "(-";  // built in steps: GCC 12 warns falsely on "(-" + string
                 s += kid(0);

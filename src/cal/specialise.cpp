@@ -32,7 +32,7 @@ double Arithmetic(Kind k, double a, double b) {
         case SpecialisedExpression::kDiv:  // calcomp's: a zero divisor gives 0
             return b == 0 ? 0 : a / b;
         default:
-            return std::pow(a, b);
+            return Power(a, b);
     }
 }
 // select()'s choice among nkids - 1 (0: their count), or its error.

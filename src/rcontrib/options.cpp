@@ -1,7 +1,9 @@
 #include "rcontrib/options.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -18,6 +20,10 @@
 namespace dayflux {
 
 namespace {
+
+// The columns of a record, all modifiers' bins together (r1000's 144 million fit; ints index
+// them on both engines).
+constexpr int kMaxBins = 1 << 28;
 
 [[noreturn]] void Usage(const char *prog) {
     ErrorExit(std::string("Usage: ") + prog +
@@ -97,10 +103,13 @@ class Parser : public OptionCursor {
         if (added) {
             auto cx = MakeCalContext(o_, params_);
             const double n = cx->Compile(bn_, FileLoc{"-bn", 0}).Evaluate(*cx);
+            // Checked as a double: int() of NaN or of 1e14 (-e MF:1000000) is undefined.
+            if (!(n + .5 >= 1))
+                ErrorExit("-bn " + bn_ + ": bin count " + FormatNumber(n) + " is below 1");
+            if (!(n + .5 < kMaxBins + 1.))
+                ErrorExit("-bn " + bn_ + ": bin count " + FormatNumber(n) + " is above " +
+                          std::to_string(kMaxBins) + " (more than a record can hold)");
             it->second = static_cast<int>(n + .5);
-            if (it->second < 1)
-                ErrorExit("-bn " + bn_ + ": bin count " + std::to_string(it->second) +
-                          " is below 1");
         }
         ModifierSpec m;
         m.tracked.name = name;
@@ -244,7 +253,10 @@ class Parser : public OptionCursor {
             if (!(o_.sensor_cache >= 0 && o_.sensor_cache < 10))
                 ErrorExit("-sensor_cache: an accuracy (as -aa) of 0 or more");
         } else if (a == "-seed") {
-            o_.contrib.seed = static_cast<uint64_t>(Number(a));
+            const std::string w = Value(a);
+            const auto [end, ec] = std::from_chars(w.data(), w.data() + w.size(), o_.contrib.seed);
+            if (ec != std::errc() || end != w.data() + w.size())
+                ErrorExit("-seed " + w + ": a whole number from 0 to 18446744073709551615");
         } else if (a == "-first_record") {
             const double n = Number(a);
             if (!(n >= 0 && n <= 1e15) || n != std::floor(n))
@@ -323,8 +335,15 @@ RcontribOptions ParseRcontribOptions(const std::vector<std::string> &args,
             "than the whole run");
     if (o.first_record >= 0 && o.accumulate == 0)
         ErrorExit("-first_record with -c 0: one record of every ray cannot be split into shards");
-    int col = 0;
-    for (ModifierSpec &m : o.modifiers) m.tracked.first_column = col, col += m.tracked.nbins;
+    int64_t col = 0;
+    for (ModifierSpec &m : o.modifiers) {
+        m.tracked.first_column = static_cast<int>(col);
+        col += m.tracked.nbins;
+        if (col > kMaxBins)
+            ErrorExit("the modifiers' bins, " + std::to_string(col) + " by '" + m.tracked.name +
+                      "', are above " + std::to_string(kMaxBins) +
+                      " (more columns than a record can hold)");
+    }
     if (!o.stderr_file.empty())
         o.contrib.ambient_divisions = std::max(1, o.contrib.ambient_divisions / kReplicas);
     return o;

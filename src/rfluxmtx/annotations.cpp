@@ -88,10 +88,13 @@ bool Direction(const std::string &s, double v[3]) {
     const std::vector<std::string> parts = Split(s.substr(at), ',');
     if (parts.size() != 3) return false;
     for (int k = 0; k < 3; ++k)
-        if (!ParseNumber(parts[k], &v[k])) return false;
+        if (!ParseNumber(parts[k], &v[k]) || !std::isfinite(v[k])) return false;
     v[0] *= sign;
+    // Scaled by the largest part first, so that 1e200,1e200,0 does not overflow to inf.
+    const double big = std::max({std::fabs(v[0]), std::fabs(v[1]), std::fabs(v[2])});
+    if (!(big > 0)) return false;
+    for (int k = 0; k < 3; ++k) v[k] /= big;
     const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (l == 0) return false;
     for (int k = 0; k < 3; ++k) v[k] /= l;
     return true;
 }
@@ -156,7 +159,11 @@ void ApplyAnnotation(const std::string &text, const FileLoc &loc, FluxGroup *g) 
                                     std::to_string(kMaxBasisSize) +
                                     " (more bins than a matrix of ours can hold)");
             g->has_basis = true;
-        } else if (key == "u" && Direction(value, g->up)) {
+        } else if (key == "u") {
+            if (!Direction(value, g->up))
+                ErrorExit(&loc, "bad parameter string: '" + w +
+                                    "' (an up vector is +X, -Y, ... or three finite numbers, "
+                                    "not all 0)");
         } else if (key == "o" && !value.empty()) {
             std::string out = value;
             if (out[0] == '"' || out[0] == '\'') {  // a quoted name may hold blanks

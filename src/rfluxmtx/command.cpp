@@ -98,8 +98,10 @@ RfluxmtxCommand ParseRfluxmtxCommand(const std::vector<std::string> &argv) {
             (a == "-x" ? xres : yres) = args[++i];
         } else if (a == "-c") {
             need(3);
-            cmd.samples = std::atoi(args[++i].c_str());
-            if (cmd.samples <= 0) ErrorExit("-c " + args[i] + ": a positive count");
+            double n;
+            if (!ParseNumber(args[++i], &n) || !(n >= 1 && n <= 1e9))
+                ErrorExit("-c " + args[i] + ": a positive count (at most 1e9)");
+            cmd.samples = static_cast<int>(n);  // as atoi() takes 2.5: 2
         } else if (a[1] == 'i' || a[1] == 'I') {
             irradiance = a;
         } else if (a.rfind("-ld", 0) == 0) {

@@ -71,6 +71,30 @@ TEST(Calcomp, ConstantsAreReducedAsRadianceDoes) {
     EXPECT_EQ(Eval(cx, "x*0 + 2^0"), 1);  // folded: x is never evaluated, so no ray is needed
 }
 
+// RADIANCE's libfunc() and epow(): a NaN or infinite result of a library function or a power is
+// a domain or range error, warned of and 0 (issue 41: NaN bins and patterns). The specialised
+// evaluation and the GLSL agree (their tests).
+TEST(Calcomp, DomainAndRangeErrorsGiveZeroAsRadianceDoes) {
+    Context cx;
+    cx.Load("x = $1;", FileLoc{"t.cal", 1});
+    ChannelArray v({-1});
+    testing::internal::CaptureStderr();
+    EXPECT_EQ(Eval(cx, "sqrt(x)", &v), 0);
+    EXPECT_EQ(Eval(cx, "sqrt(x) + 1", &v), 1);
+    EXPECT_EQ(Eval(cx, "log(x + 1)", &v), 0);      // -inf: a range error
+    EXPECT_EQ(Eval(cx, "exp(-1000 * x)", &v), 0);  // inf
+    EXPECT_EQ(Eval(cx, "asin(2 * x)", &v), 0);
+    EXPECT_EQ(Eval(cx, "(8 * x)^(1/3)", &v), 0);
+    EXPECT_EQ(Eval(cx, "sqrt(-4)"), 0);  // folded where it is read
+    EXPECT_EQ(Eval(cx, "sqrt(-x) + (-x)^.5 + exp(x)", &v), 2 + std::exp(-1));
+    const std::string said = testing::internal::GetCapturedStderr();
+    for (const char *w : {"sqrt: domain error (0 used, as RADIANCE does)", "log: range error",
+                          "exp: range error", "asin: domain error", "power: domain error"})
+        EXPECT_NE(said.find(w), std::string::npos) << w << " in " << said;
+    // once a process each
+    EXPECT_EQ(said.find("sqrt: domain error"), said.rfind("sqrt: domain error")) << said;
+}
+
 // A variable redefined after use: later evaluations (and constants folded later) see the new
 // value, not one remembered from an earlier evaluation.
 TEST(Calcomp, RedefinitionIsSeenByLaterEvaluations) {

@@ -161,6 +161,19 @@ TEST_F(GlslAgainstInterpreter, MathFunctionsMatchTheCLibrary) {
             20000, 10, 2e-14);
 }
 
+// Where the C library gives NaN or infinity, both give 0 (libfunc()'s and epow()'s rule); GLSL's
+// own sqrt of a negative number is undefined, so cal_sqrt, cal_asin and cal_acos test first.
+TEST_F(GlslAgainstInterpreter, DomainAndRangeErrorsGiveZero) {
+    Context cx;
+    cx.LoadRayInit();
+    testing::internal::CaptureStderr();
+    Compare(cx,
+            {"sqrt(Dx)", "log(Dy)", "log10(Dz)", "asin(3*Dx)", "acos(3*Dy)", "exp(800*abs(Dz))",
+             "Dx^.5", "Dy^(-1)", "sqrt(-4) + 1"},
+            20000, 13, 2e-14);
+    testing::internal::GetCapturedStderr();
+}
+
 // A sky pattern as gensky writes it: skybright.cal's skybr with the pattern's arguments.
 TEST_F(GlslAgainstInterpreter, SkyPatternWithObjectArguments) {
     // Each pattern has a context of its own (the two files use the same names, as RADIANCE's do).

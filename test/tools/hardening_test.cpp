@@ -239,7 +239,8 @@ TEST(Hardening, SourceWhoseMaterialGivesNoLightIsRefused) {
                                               "void glow sky 0 0 4 1 1 1 0\n");
         const std::string line =
             std::to_string(std::count(material, material + std::strlen(material), '\n') + 2);
-        for (const char *program : {"rcontrib-gpu -h -m sky", "rtrace_dc-gpu -h -ab 1 -N 148 -Dd"}) {
+        for (const char *program :
+             {"rcontrib-gpu -h -m sky", "rtrace_dc-gpu -h -ab 1 -N 148 -Dd"}) {
             const CommandResult r =
                 RunCommand(std::string(program) + " sky.rad < rays", tmp.path());
             EXPECT_EQ(r.status, 1) << program << " " << material;
@@ -255,6 +256,29 @@ TEST(Hardening, SourceWhoseMaterialGivesNoLightIsRefused) {
     const CommandResult r = RunCommand("rcontrib-gpu -h -m sky sky.rad < rays", tmp.path());
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(r.out, "1.000000e+00\t1.000000e+00\t1.000000e+00\t\n");
+}
+
+// Issue 41: options cast to integers unchecked (UBSan): a negative seed, and bin counts beyond
+// the int range, directly or through reinhart.cal's Nrbins at MF:1000000. Each is refused with
+// the option named, before the scene is read.
+TEST(Hardening, OptionsBeyondTheirRangeAreRefused) {
+    TempDir tmp;
+    for (const auto &[options, said] :
+         {std::pair{"-seed -1 -m sky", "-seed -1: a whole number from 0 to 18446744073709551615"},
+          std::pair{"-seed 2.5 -m sky", "-seed 2.5: a whole number"},
+          std::pair{"-bn 1e14 -m sky", "-bn 1e14: bin count 1e+14 is above 268435456"},
+          std::pair{"-e MF:1000000 -f reinhart.cal -b rbin -bn Nrbins -m sky",
+                    "-bn Nrbins: bin count 1.44e+14 is above 268435456"},
+          std::pair{"-bn '1e308*10 - 1e308*10' -m sky", "is below 1"},
+          std::pair{"-bn 2e8 -m sky -m grey",
+                    "the modifiers' bins, 400000000 by 'grey', are "
+                    "above 268435456"}}) {
+        const CommandResult r = Rcontrib(tmp, "0 0 0 0 0 1\n", options);
+        EXPECT_EQ(r.status, 1) << options;
+        EXPECT_NE(r.err.find(said), std::string::npos) << options << ": " << r.err;
+    }
+    const CommandResult r = Rcontrib(tmp, "0 0 0 0 0 1\n", "-seed 18446744073709551615 -m sky");
+    EXPECT_EQ(r.status, 0) << r.err;
 }
 
 }  // namespace
