@@ -216,6 +216,21 @@ int Main(int argc, char **argv) {
         steps[i].sky = model.Prepare(p.rec.dir, p.rec.dif, units, p.altitude, p.azimuth, p.julian,
                                      o.average >= 0);
     });
+    // Units 2 at a sun on the horizon: the capped direct normal values, counted (SkyStep).
+    int capped = 0, first_capped = -1;
+    for (int i = 0; i < nsteps; ++i)
+        if (steps[i].sky.direct_capped && capped++ == 0) first_capped = i;
+    if (capped > 0) {
+        const Pending &p = pending[first_capped];
+        const FileLoc loc{weather.Name(), p.rec.line};
+        char buf[256];
+        std::snprintf(buf, sizeof buf,
+                      "%g W/m2 direct on the horizontal at a solar altitude of %.3g degrees is "
+                      "more than the sun gives normal to it: taken as %g W/m2 (%d time step%s)",
+                      p.rec.dir, p.altitude * 180 / M_PI, kMostIrradiance, capped,
+                      capped == 1 ? "" : "s");
+        Warning(&loc, buf);
+    }
     std::string suns, mods;
     for (int i = 0; i < nsteps; ++i) {
         const Pending &p = pending[i];

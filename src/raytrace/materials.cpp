@@ -2,6 +2,7 @@
 
 #include "util/errors.h"
 #include "util/raypath.h"
+#include "util/strings.h"
 
 namespace dayflux {
 
@@ -334,8 +335,16 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
         m.transparent = true;
         m.color = {f[0], f[1], f[2]};
         if (f.size() == 4) m.rindex = f[3];
+        // m_glass()'s transmitted cosine is the root of 1 - (1 - cos^2) / n^2: below 1 it has
+        // none at grazing angles (RADIANCE gives NaN there).
+        if (!(m.rindex >= 1))
+            ErrorExit(&p.loc, "glass '" + p.name + "': refractive index " + FormatNumber(m.rindex) +
+                                  " is below 1");
     } else if (t == "dielectric") {
         if (f.size() != 5) ErrorExit(&p.loc, "dielectric '" + p.name + "': bad arguments");
+        if (!(f[3] + f[4] / 500. > 0))
+            ErrorExit(&p.loc, "dielectric '" + p.name + "': refractive index " +
+                                  FormatNumber(f[3] + f[4] / 500.) + " is not above 0");
         m.kind = Material::kDielectric;
         m.color = {f[0], f[1], f[2]};
         m.rindex = f[3] + f[4] / 500.;

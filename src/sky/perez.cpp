@@ -1,11 +1,12 @@
 #include "sky/perez.h"
-#include "sky/perez_tables.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
 #include "sky/perez_kernel.h"
+#include "sky/perez_tables.h"
+#include "sky/weather.h"
 
 namespace dayflux {
 
@@ -167,7 +168,13 @@ SkyStep SkyModel::Prepare(double dir, double dif, WeatherUnits units, double alt
     const double day_angle = (julian_date - 1.0) * (2.0 * M_PI / 365.0);
     a.eccentricity = 1.00011 + 0.034221 * std::cos(day_angle) + 0.00128 * std::sin(day_angle) +
                      0.000719 * std::cos(2.0 * day_angle) + 0.000077 * std::sin(2.0 * day_angle);
-    if (units == WeatherUnits::kDirectHorizontal && altitude > kTiny) dir /= std::sin(altitude);
+    if (units == WeatherUnits::kDirectHorizontal && altitude > kTiny) {
+        dir /= std::sin(altitude);
+        // Divided by the sine of a sun at the horizon, a few W/m2 on the horizontal become more
+        // than the sun gives normal to it, and the Perez sky overflows to NaN (RADIANCE's too):
+        // capped at that, which keeps the horizontal value within a few percent.
+        if (dir > kMostIrradiance) dir = kMostIrradiance, s.direct_capped = true;
+    }
     int index;
     if (units != WeatherUnits::kPhotometric) {
         a.dir_irrad = dir;
@@ -275,8 +282,7 @@ void SkyModel::SkyValue(const SkyStep &s, int p, double row_factor, float rgb[3]
 SkyModel::StepArrays SkyModel::Arrays(const std::vector<const SkyStep *> &steps) const {
     StepArrays a;
     const size_t n = steps.size();
-    for (auto *v :
-         {&a.cos_sz, &a.sin_sz, &a.cos_az, &a.sin_az, &a.c, &a.d, &a.e, &a.scale})
+    for (auto *v : {&a.cos_sz, &a.sin_sz, &a.cos_az, &a.sin_az, &a.c, &a.d, &a.e, &a.scale})
         v->assign(n, 0.0);
     a.mode.assign(n, 0);
     for (size_t i = 0; i < n; ++i) {

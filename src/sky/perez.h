@@ -44,6 +44,9 @@ struct SkyStep {
     float ground[3] = {};
     std::vector<SunPatch> sun;
     double dir_illum = 0;  // direct illuminance (for sun descriptions)
+    // Units 2: the direct normal value derived from the horizontal one was more than the sun
+    // gives (a sun at the horizon), and was taken as kMostIrradiance.
+    bool direct_capped = false;
 };
 
 class SkyModel {

@@ -152,7 +152,7 @@ void WeatherReader::Check(const WeatherRecord &r) const {
     // a spike in the data, which would turn into NaN patches and negative skies (gendaymtx
     // takes it); the margin keeps extreme real records.
     const bool photometric = header_.units == 3;
-    const double most = photometric ? 200000 : 1500;
+    const double most = photometric ? kMostIlluminance : kMostIrradiance;
     const char *unit = photometric ? " lux" : " W/m2";
     if (r.dir > most || r.dif > most)
         Fail(r.line, FormatNumber(r.dir) + unit + " direct, " + FormatNumber(r.dif) + unit +

@@ -9,6 +9,10 @@
 
 namespace dayflux {
 
+// The most the sun gives above the atmosphere (1361 W/m2, 1.5 x 10^5 lux normal to it), with a
+// margin that keeps extreme real records: more is a spike in the data.
+constexpr double kMostIrradiance = 1500, kMostIlluminance = 200000;
+
 struct WeatherHeader {
     std::string place;
     double latitude = 0;         // degrees north

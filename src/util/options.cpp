@@ -14,6 +14,9 @@ double OptionNumber(int argc, char **argv, int *i, void (*usage)(const char *)) 
     double v;
     if (!ParseNumber(argv[++*i], &v))
         ErrorExit(std::string(argv[*i - 1]) + ": '" + argv[*i] + "' is not a number");
+    // NaN and infinity would pass every range check after (gendaymtx -r nan: a NaN sky).
+    if (!std::isfinite(v))
+        ErrorExit(std::string(argv[*i - 1]) + ": '" + argv[*i] + "' is not a finite number");
     return v;
 }
 

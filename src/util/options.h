@@ -7,7 +7,7 @@
 namespace dayflux {
 
 // The number after option argv[*i], advancing *i: a missing value calls usage (which does not
-// return), a word that is not a number is an error naming the option.
+// return), a word that is not a finite number is an error naming the option.
 double OptionNumber(int argc, char **argv, int *i, void (*usage)(const char *));
 
 // A cursor over a program's arguments for its option parser: each value read for the option at

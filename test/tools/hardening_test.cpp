@@ -5,7 +5,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <sstream>
 #include <string>
 
 #include "test_util.h"
@@ -279,6 +282,64 @@ TEST(Hardening, OptionsBeyondTheirRangeAreRefused) {
     }
     const CommandResult r = Rcontrib(tmp, "0 0 0 0 0 1\n", "-seed 18446744073709551615 -m sky");
     EXPECT_EQ(r.status, 0) << r.err;
+}
+
+// Issue 41: inputs that gave NaN silently. Glass below an index of 1 has no transmitted cosine at
+// grazing angles (-nan coefficients, exit 0) and is refused with its line; a dielectric's index
+// must be above 0; gendaymtx -r nan made a NaN sky.
+TEST(Hardening, InputsThatGaveNanAreRefused) {
+    TempDir tmp;
+    for (const auto &[material, said] :
+         {std::pair{"void glass g 0 0 4 .9 .9 .9 .5",
+                    "scene.rad:1: glass 'g': refractive index "
+                    "0.5 is below 1"},
+          std::pair{"void dielectric g 0 0 5 .9 .9 .9 -1 0",
+                    "scene.rad:1: dielectric 'g': refractive index -1 is not above 0"}}) {
+        WriteFile(tmp.path() / "scene.rad",
+                  std::string(material) + "\ng polygon p 0 0 12 -1 -1 1 1 -1 1 1 1 1.5 -1 1 1.5\n");
+        const CommandResult r = Rcontrib(tmp, "0 0 0 0 .3 1\n", "-ab 1 -m sky scene.rad");
+        EXPECT_EQ(r.status, 1) << material;
+        EXPECT_NE(r.err.find(said), std::string::npos) << r.err;
+    }
+    WriteFile(tmp.path() / "one.wea",
+              "place here\nlatitude 40.78\nlongitude 73.96\ntime_zone 75\nsite_elevation 40\n"
+              "weather_data_file_units 1\n6 21 12.5 800 200\n");
+    const CommandResult r = RunCommand("gendaymtx -m 1 -r nan one.wea", tmp.path());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("-r: 'nan' is not a finite number"), std::string::npos) << r.err;
+    EXPECT_TRUE(r.out.empty());
+}
+
+// Issue 41: with weather_data_file_units 2 the direct value is on the horizontal, and gendaymtx
+// divides it by the sine of the solar altitude; a sun just above the horizon (66.6 N, 1 January,
+// 0.07 degrees) made 20 W/m2 into 16000 W/m2 normal to it, and the Perez sky NaN in most
+// patches (RADIANCE's too). The derived value is capped at what the sun gives, with a warning
+// that counts the steps; the sky is finite and the sun's horizontal share stays 20 W/m2 within
+// the cap's few percent.
+TEST(Hardening, DirectOnTheHorizontalAtSunriseGivesAFiniteSky) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "polar.wea",
+              "place polar\nlatitude 66.6\nlongitude 0\ntime_zone 0\nsite_elevation 0\n"
+              "weather_data_file_units 2\n1 1 11.4 20 100\n1 1 11.4 1400 100\n"
+              "1 1 12 5 50\n");
+    const CommandResult r = RunCommand("gendaymtx -h -m 1 polar.wea", tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("polar.wea:7: 20 W/m2 direct on the horizontal at a solar altitude of "
+                         "0.0729 degrees is more than the sun gives normal to it: taken as 1500 "
+                         "W/m2 (2 time steps)"),
+              std::string::npos)
+        << r.err;
+    std::istringstream ss(r.out);
+    int values = 0, positive = 0;
+    for (std::string w; ss >> w; ++values) {
+        char *end = nullptr;
+        const double v = std::strtod(w.c_str(), &end);
+        ASSERT_EQ(*end, '\0') << w;
+        ASSERT_TRUE(std::isfinite(v)) << "entry " << values << ": " << w;
+        positive += v > 0;
+    }
+    EXPECT_EQ(values, 146 * 3 * 3);
+    EXPECT_GT(positive, 100);
 }
 
 }  // namespace
