@@ -22,7 +22,7 @@ OUT=${OUT:-/tmp/dayflux-fuzz}
 BUILD=${BUILD:-$root/build-fuzz}
 JOBS=${JOBS:-2}
 NICE=${NICE:-15}
-all="matrix scene octree mesh calcomp weather bsdf_xml annotations"
+all="matrix scene octree mesh calcomp weather bsdf_xml annotations daysim engine"
 targets=${*:-$all}
 limits="-rss_limit_mb=2048 -malloc_limit_mb=1024 -timeout=10"
 # UBSan stops at the first report (-fno-sanitize-recover) and says where it was.

@@ -209,7 +209,21 @@ def bsdf_corpus():
     c.files(shared("radiance_tests", "util", "ref", "testBSDF.xml"))
 
 
+def engine_corpus():
+    """engine_fuzzer reads its input as choices (a byte each): any bytes make a run. The seeds
+    are bytes of a fixed random stream, and the findings kept since (named for what they found)
+    are left in place."""
+    import random
+    d = HERE / "corpus" / "engine"
+    d.mkdir(parents=True, exist_ok=True)
+    stream = random.Random(41)
+    for i in range(24):
+        size = stream.choice([16, 48, 96, 160, 256])
+        (d / ("seed%02d" % i)).write_bytes(bytes(stream.randrange(256) for _ in range(size)))
+
+
 def main():
+    engine_corpus()
     matrix_corpus()
     scene_corpora()
     octree_corpus()

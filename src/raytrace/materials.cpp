@@ -6,6 +6,16 @@
 
 namespace dayflux {
 
+namespace {
+
+// A roughness's square, the Gaussian lobe's alpha^2. Past a roughness of about 10 the lobe is
+// as wide as it gets (the results do not change between 1e3 and 1e10); past 1e19 its square is
+// no float (the GPU's, and the CPU's packed tables), and the sampled directions NaN. So it stops
+// at 1e10 (a roughness of 1e5).
+double RoughnessSquared(double roughness) { return std::min(roughness * roughness, 1e10); }
+
+}  // namespace
+
 SceneMaterials::SceneMaterials(const FlatScene &scene, const std::vector<TrackedModifier> &tracked)
     : scene_(scene), tracked_(tracked) {
     const auto &objs = scene_.scene.objects;
@@ -254,7 +264,7 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
         m.color = {f[0], f[1], f[2]};
         m.spec = f[3];
         m.metal = t == "metal";
-        m.alpha2 = f[4] * f[4];
+        m.alpha2 = RoughnessSquared(f[4]);
     } else if (t == "trans") {
         m.kind = Material::kDiffuse;
         m.color = {f[0], f[1], f[2]};
@@ -262,7 +272,7 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
         m.trans = f[5];
         m.transparent = true;
         m.tspec = f[6];
-        m.alpha2 = f[4] * f[4];
+        m.alpha2 = RoughnessSquared(f[4]);
     } else if (t == "mixfunc") {
         if (p.sargs.size() > 4)
             ErrorExit(&p.loc, "mixfunc '" + p.name +

@@ -200,6 +200,10 @@ class Parser : public OptionCursor {
             c.ambient_divisions = Integer(a);
         } else if (a == "-lw") {
             c.limit_weight = Number(a);
+            // (RADIANCE takes a negative weight into the hemisphere's count of samples: the
+            // root of a negative number)
+            if (!(c.limit_weight >= 0))
+                ErrorExit("-lw " + FormatNumber(c.limit_weight) + ": a weight of 0 or more");
         } else if (a == "-lr") {
             c.limit_reflections = Integer(a);
         } else if (a == "-st") {

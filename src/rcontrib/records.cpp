@@ -21,13 +21,24 @@ namespace dayflux {
 
 // One bad line must not end a long run deep inside the engine (Embree asserts on such rays, a GPU
 // gives garbage): NaN, infinity and coordinates beyond any scene are refused.
-void CheckInputRay(const double ray[6], uint64_t number) {
+void CheckInputRay(double ray[6], uint64_t number) {
     constexpr double kLargest = 1e12;  // metres: far beyond any scene, well within float
     for (int k = 0; k < 6; ++k)
         if (!(std::fabs(ray[k]) <= kLargest))
             ErrorExit("input ray " + std::to_string(number) + ": " +
                       (k < 3 ? "origin" : "direction") + " value " + FormatNumber(ray[k]) +
                       (std::isfinite(ray[k]) ? " is out of range" : " is not a number"));
+    // The engines normalise directions in float, where a length below 1e-19 is none (a NaN
+    // direction, Embree's assertion). RADIANCE's normalize() gives 0 where the squared length
+    // underflows in double: such a ray is a zero one (a flush); the others are made unit here.
+    double *d = ray + 3;
+    const double length2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    if (length2 == 0) {
+        d[0] = d[1] = d[2] = 0;
+    } else if (length2 < 1e-30) {
+        const double length = std::sqrt(length2);
+        for (int k = 0; k < 3; ++k) d[k] /= length;
+    }
 }
 
 namespace {

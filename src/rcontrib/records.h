@@ -20,8 +20,10 @@ namespace dayflux {
 // input); by default the standard input in the -f format.
 using RaySource = std::function<bool(double ray[6])>;
 
-// Errors (naming input ray `number`, from 1) on NaN, infinity or a coordinate beyond 1e12.
-void CheckInputRay(const double ray[6], uint64_t number);
+// Errors (naming input ray `number`, from 1) on NaN, infinity or a coordinate beyond 1e12; a
+// direction too short for the engines' float is made unit length, or zero (a flush) where its
+// squared length underflows, as RADIANCE's normalize() finds it zero.
+void CheckInputRay(double ray[6], uint64_t number);
 void TraceRecords(const RcontribOptions &o, ContribEngine &engine, RcontribOutputs &outputs,
                   RaySource rays = nullptr);
 

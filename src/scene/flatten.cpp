@@ -11,6 +11,8 @@ namespace dayflux {
 
 namespace {
 
+constexpr double kFtiny = 1e-6;  // RADIANCE's FTINY
+
 Vec3 Point(const Transform &t, const double *p) {
     Vec3 out;
     t.Apply(p, out.data());
@@ -49,7 +51,7 @@ class Flattener {
                 s.p0 = Point(xf, &p.fargs[0]);
                 s.r0 = p.fargs[3] * xf.scale;
                 s.object = i;
-                out_->shapes.push_back(s);
+                if (SphereRadius(p, &s)) out_->shapes.push_back(s);
             } else if (t == "cone" || t == "cup" || t == "cylinder" || t == "tube") {
                 const bool cyl = t == "cylinder" || t == "tube";
                 AnalyticShape s{cyl ? AnalyticShape::kCylinder : AnalyticShape::kCone,
@@ -59,7 +61,7 @@ class Flattener {
                 s.r0 = p.fargs[6] * xf.scale;
                 s.r1 = (cyl ? p.fargs[6] : p.fargs[7]) * xf.scale;
                 s.object = i;
-                out_->shapes.push_back(s);
+                if (ConeRadii(p, &s)) out_->shapes.push_back(s);
             } else if (t == "ring") {
                 AnalyticShape s{AnalyticShape::kRing};
                 s.p0 = Point(xf, &p.fargs[0]);
@@ -67,7 +69,7 @@ class Flattener {
                 s.r0 = p.fargs[6] * xf.scale;
                 s.r1 = p.fargs[7] * xf.scale;
                 s.object = i;
-                out_->shapes.push_back(s);
+                if (ConeRadii(p, &s)) out_->shapes.push_back(s);
             } else if (t == "source") {
                 AnalyticShape s{AnalyticShape::kSource};
                 s.p0 = Direction(xf, &p.fargs[0]);
@@ -99,6 +101,62 @@ class Flattener {
     }
 
   private:
+    // o_sphere(): a negative radius turns a sphere into a bubble (and back), with a warning; a
+    // zero one is an error.
+    static bool SphereRadius(const Primitive &p, AnalyticShape *s) {
+        if (s->r0 < -kFtiny) {
+            Warning(&p.loc, p.type + " '" + p.name + "': negative radius");
+            s->inward = !s->inward;
+            s->r0 = -s->r0;
+        } else if (!(s->r0 > kFtiny)) {
+            ErrorExit(&p.loc, p.type + " '" + p.name + "': zero radius");
+        }
+        return true;
+    }
+
+    // getcone(), as oconv meets it: negative radii turn a cone into a cup (a cylinder into a
+    // tube) with a warning; radii that cancel, a ring's negative or equal ones, a cylinder's zero
+    // one and an axis (a ring's normal) of no length leave the object out, with a warning; a
+    // cone of equal radii is a cylinder. False: left out.
+    static bool ConeRadii(const Primitive &p, AnalyticShape *s) {
+        const bool ring = s->kind == AnalyticShape::kRing;
+        const auto illegal = [&](const char *why) {
+            Warning(&p.loc, p.type + " '" + p.name + "': " + why + " (left out)");
+            return false;
+        };
+        if (s->kind == AnalyticShape::kCylinder) {
+            if (s->r0 < -kFtiny) {
+                Warning(&p.loc, p.type + " '" + p.name + "': negative radius");
+                s->inward = !s->inward;
+                s->r0 = s->r1 = -s->r0;
+            } else if (!(s->r0 > kFtiny)) {
+                return illegal("illegal radii");
+            }
+        } else {
+            const auto sign = [](double r) { return r < -kFtiny ? -1 : r > kFtiny ? 1 : 0; };
+            const int sign0 = sign(s->r0), sign1 = sign(s->r1);
+            if (sign0 + sign1 == 0) return illegal("illegal radii");
+            if (sign0 < 0 || sign1 < 0) {
+                if (ring) return illegal("illegal radii");
+                Warning(&p.loc, p.type + " '" + p.name + "': negative radii");
+                s->inward = !s->inward;
+            }
+            s->r0 *= sign0;
+            s->r1 *= sign1;
+            if (ring && s->r0 > s->r1) std::swap(s->r0, s->r1);  // inner, then outer
+            if (std::fabs(s->r1 - s->r0) <= kFtiny) {
+                if (ring) return illegal("illegal radii");
+                s->kind = AnalyticShape::kCylinder;
+                s->r1 = s->r0;
+            }
+        }
+        const double axis[3] = {s->p1[0] - (ring ? 0 : s->p0[0]), s->p1[1] - (ring ? 0 : s->p0[1]),
+                                s->p1[2] - (ring ? 0 : s->p0[2])};
+        if (!(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2] > 0))
+            return illegal("unknown orientation");
+        return true;
+    }
+
     void Polygon(const Primitive &p, const Transform &xf, int object) {
         const size_t n = p.fargs.size() / 3;
         std::vector<Vec3> v(n);

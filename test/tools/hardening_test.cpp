@@ -342,5 +342,89 @@ TEST(Hardening, DirectOnTheHorizontalAtSunriseGivesAFiniteSky) {
     EXPECT_GT(positive, 100);
 }
 
+// Issue 41's end-to-end fuzz target (fuzz/engine_fuzzer.cpp) found these; its corpus replays
+// them, and here is what each now gives. A negative -lw made the hemisphere's sample count the
+// root of a negative number; a direction of 1e-300 a NaN direction in float (Embree's assertion:
+// RADIANCE's normalize() finds it zero, a flush, and so do we); a roughness of 1e30 a square
+// beyond float; a tracked antimatter with -V+ read its inside counters as a pattern.
+TEST(Hardening, WhatTheEngineFuzzerFoundIsHandled) {
+    TempDir tmp;
+    CommandResult r = Rcontrib(tmp, "0 0 0 0 0 1\n", "-ab 1 -lw -1 -m sky");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("-lw -1: a weight of 0 or more"), std::string::npos) << r.err;
+    // the tiny direction: a zero ray, between two ordinary ones (-c 1: three records)
+    r = Rcontrib(tmp, "0 0 0 0 0 1\n0 0 0 1e-300 0 1e-300\n0 0 0 0 0 1e-20\n", "-ab 0 -m sky");
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.out,
+              "1.000000e+00\t1.000000e+00\t1.000000e+00\t\n"
+              "0.000000e+00\t0.000000e+00\t0.000000e+00\t\n"
+              "1.000000e+00\t1.000000e+00\t1.000000e+00\t\n");
+    // the rough floor (above the room's): as at the cap, a roughness of 1e5
+    WriteFile(tmp.path() / "rough.rad",
+              "void plastic shiny 0 0 5 .5 .5 .5 .05 1e30\n"
+              "shiny polygon f 0 0 12 -5 -5 -.5 5 -5 -.5 5 5 -.5 -5 5 -.5\n");
+    const std::string down = "0 0 0 0 0 -1\n0 0 0 .3 0 -1\n";
+    r = Rcontrib(tmp, down, "-ab 1 -ad 64 -m sky rough.rad");
+    EXPECT_EQ(r.status, 0) << r.err;
+    WriteFile(tmp.path() / "rough.rad",
+              "void plastic shiny 0 0 5 .5 .5 .5 .05 1e5\n"
+              "shiny polygon f 0 0 12 -5 -5 -.5 5 -5 -.5 5 5 -.5 -5 5 -.5\n");
+    const CommandResult r3 = Rcontrib(tmp, down, "-ab 1 -ad 64 -m sky rough.rad");
+    EXPECT_EQ(r.out, r3.out);
+    EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
+    // antimatter tracked, -V+: its colour is none
+    WriteFile(tmp.path() / "cut.rad",
+              "void plastic slab 0 0 5 .5 .5 .5 0 0\nvoid antimatter cut 1 slab 0 0\n"
+              "slab polygon top 0 0 12 -5 -5 -.5 5 -5 -.5 5 5 -.5 -5 5 -.5\n"
+              "cut sphere hole 0 0 4 0 0 -.5 .2\n");
+    r = Rcontrib(tmp, "0 0 0 0 0 -1\n", "-ab 1 -ad 16 -V+ -m cut -m sky cut.rad");
+    EXPECT_EQ(r.status, 0) << r.err;
+}
+
+// Issue 41's fuzz target: shapes RADIANCE's readers check (o_sphere(), getcone()) went to the
+// engine unchecked, a sphere of radius 0 giving NaN normals. Now as RADIANCE: a zero radius is an
+// error, a negative one turns a sphere into a bubble with a warning, radii that cancel leave a
+// cone out with a warning, and a ring's radii are taken in either order (inner, outer).
+TEST(Hardening, ShapesAreCheckedAsRadianceChecksThem) {
+    TempDir tmp;
+    const auto run = [&](const std::string &shape) {
+        WriteFile(tmp.path() / "shape.rad", "void plastic black 0 0 5 0 0 0 0 0\n" + shape + "\n");
+        return Rcontrib(tmp, "0 0 0 0 0 1\n", "-ab 0 -m sky shape.rad");
+    };
+    CommandResult r = run("black sphere ball 0 0 4 0 0 2 0");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("shape.rad:2: sphere 'ball': zero radius"), std::string::npos) << r.err;
+    r = run("black sphere ball 0 0 4 0 0 2 -.5");
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("shape.rad:2: sphere 'ball': negative radius"), std::string::npos);
+    EXPECT_EQ(r.out, "0.000000e+00\t0.000000e+00\t0.000000e+00\t\n");  // the bubble's outside
+    r = run("black cone hat 0 0 8 0 0 1 0 0 2 .5 -.5");
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("cone 'hat': illegal radii (left out)"), std::string::npos) << r.err;
+    EXPECT_EQ(r.out, "1.000000e+00\t1.000000e+00\t1.000000e+00\t\n");
+    r = run("black ring lid 0 0 8 0 0 1 0 0 -1 1 0");  // outer radius first: still a disc
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.out, "0.000000e+00\t0.000000e+00\t0.000000e+00\t\n");
+}
+
+// Issue 41's fuzz target: an illum `source` (a distant one) passes the rays it was not aimed at
+// on to its alternate, from the point at infinity where they met it: a ray from 1e30 m, which
+// Embree refuses (an assertion), and without surfaces, the same source met again 200 times.
+// Nothing lies beyond a distant source: the ray ends there, counted once.
+TEST(Hardening, RayThroughADistantIllumEndsThere) {
+    TempDir tmp;
+    WriteFile(tmp.path() / "illum.rad",
+              "void illum window 0 0 3 .3 .3 .1\nwindow source pane 0 0 4 0 0 1 360\n");
+    WriteFile(tmp.path() / "room.rad", kRoom);
+    for (const char *scene : {"illum.rad", "illum.rad room.rad"}) {
+        const CommandResult r = RunCommand(
+            std::string("printf '0 0 0 0 0 1\\n' | rcontrib-gpu -h -ab 1 -ad 16 -m window ") +
+                scene,
+            tmp.path());
+        EXPECT_EQ(r.status, 0) << scene << ": " << r.err;
+        EXPECT_EQ(r.out, "1.000000e+00\t1.000000e+00\t1.000000e+00\t\n") << scene;
+    }
+}
+
 }  // namespace
 }  // namespace dayflux::test

@@ -484,7 +484,9 @@ void Shade(INOUT(Ray) r, int object, int k, int source, INOUT(PackedSurface) m, 
                        : lit              ? Colour(m, r, point, normal, t)
                                           : real3(0));
         }
-        if (!pass) return;
+        // A distant source passes a ray on to nothing: it lies at infinity (RADIANCE traces on
+        // from there, meeting it again until -lr; a ray from 1e30 is none of Embree's).
+        if (!pass || source >= 0) return;
         if (m.fore < 0) {
             PushChild(r, kTrans, real3(1), point, r.dir);
             return;

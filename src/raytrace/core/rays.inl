@@ -142,9 +142,10 @@ void SetRayVariables(IN(Ray) r, real3 point, real3 normal, real t) {
     cal_chan[24] = 1;
 }
 
-// A material's colour at a hit, times its pattern.
+// A material's colour at a hit, times its pattern. (Antimatter keeps its inside counters where
+// others keep their pattern, and has no colour: a tracked one gives 0 with -V+.)
 real3 Colour(IN(PackedSurface) m, IN(Ray) r, real3 point, real3 normal, real t) {
-    if (m.pattern < 0) return XYZ(m.color);
+    if (m.pattern < 0 || m.kind == kMatAntimatter) return XYZ(m.color);
     SetRayVariables(r, point, normal, t);
     return XYZ(m.color) * real3(PatternRGB(m.pattern));
 }
