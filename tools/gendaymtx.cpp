@@ -223,12 +223,13 @@ int Main(int argc, char **argv) {
     if (capped > 0) {
         const Pending &p = pending[first_capped];
         const FileLoc loc{weather.Name(), p.rec.line};
-        char buf[256];
-        std::snprintf(buf, sizeof buf,
-                      "%g W/m2 direct on the horizontal at a solar altitude of %.3g degrees is "
-                      "more than the sun gives normal to it: taken as %g W/m2 (%d time step%s)",
-                      p.rec.dir, p.altitude * 180 / M_PI, kMostIrradiance, capped,
-                      capped == 1 ? "" : "s");
+        char buf[320];
+        std::snprintf(
+            buf, sizeof buf,
+            "%g W/m2 direct on the horizontal at a solar altitude of %.3g degrees is "
+            "more than the sun gives normal to it, and made the sky NaN (as RADIANCE's): taken as "
+            "%g W/m2 (%d time step%s)",
+            p.rec.dir, p.altitude * 180 / M_PI, kMostIrradiance, capped, capped == 1 ? "" : "s");
         Warning(&loc, buf);
     }
     std::string suns, mods;

@@ -8,6 +8,10 @@ namespace dayflux {
 
 namespace {
 
+// The largest refractive index taken: beyond any material's (4 in the visible), far below the
+// 1e19 whose square is no float (glass of 1e300 gave NaN).
+constexpr double kMostIndex = 1e3;
+
 // A roughness's square, the Gaussian lobe's alpha^2. Past a roughness of about 10 the lobe is
 // as wide as it gets (the results do not change between 1e3 and 1e10); past 1e19 its square is
 // no float (the GPU's, and the CPU's packed tables), and the sampled directions NaN. So it stops
@@ -45,6 +49,11 @@ SceneMaterials::SceneMaterials(const FlatScene &scene, const std::vector<Tracked
         if (objs[sh.object].modifier < 0) continue;  // void: no source, as RADIANCE skips it
         CheckSourceEmits(sh.object);
         const double l = std::sqrt(sh.p0[0] * sh.p0[0] + sh.p0[1] * sh.p0[1] + sh.p0[2] * sh.p0[2]);
+        // ssetsrc()'s checks
+        if (!(l > 0))
+            ErrorExit(&objs[sh.object].loc, "'" + objs[sh.object].name + "': zero direction");
+        if (!(sh.r0 * (M_PI / 360.) > kTiny))
+            ErrorExit(&objs[sh.object].loc, "'" + objs[sh.object].name + "': zero size");
         Source s;
         for (int k = 0; k < 3; ++k) s.dir[k] = sh.p0[k] / l;
         s.solid_angle = 2. * M_PI * (1. - std::cos(sh.r0 * (M_PI / 360.)));
@@ -131,6 +140,7 @@ void SceneMaterials::AddLocalSource(int object) {
             break;
         }
     }
+    if (f.empty() && p.type != "polygon") return;  // a shape left out (a warning said why)
     Source s{};
     s.object = s.emitter = object;
     s.skip = false;
@@ -306,6 +316,11 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
             ErrorExit(&p.loc, t + " '" + p.name + "': bad # arguments");
         auto info = std::make_unique<BsdfInfo>();
         info->proxy = file == 1 && p.sargs[0] != "0";
+        // A thickness (metres) beyond any window's moves rays beyond float (Embree refuses them).
+        if (double thick;
+            file == 1 && ParseNumber(p.sargs[0], &thick) && !(std::fabs(thick) <= 1e3))
+            ErrorExit(&p.loc, t + " '" + p.name + "': thickness " + p.sargs[0] +
+                                  " is beyond any window's (at most 1000)");
         info->aperture = file == 0;
         info->name = p.name;
         std::string path;
@@ -347,14 +362,16 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
         if (f.size() == 4) m.rindex = f[3];
         // m_glass()'s transmitted cosine is the root of 1 - (1 - cos^2) / n^2: below 1 it has
         // none at grazing angles (RADIANCE gives NaN there).
-        if (!(m.rindex >= 1))
+        if (!(m.rindex >= 1 && m.rindex <= kMostIndex))
             ErrorExit(&p.loc, "glass '" + p.name + "': refractive index " + FormatNumber(m.rindex) +
-                                  " is below 1");
+                                  (m.rindex < 1 ? " is below 1" : " is beyond any material's"));
     } else if (t == "dielectric") {
         if (f.size() != 5) ErrorExit(&p.loc, "dielectric '" + p.name + "': bad arguments");
-        if (!(f[3] + f[4] / 500. > 0))
+        const double index = f[3] + f[4] / 500.;
+        if (!(index > 0 && index <= kMostIndex))
             ErrorExit(&p.loc, "dielectric '" + p.name + "': refractive index " +
-                                  FormatNumber(f[3] + f[4] / 500.) + " is not above 0");
+                                  FormatNumber(index) +
+                                  (index > 0 ? " is beyond any material's" : " is not above 0"));
         m.kind = Material::kDielectric;
         m.color = {f[0], f[1], f[2]};
         m.rindex = f[3] + f[4] / 500.;

@@ -153,6 +153,25 @@ float SkyModel::RelativeLuminance(const SkyStep &s, int p, double row_factor) co
 
 SkyStep SkyModel::Prepare(double dir, double dif, WeatherUnits units, double altitude,
                           double azimuth, int julian_date, bool add_sun) const {
+    bool finite = true;
+    SkyStep s =
+        PrepareAsRadiance(dir, dif, units, altitude, azimuth, julian_date, add_sun, &finite);
+    // Units 2: divided by the sine of a sun at the horizon, a few W/m2 on the horizontal become
+    // more than the sun gives normal to it, and the Perez sky can overflow to NaN (RADIANCE's
+    // too). Only then is the derived value capped at that (the horizontal value stays within a
+    // few percent), so that every finite sky stays RADIANCE's.
+    if (!finite && units == WeatherUnits::kDirectHorizontal && altitude > kTiny &&
+        dir / std::sin(altitude) > kMostIrradiance) {
+        s = PrepareAsRadiance(kMostIrradiance * std::sin(altitude), dif, units, altitude, azimuth,
+                              julian_date, add_sun, &finite);
+        s.direct_capped = true;
+    }
+    return s;
+}
+
+SkyStep SkyModel::PrepareAsRadiance(double dir, double dif, WeatherUnits units, double altitude,
+                                    double azimuth, int julian_date, bool add_sun,
+                                    bool *finite) const {
     SkyStep s;
     s.azimuth = azimuth;
     s.cos_azimuth = std::cos(azimuth);
@@ -168,13 +187,7 @@ SkyStep SkyModel::Prepare(double dir, double dif, WeatherUnits units, double alt
     const double day_angle = (julian_date - 1.0) * (2.0 * M_PI / 365.0);
     a.eccentricity = 1.00011 + 0.034221 * std::cos(day_angle) + 0.00128 * std::sin(day_angle) +
                      0.000719 * std::cos(2.0 * day_angle) + 0.000077 * std::sin(2.0 * day_angle);
-    if (units == WeatherUnits::kDirectHorizontal && altitude > kTiny) {
-        dir /= std::sin(altitude);
-        // Divided by the sine of a sun at the horizon, a few W/m2 on the horizontal become more
-        // than the sun gives normal to it, and the Perez sky overflows to NaN (RADIANCE's too):
-        // capped at that, which keeps the horizontal value within a few percent.
-        if (dir > kMostIrradiance) dir = kMostIrradiance, s.direct_capped = true;
-    }
+    if (units == WeatherUnits::kDirectHorizontal && altitude > kTiny) dir /= std::sin(altitude);
     int index;
     if (units != WeatherUnits::kPhotometric) {
         a.dir_irrad = dir;
@@ -230,7 +243,9 @@ SkyStep SkyModel::Prepare(double dir, double dif, WeatherUnits units, double alt
             norm = M_PI;
         }
         s.scale = (a.diff_illum / norm) * (1. / kEfficacy);
+        *finite = std::isfinite(norm) && std::isfinite(s.scale);
     }
+    *finite = *finite && std::isfinite(a.dir_illum);
 
     // The sun, spread over the nearest patches with weights 1 / (1.002 - cos(angle)).
     const float *sc = options_.sun_color;

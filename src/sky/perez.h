@@ -44,8 +44,8 @@ struct SkyStep {
     float ground[3] = {};
     std::vector<SunPatch> sun;
     double dir_illum = 0;  // direct illuminance (for sun descriptions)
-    // Units 2: the direct normal value derived from the horizontal one was more than the sun
-    // gives (a sun at the horizon), and was taken as kMostIrradiance.
+    // Units 2: the direct normal value derived from the horizontal one (a sun at the horizon)
+    // made the sky NaN, as it does RADIANCE's, and was taken as kMostIrradiance.
     bool direct_capped = false;
 };
 
@@ -87,6 +87,10 @@ class SkyModel {
                     RowWork *w) const;
 
   private:
+    // Prepare() as RADIANCE computes it; *finite: whether the sky and sun came out finite.
+    SkyStep PrepareAsRadiance(double dir, double dif, WeatherUnits units, double altitude,
+                              double azimuth, int julian_date, bool add_sun, bool *finite) const;
+
     double CosToSun(const SkyStep &s, int p) const;
     float RelativeLuminance(const SkyStep &s, int p, double row_factor) const;
 

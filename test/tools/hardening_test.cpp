@@ -10,6 +10,8 @@
 #include <cstring>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "test_util.h"
 
@@ -313,9 +315,10 @@ TEST(Hardening, InputsThatGaveNanAreRefused) {
 // Issue 41: with weather_data_file_units 2 the direct value is on the horizontal, and gendaymtx
 // divides it by the sine of the solar altitude; a sun just above the horizon (66.6 N, 1 January,
 // 0.07 degrees) made 20 W/m2 into 16000 W/m2 normal to it, and the Perez sky NaN in most
-// patches (RADIANCE's too). The derived value is capped at what the sun gives, with a warning
-// that counts the steps; the sky is finite and the sun's horizontal share stays 20 W/m2 within
-// the cap's few percent.
+// patches (RADIANCE's too). Where the sky comes out NaN (only there: real units-2 weather such
+// as frads' keeps RADIANCE's skies), the derived value is capped at what the sun gives, with a
+// warning that counts the steps; the sky is finite and the sun's horizontal share stays 20 W/m2
+// within the cap's few percent.
 TEST(Hardening, DirectOnTheHorizontalAtSunriseGivesAFiniteSky) {
     TempDir tmp;
     WriteFile(tmp.path() / "polar.wea",
@@ -324,10 +327,12 @@ TEST(Hardening, DirectOnTheHorizontalAtSunriseGivesAFiniteSky) {
               "1 1 12 5 50\n");
     const CommandResult r = RunCommand("gendaymtx -h -m 1 polar.wea", tmp.path());
     ASSERT_EQ(r.status, 0) << r.err;
-    EXPECT_NE(r.err.find("polar.wea:7: 20 W/m2 direct on the horizontal at a solar altitude of "
-                         "0.0729 degrees is more than the sun gives normal to it: taken as 1500 "
-                         "W/m2 (2 time steps)"),
-              std::string::npos)
+    EXPECT_NE(
+        r.err.find(
+            "polar.wea:7: 20 W/m2 direct on the horizontal at a solar altitude of "
+            "0.0729 degrees is more than the sun gives normal to it, and made the sky NaN (as "
+            "RADIANCE's): taken as 1500 W/m2 (2 time steps)"),
+        std::string::npos)
         << r.err;
     std::istringstream ss(r.out);
     int values = 0, positive = 0;
@@ -372,6 +377,22 @@ TEST(Hardening, WhatTheEngineFuzzerFoundIsHandled) {
     const CommandResult r3 = Rcontrib(tmp, down, "-ab 1 -ad 64 -m sky rough.rad");
     EXPECT_EQ(r.out, r3.out);
     EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
+    // numbers beyond float's: a glass of index 1e300 (NaN), a BSDF 1e30 m thick (rays from
+    // beyond Embree's range), a distant source of negative size
+    const std::string pane = "polygon p 0 0 12 -1 -1 1 1 -1 1 1 1 1 -1 1 1";
+    const std::vector<std::pair<std::string, std::string>> beyond = {
+        {"void glass g 0 0 4 .9 .9 .9 1e300\ng " + pane,
+         "glass 'g': refractive index 1e+300 is beyond any material's"},
+        {"void BSDF b 6 1e30 " + (DataDir() / "bsdf" / "clear.xml").string() + " 0 0 1 . 0 0\nb " +
+             pane,
+         "BSDF 'b': thickness 1e30 is beyond any window's"},
+        {"void glow g 0 0 4 1 1 1 0\ng source s 0 0 4 0 0 1 -2", "'s': zero size"}};
+    for (const auto &[scene, said] : beyond) {
+        WriteFile(tmp.path() / "far.rad", scene + "\n");
+        r = Rcontrib(tmp, "0 0 0 0 0 1\n", "-ab 1 -ad 16 -m sky far.rad");
+        EXPECT_EQ(r.status, 1) << scene;
+        EXPECT_NE(r.err.find(said), std::string::npos) << r.err;
+    }
     // antimatter tracked, -V+: its colour is none
     WriteFile(tmp.path() / "cut.rad",
               "void plastic slab 0 0 5 .5 .5 .5 0 0\nvoid antimatter cut 1 slab 0 0\n"
@@ -402,6 +423,11 @@ TEST(Hardening, ShapesAreCheckedAsRadianceChecksThem) {
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.err.find("cone 'hat': illegal radii (left out)"), std::string::npos) << r.err;
     EXPECT_EQ(r.out, "1.000000e+00\t1.000000e+00\t1.000000e+00\t\n");
+    // a lamp left out is no light source either (the fuzz target's next find: its source was
+    // looked for among the shapes, and read past them)
+    r = run("void light lamp 0 0 3 10 10 10\nlamp ring bulb 0 0 8 0 0 1 0 0 -1 3 -3");
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("ring 'bulb': illegal radii (left out)"), std::string::npos) << r.err;
     r = run("black ring lid 0 0 8 0 0 1 0 0 -1 1 0");  // outer radius first: still a disc
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(r.out, "0.000000e+00\t0.000000e+00\t0.000000e+00\t\n");
