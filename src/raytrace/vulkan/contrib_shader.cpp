@@ -12,7 +12,7 @@
 
 #include "cal/glsl.h"
 #include "raytrace/vulkan/raytracing.h"
-#include "shaders/embedded.h"
+#include "raytrace/vulkan/shaders/embedded.h"
 #include "util/errors.h"
 
 namespace dayflux {
@@ -193,13 +193,13 @@ bool MakeContribShader(const PackedScene &packed, const ContribOptions &options,
         return false;
     }
     shader->source = Macros(packed, options, float_accumulators) +
-                     "#include \"shaders/common.h\"\n" + bins + patterns + kShaderContrib;
+                     "#include \"raytrace/vulkan/shaders/common.h\"\n" + bins + patterns + kShaderContrib;
     return true;
 }
 
 std::vector<uint32_t> CompileSliceSumShader() {
     const std::string source =
-        "#version 460\n#include \"shaders/common.h\"\nlayout(local_size_x = " +
+        "#version 460\n#include \"raytrace/vulkan/shaders/common.h\"\nlayout(local_size_x = " +
         std::to_string(kSliceSumLocalSize) + ") in;\n" + R"glsl(
 layout(std430, set = 0, binding = kBindingAccum) readonly buffer Accum { double accum[]; };
 layout(std430, set = 0, binding = kBindingTasks) readonly buffer Tasks { GpuTasks tasks; };

@@ -1,4 +1,4 @@
-// The GPU driver's compute shader for one run: src/shaders/contrib.comp and the estimator core it
+// The GPU driver's compute shader for one run: shaders/contrib.comp and the estimator core it
 // includes (embedded in the program at build time, found by a shaderc includer), after the
 // run's macros, the tracked modifiers' bin expressions and the scene's patterns generated from
 // calcomp (cal/glsl.h). Compiled SPIR-V is cached on disk by its source.

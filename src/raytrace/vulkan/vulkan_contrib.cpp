@@ -1,6 +1,7 @@
 #include "raytrace/vulkan/vulkan_contrib.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <mutex>
@@ -11,7 +12,7 @@
 #include "raytrace/core/tables.h"
 #include "raytrace/vulkan/contrib_shader.h"
 #include "raytrace/vulkan/raytracing.h"
-#include "shaders/common.h"
+#include "raytrace/vulkan/shaders/common.h"
 #include "util/errors.h"
 
 namespace dayflux {
@@ -24,6 +25,32 @@ static_assert(offsetof(core::GpuTasks, lw) == 64 && offsetof(core::GpuTasks, cen
 // Bytes of results per dispatch: within every device's maxStorageBufferRange (lavapipe: 128 MiB).
 constexpr size_t kAccumBudget = size_t(64) << 20;
 constexpr uint32_t kMaxTasksPerRun = 65535u * kGpuLocalSize;
+
+// The driver's buffers set by their kBinding* names (shaders/common.h), then laid out as
+// GpuDevice takes them: every binding from the first buffer one (0 without ray queries, where
+// kBindingScene is our BVH; 1 with them) set exactly once.
+class NamedBindings {
+  public:
+    void Set(int binding, const vk::GpuDevice::Binding &b) {
+        CHECK(binding >= 0 && binding < core::kBindingCount && !set_[binding]);
+        bindings_[binding] = b;
+        set_[binding] = true;
+    }
+    std::vector<vk::GpuDevice::Binding> InOrder(bool ray_queries) const {
+        const int first = ray_queries ? core::kBindingScene + 1 : core::kBindingScene;
+        CHECK(!ray_queries || !set_[core::kBindingScene]);  // the acceleration structure's
+        std::vector<vk::GpuDevice::Binding> in_order;
+        for (int b = first; b < core::kBindingCount; ++b) {
+            CHECK(set_[b]);
+            in_order.push_back(bindings_[b]);
+        }
+        return in_order;
+    }
+
+  private:
+    std::array<vk::GpuDevice::Binding, core::kBindingCount> bindings_{};
+    std::array<bool, core::kBindingCount> set_{};
+};
 
 template <class T>
 std::vector<uint8_t> Bytes(const std::vector<T> &v) {
@@ -324,36 +351,35 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         accum.resize((sum_slices ? count / slices : count) * record * AccumBytes());
         std::vector<uint8_t> stats(16, 0);
         using G = vk::GpuDevice;
-        std::vector<G::Binding> buffers = {
-            G::In(&ray_bytes),
-            G::OnDevice(dev.positions),
-            G::OnDevice(dev.indices),
-            G::OnDevice(dev.triangles),
-            G::OnDevice(dev.surfaces),
-            G::OnDevice(dev.sources),
-            sum_slices ? G::ZeroedScratch(count * record * AccumBytes()) : G::Accumulator(&accum),
-            G::In(&task_bytes),
-            G::InOut(&stats),
-            G::OnDevice(dev.shapes)};
+        NamedBindings named;
+        named.Set(core::kBindingRays, G::In(&ray_bytes));
+        named.Set(core::kBindingPositions, G::OnDevice(dev.positions));
+        named.Set(core::kBindingIndices, G::OnDevice(dev.indices));
+        named.Set(core::kBindingTriangles, G::OnDevice(dev.triangles));
+        named.Set(core::kBindingSurfaces, G::OnDevice(dev.surfaces));
+        named.Set(core::kBindingSources, G::OnDevice(dev.sources));
+        named.Set(core::kBindingAccum, sum_slices ? G::ZeroedScratch(count * record * AccumBytes())
+                                                  : G::Accumulator(&accum));
+        named.Set(core::kBindingTasks, G::In(&task_bytes));
+        named.Set(core::kBindingStats, G::InOut(&stats));
+        named.Set(core::kBindingShapes, G::OnDevice(dev.shapes));
         std::vector<uint8_t> none;
-        if (!dev.device->RayQueries()) {  // our BVH at binding 0, its entries after the rest
-            buffers.insert(buffers.begin(), G::OnDevice(dev.bvh_nodes));
-            buffers.push_back(G::OnDevice(dev.bvh_prims));
+        if (!dev.device->RayQueries()) {  // our BVH in place of the acceleration structure
+            named.Set(core::kBindingScene, G::OnDevice(dev.bvh_nodes));
+            named.Set(core::kBindingBvhPrims, G::OnDevice(dev.bvh_prims));
         } else {
-            buffers.push_back(G::In(&none));  // binding 11 unused
+            named.Set(core::kBindingBvhPrims, G::In(&none));  // unused
         }
-        buffers.push_back(G::OnDevice(dev.klems));    // kBindingKlems
-        buffers.push_back(G::OnDevice(dev.relays));   // kBindingRelays
-        buffers.push_back(G::OnDevice(dev.tracked));  // kBindingTracked
-        if (dev.scratch) {
-            buffers.push_back(G::Scratch(count * stack_bytes));  // kBindingScratchItems
-            buffers.push_back(G::Scratch(count * rows_bytes));   // kBindingScratchRows
-        } else {
-            buffers.push_back(G::In(&none));  // bindings 15 and 16 unused
-            buffers.push_back(G::In(&none));
-        }
-        buffers.push_back(G::OnDevice(dev.receivers));                          // kBindingReceivers
-        buffers.push_back(sum_slices ? G::Accumulator(&accum) : G::In(&none));  // SliceSums
+        named.Set(core::kBindingKlems, G::OnDevice(dev.klems));
+        named.Set(core::kBindingRelays, G::OnDevice(dev.relays));
+        named.Set(core::kBindingTracked, G::OnDevice(dev.tracked));
+        named.Set(core::kBindingScratchItems,
+                  dev.scratch ? G::Scratch(count * stack_bytes) : G::In(&none));
+        named.Set(core::kBindingScratchRows,
+                  dev.scratch ? G::Scratch(count * rows_bytes) : G::In(&none));
+        named.Set(core::kBindingReceivers, G::OnDevice(dev.receivers));
+        named.Set(core::kBindingSliceSums, sum_slices ? G::Accumulator(&accum) : G::In(&none));
+        const std::vector<G::Binding> buffers = named.InOrder(dev.device->RayQueries());
         std::vector<G::Stage> stages = {{&dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize}};
         if (sum_slices)
             stages.push_back({&dev.sum_spirv, static_cast<uint32_t>(count / slices * record),

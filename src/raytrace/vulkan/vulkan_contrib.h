@@ -1,4 +1,4 @@
-// The GPU driver of the estimator core: the core as a compute shader (src/shaders/contrib.comp
+// The GPU driver of the estimator core: the core as a compute shader (shaders/contrib.comp
 // around raytrace/core), specialised to the run: its bin expressions and patterns compiled from
 // calcomp to GLSL, only the features its scene needs compiled in; the packed tables resident on
 // every device the choice gives, rays split between them.

@@ -11,6 +11,7 @@ namespace dayflux::core {
 
 // Set 0 bindings. Binding 0 is the scene: the acceleration structure with ray queries, else our
 // own BVH's nodes (PackedBvhNode), with its primitive list at kBindingBvhPrims (GpuDevice::Run).
+CONST int kBindingScene = 0;
 CONST int kBindingRays = 1;       // vec4 org (xyz, recentred), vec4 dir (w: key offset)
 CONST int kBindingPositions = 2;  // float xyz per vertex, recentred
 CONST int kBindingIndices = 3;    // uint, 3 per triangle
@@ -34,6 +35,7 @@ CONST int kBindingReceivers = 17;     // vec4: what -asub samples directly (tabl
 // The slices' records summed on the device (contrib_shader.h's CompileSliceSumShader): double, the
 // dispatch's rays x columns x 3; kBindingAccum is then scratch that this stage reads.
 CONST int kBindingSliceSums = 18;
+CONST int kBindingCount = 19;
 
 // One dispatch: tasks [task_offset, task_offset + count) of rays x slices; a slice traces a
 // share of the rows of the first hemisphere (the rest of a path follows the cell that started

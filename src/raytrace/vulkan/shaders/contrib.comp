@@ -16,10 +16,10 @@
 
 layout(local_size_x = LOCAL_SIZE) in;
 #ifdef DAYFLUX_BVH
-layout(std430, set = 0, binding = 0) readonly buffer Bvh { PackedBvhNode bvh_nodes[]; };
+layout(std430, set = 0, binding = kBindingScene) readonly buffer Bvh { PackedBvhNode bvh_nodes[]; };
 layout(std430, set = 0, binding = kBindingBvhPrims) readonly buffer BvhPrims { int bvh_prims[]; };
 #else
-layout(set = 0, binding = 0) uniform accelerationStructureEXT scene;
+layout(set = 0, binding = kBindingScene) uniform accelerationStructureEXT scene;
 #endif
 layout(std430, set = 0, binding = kBindingRays) readonly buffer Rays { vec4 rays[]; };
 layout(std430, set = 0, binding = kBindingPositions) readonly buffer Positions { float positions[]; };
