@@ -223,12 +223,17 @@ std::vector<std::string> Options(Choices &in, const std::vector<std::string> &na
     return a;
 }
 
+// The columns of a record: every tracked modifier's bins.
+size_t Columns(const RcontribOptions &o) {
+    size_t columns = 0;
+    for (const ModifierSpec &m : o.modifiers) columns += m.tracked.nbins;
+    return columns;
+}
+
 // What a run may cost: the fuzzer wants many runs a second, not one deep one.
 bool Cheap(const RcontribOptions &o) {
     const ContribOptions &c = o.contrib;
-    size_t columns = 0;
-    for (const ModifierSpec &m : o.modifiers) columns += m.tracked.nbins;
-    if (columns > 20000) return false;  // a record of -bn 1000000 is 24 MB to clear and write
+    if (Columns(o) > 20000) return false;  // a record of -bn 1000000 is 24 MB to clear and write
     return c.ambient_bounces <= 4 && c.ambient_divisions <= 512 && c.ambient_subsamples <= 4 &&
            c.specular_jitter <= 16 && c.direct_relays <= 6 && o.accumulate <= 16;
 }
@@ -236,6 +241,7 @@ bool Cheap(const RcontribOptions &o) {
 struct Scratch {
     ScratchFile scene;
     std::string dir, output;
+    bool print = false;  // --print: each input's scene, options, rays and outcome on stderr
 };
 
 Scratch *scratch = nullptr;
@@ -271,9 +277,11 @@ void CheckOutput(const std::string &path, size_t records, size_t columns) {
 }  // namespace
 }  // namespace dayflux::fuzz
 
-extern "C" int LLVMFuzzerInitialize(int *, char ***) {
+// libFuzzer leaves flags that start with "--" to the target (and replay_main.cpp skips them).
+extern "C" int LLVMFuzzerInitialize(int *argc, char ***argv) {
     using namespace dayflux::fuzz;
     scratch = new Scratch;
+    for (int i = 1; i < *argc; ++i) scratch->print |= std::strcmp((*argv)[i], "--print") == 0;
     std::string dir = "/tmp/dayflux_engine_fuzz_XXXXXX";
     if (!mkdtemp(dir.data())) Finding("cannot make a scratch folder");
     scratch->dir = dir;
@@ -297,7 +305,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     }
     args.insert(args.end(), {"-n", "1", scratch->scene.Write(scene)});
     std::remove(scratch->output.c_str());
-    const bool verbose = std::getenv("ENGINE_FUZZ_VERBOSE") != nullptr;
+    const bool verbose = scratch->print;
     if (verbose) {
         std::fprintf(stderr, "%s", scene.c_str());
         for (const std::string &a : args) std::fprintf(stderr, "%s ", a.c_str());
@@ -320,10 +328,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             next += 6;
             return true;
         });
-        size_t columns = 0;
-        for (const ModifierSpec &m : o.modifiers) columns += m.tracked.nbins;
         const size_t records = o.accumulate <= 0 ? 1 : (nrays + o.accumulate - 1) / o.accumulate;
-        CheckOutput(scratch->output, records, columns);
+        CheckOutput(scratch->output, records, Columns(o));
         if (verbose) std::fprintf(stderr, "traced %zu records\n", records);
     } catch (const UserError &e) {  // bad input, reported as it should be
         if (verbose) std::fprintf(stderr, "refused: %s\n", e.what());

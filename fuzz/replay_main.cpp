@@ -18,6 +18,7 @@ namespace {
 std::vector<std::filesystem::path> Inputs(int argc, char **argv) {
     std::vector<std::filesystem::path> files;
     for (int i = 1; i < argc; ++i) {
+        if (std::string(argv[i]).rfind("--", 0) == 0) continue;  // the target's own flags
         if (!std::filesystem::is_directory(argv[i])) {
             files.emplace_back(argv[i]);
             continue;

@@ -52,12 +52,8 @@ inline double Checked(Library fn, double v) {
 // x^y as epow() gives it (kNone stands for the power in the warning).
 inline double Power(double x, double y) { return Checked(Library::kNone, std::pow(x, y)); }
 
-// The library's functions of one or two numbers (atan2 takes two; rand is RADIANCE's hash), with
-// libfunc()'s check of the result.
-double LibraryMathUnchecked(Library fn, double x, double y);
-inline double LibraryMath(Library fn, double x, double y = 0) {
-    return Checked(fn, LibraryMathUnchecked(fn, x, y));
-}
+// The library's functions of one or two numbers (atan2 takes two; rand is RADIANCE's hash), as
+// the C library gives them; LibraryMath() below adds libfunc()'s check of the result.
 inline double LibraryMathUnchecked(Library fn, double x, double y) {
     switch (fn) {
         case Library::kRand:
@@ -98,6 +94,9 @@ inline double LibraryMathUnchecked(Library fn, double x, double y) {
         default:
             return 0;  // not a function of numbers alone: the callers do not ask
     }
+}
+inline double LibraryMath(Library fn, double x, double y = 0) {
+    return Checked(fn, LibraryMathUnchecked(fn, x, y));
 }
 
 struct Context::Impl {

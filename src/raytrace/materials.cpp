@@ -374,7 +374,7 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
                                   (index > 0 ? " is beyond any material's" : " is not above 0"));
         m.kind = Material::kDielectric;
         m.color = {f[0], f[1], f[2]};
-        m.rindex = f[3] + f[4] / 500.;
+        m.rindex = index;
         m.transparent = true;
     } else if (t == "mirror") {
         if (f.size() != 3 || p.sargs.size() > 1)

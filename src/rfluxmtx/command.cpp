@@ -1,5 +1,6 @@
 #include "rfluxmtx/command.h"
 
+#include <cerrno>
 #include <cstdlib>
 #include <set>
 
@@ -98,10 +99,13 @@ RfluxmtxCommand ParseRfluxmtxCommand(const std::vector<std::string> &argv) {
             (a == "-x" ? xres : yres) = args[++i];
         } else if (a == "-c") {
             need(3);
-            double n;
-            if (!ParseNumber(args[++i], &n) || !(n >= 1 && n <= 1e9))
+            // Its leading digits, as RADIANCE's atoi() reads them (2.5 and 2e3 are 2), without
+            // atoi()'s undefined overflow.
+            errno = 0;
+            const long n = std::strtol(args[++i].c_str(), nullptr, 10);
+            if (errno != 0 || n < 1 || n > 1000000000L)
                 ErrorExit("-c " + args[i] + ": a positive count (at most 1e9)");
-            cmd.samples = static_cast<int>(n);  // as atoi() takes 2.5: 2
+            cmd.samples = static_cast<int>(n);
         } else if (a[1] == 'i' || a[1] == 'I') {
             irradiance = a;
         } else if (a.rfind("-ld", 0) == 0) {

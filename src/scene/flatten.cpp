@@ -150,10 +150,12 @@ class Flattener {
                 s->r1 = s->r0;
             }
         }
-        const double axis[3] = {s->p1[0] - (ring ? 0 : s->p0[0]), s->p1[1] - (ring ? 0 : s->p0[1]),
-                                s->p1[2] - (ring ? 0 : s->p0[2])};
-        if (!(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2] > 0))
-            return illegal("unknown orientation");
+        double axis2 = 0;  // a ring's normal, the others' ends apart
+        for (int k = 0; k < 3; ++k) {
+            const double a = ring ? s->p1[k] : s->p1[k] - s->p0[k];
+            axis2 += a * a;
+        }
+        if (!(axis2 > 0)) return illegal("unknown orientation");
         return true;
     }
 

@@ -153,7 +153,7 @@ float SkyModel::RelativeLuminance(const SkyStep &s, int p, double row_factor) co
 
 SkyStep SkyModel::Prepare(double dir, double dif, WeatherUnits units, double altitude,
                           double azimuth, int julian_date, bool add_sun) const {
-    bool finite = true;
+    bool finite;
     SkyStep s =
         PrepareAsRadiance(dir, dif, units, altitude, azimuth, julian_date, add_sun, &finite);
     // Units 2: divided by the sine of a sun at the horizon, a few W/m2 on the horizontal become
@@ -172,6 +172,7 @@ SkyStep SkyModel::Prepare(double dir, double dif, WeatherUnits units, double alt
 SkyStep SkyModel::PrepareAsRadiance(double dir, double dif, WeatherUnits units, double altitude,
                                     double azimuth, int julian_date, bool add_sun,
                                     bool *finite) const {
+    *finite = true;
     SkyStep s;
     s.azimuth = azimuth;
     s.cos_azimuth = std::cos(azimuth);

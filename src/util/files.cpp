@@ -296,11 +296,13 @@ OutputFile::OutputFile(const std::string &spec, uint64_t keep_bytes) {
         return;
     }
     const OutputTarget target = ResolveOutput(spec);
-    if (target.direct) {
-        if (keep_bytes > 0) ErrorExit("cannot continue '" + spec + "': it is not a regular file");
-        OpenDirect(target);
-    } else {
-        OpenPartial(target.path, keep_bytes);
+    if (target.direct && keep_bytes > 0)
+        ErrorExit("cannot continue '" + spec + "': it is not a regular file");
+    const int fd = target.direct ? OpenDirect(target) : OpenPartial(target.path, keep_bytes);
+    fp_ = fdopen(fd, "wb");
+    if (!fp_) {
+        close(fd);
+        ErrorExit("cannot open '" + name_ + "' for output: " + std::strerror(errno));
     }
     std::setvbuf(fp_, nullptr, _IOFBF, kBufferSize);
 }
@@ -308,7 +310,7 @@ OutputFile::OutputFile(const std::string &spec, uint64_t keep_bytes) {
 // A FIFO, a device or a descriptor: written in place as RADIANCE's fopen(name, "w") writes it.
 // A descriptor is duplicated, not opened anew, so a shell's ">>" or a file shared with other
 // writers keeps its offset.
-void OutputFile::OpenDirect(const OutputTarget &target) {
+int OutputFile::OpenDirect(const OutputTarget &target) {
     is_direct_ = true;
     if (target.fd >= 0) std::fflush(nullptr);
     int fd;
@@ -318,14 +320,11 @@ void OutputFile::OpenDirect(const OutputTarget &target) {
                  : open(target.path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
     while (fd < 0 && errno == EINTR);  // a FIFO's open waits for its reader
     if (fd < 0) ErrorExit("cannot open '" + name_ + "' for output: " + std::strerror(errno));
-    fp_ = fdopen(fd, "wb");
-    if (!fp_) {
-        close(fd);
-        ErrorExit("cannot open '" + name_ + "' for output: " + std::strerror(errno));
-    }
+    return fd;
 }
 
-void OutputFile::OpenPartial(const std::string &target, uint64_t keep_bytes) {
+// The partial file beside target, locked, holding its first keep_bytes.
+int OutputFile::OpenPartial(const std::string &target, uint64_t keep_bytes) {
     target_ = target;
     temp_ = target + ".partial";
     const int fd = open(temp_.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0666);
@@ -350,11 +349,7 @@ void OutputFile::OpenPartial(const std::string &target, uint64_t keep_bytes) {
         close(fd);
         ErrorExit("cannot write '" + temp_ + "': " + std::strerror(errno));
     }
-    fp_ = fdopen(fd, "wb");
-    if (!fp_) {
-        close(fd);
-        ErrorExit("cannot open '" + name_ + "' for output: " + std::strerror(errno));
-    }
+    return fd;
 }
 
 OutputFile::~OutputFile() {

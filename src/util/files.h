@@ -141,8 +141,9 @@ class OutputFile {
     bool KeepPartial();
 
   private:
-    void OpenDirect(const OutputTarget &target);
-    void OpenPartial(const std::string &target, uint64_t keep_bytes);
+    // The descriptor written: the node itself, or the partial file.
+    int OpenDirect(const OutputTarget &target);
+    int OpenPartial(const std::string &target, uint64_t keep_bytes);
 
     std::string name_;
     std::string temp_;    // the partial file

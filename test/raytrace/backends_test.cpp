@@ -84,9 +84,7 @@ TEST_P(Backends, UniformSkyGivesPiAndExactBins) {
                            " -lw 1e-6" + kBins + "-m skyglow sky.rad",
                        tmp_.path());
         ASSERT_EQ(r.status, 0) << r.err;
-        std::istringstream ss(r.out);
-        std::vector<double> v;
-        for (double x; ss >> x;) v.push_back(x);
+        const std::vector<double> v = NumbersIn(r.out);
         ASSERT_EQ(v.size(), 146u * 3);
         double total = 0;
         for (size_t b = 0; b < 146; ++b) {
@@ -327,9 +325,7 @@ TEST_P(Backends, BinsBeyondTheIntRangeOrNanAreIgnored) {
             "-m skyglow sky.rad",
         tmp_.path());
     ASSERT_EQ(r.status, 0) << r.err;
-    std::istringstream ss(r.out);
-    std::vector<double> v;
-    for (double x; ss >> x;) v.push_back(x);
+    const std::vector<double> v = NumbersIn(r.out);
     ASSERT_EQ(v.size(), 3u * 6);
     const std::vector<double> expected = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1};
     EXPECT_EQ(v, expected);

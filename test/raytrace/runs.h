@@ -16,6 +16,14 @@ namespace dayflux::test {
 // A uniform glow sky of radiance 1 over the upper hemisphere, modifier `skyglow`.
 inline const char *kSky = "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 180\n";
 
+// The numbers of a program's ascii output, in order.
+inline std::vector<double> NumbersIn(const std::string &text) {
+    std::istringstream ss(text);
+    std::vector<double> v;
+    for (double x; ss >> x;) v.push_back(x);
+    return v;
+}
+
 // Runs `program args < rays` in dir on `count` copies of one sensor ray (each with its own random
 // numbers; ascii output without header) and returns each record's total over its columns (first
 // component); none if the run failed.
@@ -28,9 +36,7 @@ inline std::vector<double> RecordTotals(const std::filesystem::path &dir,
     const CommandResult r = RunCommand(program + " -h -faa " + args + " < rays", dir);
     EXPECT_EQ(r.status, 0) << program << " " << args << "\n" << r.err;
     EXPECT_EQ(r.err.find("using Embree"), std::string::npos) << r.err;  // the backend asked for
-    std::istringstream ss(r.out);
-    std::vector<double> v;
-    for (double x; ss >> x;) v.push_back(x);
+    const std::vector<double> v = NumbersIn(r.out);
     if (r.status != 0 || v.empty() || v.size() % (3 * static_cast<size_t>(count)) != 0) return {};
     std::vector<double> totals(count, 0.0);
     const size_t per = v.size() / count;

@@ -193,7 +193,8 @@ bool MakeContribShader(const PackedScene &packed, const ContribOptions &options,
         return false;
     }
     shader->source = Macros(packed, options, float_accumulators) +
-                     "#include \"raytrace/vulkan/shaders/common.h\"\n" + bins + patterns + kShaderContrib;
+                     "#include \"raytrace/vulkan/shaders/common.h\"\n" + bins + patterns +
+                     kShaderContrib;
     return true;
 }
 
