@@ -274,6 +274,15 @@ void CheckOutput(const std::string &path, size_t records, size_t columns) {
     }
 }
 
+// The output's values, exactly, for --print (a change meant to keep the numbers compares them).
+void PrintOutput(const std::string &path) {
+    std::ifstream f(path, std::ios::binary);
+    double v;
+    for (size_t i = 0; f.read(reinterpret_cast<char *>(&v), sizeof v); ++i)
+        std::fprintf(stderr, "%s%.17g", i % 6 == 0 ? (i ? "\n" : "") : " ", v);
+    std::fprintf(stderr, "\n");
+}
+
 }  // namespace
 }  // namespace dayflux::fuzz
 
@@ -330,7 +339,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         });
         const size_t records = o.accumulate <= 0 ? 1 : (nrays + o.accumulate - 1) / o.accumulate;
         CheckOutput(scratch->output, records, Columns(o));
-        if (verbose) std::fprintf(stderr, "traced %zu records\n", records);
+        if (verbose)
+            std::fprintf(stderr, "traced %zu records\n", records), PrintOutput(scratch->output);
     } catch (const UserError &e) {  // bad input, reported as it should be
         if (verbose) std::fprintf(stderr, "refused: %s\n", e.what());
     }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "raytrace/contrib.h"
+#include "raytrace/core/parameters.h"
 #include "raytrace/core/tables.h"
 #include "raytrace/klems.h"
 #include "raytrace/materials.h"
@@ -54,6 +55,33 @@ int PackKlemsData(const KlemsScattering &k, std::vector<float> *klems);
 // deep. Reports bad input (a BSDF whose data outgrows float offsets) as errors.
 PackedScene PackScene(const FlatScene &scene, const SceneMaterials &table,
                       const std::vector<TrackedModifier> &tracked, const ContribOptions &options);
+
+// The run's parameters as the core reads them (core/parameters.h), in a driver's precision:
+// CpuParameters or GpuParameters.
+template <typename Parameters>
+Parameters MakeParameters(const PackedScene &packed, const ContribOptions &o) {
+    using Real = decltype(Parameters::lw);
+    Parameters p{};
+    p.centre_x = packed.centre[0];
+    p.centre_y = packed.centre[1];
+    p.centre_z = packed.centre[2];
+    p.lw = static_cast<Real>(o.limit_weight);
+    p.dj = static_cast<Real>(o.source_jitter);
+    p.st = static_cast<Real>(o.specular_threshold);
+    p.ss = static_cast<Real>(o.specular_jitter);
+    p.ds = static_cast<Real>(o.source_size_ratio);
+    p.ab = o.ambient_bounces;
+    p.ad = o.ambient_divisions;
+    p.lr = o.limit_reflections;
+    p.asub = o.ambient_subsamples;
+    p.irradiance = o.irradiance ? 1 : 0;
+    p.first_hit = o.first_hit_irradiance ? 1 : 0;
+    p.contributions = o.contributions ? 1 : 0;
+    p.nsources = static_cast<int>(packed.sources.size());
+    p.ndirect = packed.ndirect;
+    p.seed = static_cast<uint32_t>(o.seed ^ (o.seed >> 32));
+    return p;
+}
 
 // The GPU core's stack of mixfunc sides waiting to be shaded (MIX_STACK; trees nested n deep
 // need n + 1), and the most specular samples per hit its ray stack holds (-ss).

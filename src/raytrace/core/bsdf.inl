@@ -37,7 +37,7 @@ bool KlemsFrame(real3 up, real3 front_normal, real3 raydir) {
 }
 // bsdf_jitter(): the view direction moved within +-size/2 (times -ss below 1).
 real3 KJitter(real size, real u, real v) {
-    if (SS < 1.) size *= SS;
+    if (params.ss < 1.) size *= params.ss;
     if (size <= 1e-6) return kview;
     return normalize(kview + real3(size * (.5 - u), size * (.5 - v), 0));
 }
@@ -157,7 +157,7 @@ real DirectSpecular(int b, real3 source_dir, real weight, real omega, bool throu
         if (i < 0) {
             tomega = size;
             tsr = sqrt(tomega);
-            if (tsr > 0.) nsamp = max(1, int(4. * SS * weight + .5));
+            if (tsr > 0.) nsamp = max(1, int(4. * params.ss * weight + .5));
             continue;
         }
         if (size < .12 * tomega) continue;  // a finer patch: not safe to include

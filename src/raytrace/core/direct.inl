@@ -8,9 +8,9 @@
 // A direction to distant source s, jittered over it by -dj (nextssamp()).
 real3 SourceDirection(IN(PackedSource) s) {
     real3 dir = XYZ(s.dir);
-    if (DJ > kTiny) {
-        real pu = DJ * (1. - 2. * Rand()), pv = DJ * (1. - 2. * Rand());
-        if (DJ > 0.7) {  // trim the square toward the disc
+    if (params.dj > kTiny) {
+        real pu = params.dj * (1. - 2. * Rand()), pv = params.dj * (1. - 2. * Rand());
+        if (params.dj > 0.7) {  // trim the square toward the disc
             real c = 1.12837917;
             real tu = c * sqrt(1. - .5 * pv * pv), tv = c * sqrt(1. - .5 * pu * pu);
             pu *= tu;
@@ -104,10 +104,10 @@ int LocalSample(IN(PackedSource) s, int i, real3 origin, real weight, uint turn,
     int sp = 0;
     if (isflat) {
         if (dot(v, axis) <= 0.) return 0;  // behind
-        if (DS <= kTiny) {
+        if (params.ds <= kTiny) {
             nparts = 1;
         } else {
-            real lim = 2. * weight / DS;
+            real lim = 2. * weight / params.ds;
             lim *= lim;
             nodes[0] = PartNode(ivec4(0, 0, kMaxParts, kMaxParts), loc, ss0, ss1,
                                 lim * dot(ss0, ss0), lim * dot(ss1, ss1), kMaxParts);
@@ -146,8 +146,8 @@ int LocalSample(IN(PackedSource) s, int i, real3 origin, real weight, uint turn,
         along *= along / safe2;
         real cent2 = dot(v, v), off2 = cent2 - along;
         if (off2 <= rad2) return 0;  // inside the extended cylinder
-        safe2 *= DS > kTiny ? 4. * weight * weight / (DS * DS) : 0.;
-        if (DS <= kTiny || off2 <= 4. * rad2 || cent2 >= safe2) {
+        safe2 *= params.ds > kTiny ? 4. * weight * weight / (params.ds * params.ds) : 0.;
+        if (params.ds <= kTiny || off2 <= 4. * rad2 || cent2 >= safe2) {
             nparts = 1;
         } else {
             nodes[0] = PartNode(ivec4(0, 0, kMaxParts, kMaxParts), loc, ss0, real3(0), safe2, 0.,
@@ -181,12 +181,12 @@ int LocalSample(IN(PackedSource) s, int i, real3 origin, real weight, uint turn,
     if (want < 0 || want >= nparts) return nparts;
     real3 vpos = real3(0);
     ivec3 size = ivec3(chosen.z, chosen.w, kMaxParts);
-    if (DJ > kTiny)
+    if (params.dj > kTiny)
         for (int k = 0; k < (isflat ? 2 : 3); ++k)
-            vpos[k] = DJ * (1. - 2. * Rand()) * real(size[k]) / real(kMaxParts);
+            vpos[k] = params.dj * (1. - 2. * Rand()) * real(size[k]) / real(kMaxParts);
     vpos.x += real(chosen.x) / real(kMaxParts);
     vpos.y += real(chosen.y) / real(kMaxParts);
-    if ((flags & kSourceCircular) != 0 && (nparts > 1 || DJ > 0.7)) {  // toward the disc
+    if ((flags & kSourceCircular) != 0 && (nparts > 1 || params.dj > 0.7)) {  // toward the disc
         if (isflat) {
             real c = 1.12837917;
             real tu = c * sqrt(1. - .5 * vpos.y * vpos.y), tv = c * sqrt(1. - .5 * vpos.x * vpos.x);
@@ -382,7 +382,7 @@ void DirectStepBsdf(IN(Item) it, int i) {
 // send no shadow rays at all).
 void PushDirect(IN(Ray) ray, real3 colour, real rdiff, real tdiff, real trans, int flags,
                 real3 point, real3 normal, real3 spec, real alpha2) {
-    if (NDIRECT == 0) return;  // glow sources are found only by escaping rays
+    if (params.ndirect == 0) return;  // glow sources are found only by escaping rays
     bool rough = alpha2 > 0. && (Max3(spec) > 0. || (flags & kDirectRoughTransmission) != 0);
     if ((Max3(colour) <= 0. || (rdiff <= kTiny && tdiff <= kTiny)) && !rough) return;
 #if defined(DAYFLUX_ASUB) || !defined(__cplusplus)
@@ -407,7 +407,7 @@ void PushDirect(IN(Ray) ray, real3 colour, real rdiff, real tdiff, real trans, i
     STACK(at).alpha2 = rough ? alpha2 : 0.;
     STACK(at).incident = r.dir;
     STACK(at).next = 0;
-    STACK(at).end = NSOURCES;
+    STACK(at).end = params.nsources;
     STACK(at).part = 0;
     STACK(at).turn = Pcg(rng ^ 0x68e31da4u);
 }

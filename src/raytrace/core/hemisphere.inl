@@ -48,7 +48,7 @@ real3 DiskToHemisphere(real2 xy, real3 ux, real3 uy, real3 normal) {
 
 CONST int kReceiverSamples = 4;  // at most, per hemisphere: each waits on the stack
 
-bool SamplesReceivers(int adepth) { return ASUB > 1 && adepth > 0 && receivers[0].y > 0.; }
+bool SamplesReceivers(int adepth) { return params.asub > 1 && adepth > 0 && receivers[0].y > 0.; }
 int ReceiverSamples(int cells) { return min(cells, kReceiverSamples); }
 
 // The density of a hemisphere of `cells` rays toward dir per unit solid angle, per receiver
@@ -134,7 +134,7 @@ void ReceiverSampleMet(IN(Ray) r, bool met, IN(Hit) h) {
     Ray c = r;
     c.coef /= ReceiverDensity(h.t, cos_there) + r.mis;
     Contribute(m.tracked, c, h.point, facing, h.t, -1,
-               CONTRIBUTIONS != 0 ? Colour(m, c, h.point, facing, h.t) : real3(1));
+               params.contributions != 0 ? Colour(m, c, h.point, facing, h.t) : real3(1));
 }
 #endif
 
@@ -162,7 +162,7 @@ void PushSingleCell(IN(Ray) r, IN(real3) colour, IN(real3) point, IN(real3) norm
 }
 
 void PushHemisphere(IN(Ray) ray, IN(real3) colour, IN(real3) point, IN(real3) normal) {
-    if (ray.adepth >= AB || AD <= 0) return;
+    if (ray.adepth >= params.ab || params.ad <= 0) return;
     if (Bright(colour) <= kTiny) return;
 #if defined(DAYFLUX_ASUB) || !defined(__cplusplus)
     Ray r = ray;
@@ -173,9 +173,9 @@ void PushHemisphere(IN(Ray) ray, IN(real3) colour, IN(real3) point, IN(real3) no
     if (!ScaleForDiffuse(r)) return;
 #endif
     real wt = r.weight;
-    real d = 0.8 * Max3(colour) * r.weight / real(AD * LW);
+    real d = 0.8 * Max3(colour) * r.weight / real(params.ad * params.lw);
     if (wt > d) wt = d;
-    int n = int(sqrt(real(AD) * wt) + 0.5);
+    int n = int(sqrt(real(params.ad) * wt) + 0.5);
     if (n < 1) n = 1;
     if (n == 1 && r.adepth > 0) {
         PushSingleCell(r, colour, point, normal);
@@ -200,7 +200,7 @@ void PushHemisphere(IN(Ray) ray, IN(real3) colour, IN(real3) point, IN(real3) no
     STACK(at).next = 0;
     STACK(at).end = n * n;
 #ifdef DAYFLUX_ASUB
-    if (r.adepth == 0) STACK(at).end *= ASUB * ASUB;  // steps: the cells' sub-samples
+    if (r.adepth == 0) STACK(at).end *= params.asub * params.asub;  // steps: the cells' sub-samples
 #endif
     STACK(at).incident = RandomTangent(normal, t0, t1, t2, t3);
 #ifdef DAYFLUX_ASUB
@@ -247,10 +247,10 @@ bool CellDirection(IN(Item) it, int n, int i, int j, real cos_thresh, bool check
 }
 
 #ifdef DAYFLUX_ASUB
-// -asub: step k of a first-level hemisphere is sub-sample k % ASUB^2 of cell k / ASUB^2, in the
-// cell's ASUB x ASUB sub-cells; all follow their specular paths (what reaches a window, or the
+// -asub: step k of a first-level hemisphere is sub-sample k % asub^2 of cell k / asub^2, in the
+// cell's asub x asub sub-cells; all follow their specular paths (what reaches a window, or the
 // sky through glass, directly), and one chosen at random per cell carries the cell's diffuse
-// paths with ASUB^2 times its coefficient. Unbiased; no ambcollision() (the sub-samples
+// paths with asub^2 times its coefficient. Unbiased; no ambcollision() (the sub-samples
 // stratify the cell instead).
 // Only cells near something a specular path could start from are split: a probe along each
 // cell's centre finds what the cell looks at, and a cell whose 3 x 3 neighbourhood's probes all
@@ -326,7 +326,7 @@ void StartSubsamples() {
 // other steps follow; left whole, its chosen step is taken at once and the others skipped
 // (it.next moves to the next cell's first step).
 bool SubsampleStep(INOUT(Item) it, int k) {
-    int per = ASUB * ASUB;
+    int per = params.asub * params.asub;
     int cell = k / per, s = k % per;
     int i = it.n - 1 - cell / it.n, j = it.n - 1 - cell % it.n;
     if (k == 0) StartSubsamples();
@@ -341,7 +341,7 @@ bool SubsampleStep(INOUT(Item) it, int k) {
     rng = Key(cell_key, uint(k), 0x9e3779b9u, hemispheres0);
     int at = PushSlot();  // the sub-sample's ray, spawned in its slot
     real3 dir;
-    if (!CellDirection(it, it.n * ASUB, i * ASUB + s / ASUB, j * ASUB + s % ASUB, 0.0, false,
+    if (!CellDirection(it, it.n * params.asub, i * params.asub + s / params.asub, j * params.asub + s % params.asub, 0.0, false,
                        STACK(at).r, dir)) {
         Unpush(at);
         return false;
@@ -364,7 +364,7 @@ bool AmbientStep(INOUT(Item) it) {
     // Cells in RADIANCE's order: k = 0 is (n - 1, n - 1), then j, then i, downward.
     int k = it.next++;
 #ifdef DAYFLUX_ASUB
-    if (it.r.adepth == 0 && ASUB > 1) return SubsampleStep(it, k);
+    if (it.r.adepth == 0 && params.asub > 1) return SubsampleStep(it, k);
 #endif
     int i = it.n - 1 - k / it.n, j = it.n - 1 - k % it.n;
     int d = it.r.adepth;

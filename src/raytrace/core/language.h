@@ -16,8 +16,8 @@
 // operators want one scalar type), every conversion between real and float written out where
 // vectors meet.
 //
-// Files of the core come in two kinds. Headers (language.h, tables.h, random.h, sampling.h,
-// shapes.h, optics.h) hold constants, data layouts and pure functions at namespace scope, which
+// Files of the core come in two kinds. Headers (language.h, parameters.h, tables.h, random.h,
+// sampling.h, shapes.h) hold constants, data layouts and pure functions at namespace scope, which
 // C++ code and tests call directly. Fragments (*.inl) hold the estimator's state and the
 // functions that use it: a GLSL shader includes them at file scope, where that state is one
 // invocation's; C++ includes them inside a class body, so that each object holds one thread's

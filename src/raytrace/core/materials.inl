@@ -17,9 +17,9 @@ void PushGaussianSamples(IN(Ray) r, real3 colour, real alpha2, real3 point, real
     Ray c;
     if (!Spawn(r, kSpecular, colour, c)) return;
     int target = 1;
-    if (SS > 1.5) {
-        target = int(SS * r.weight + .5);
-        if (c.weight <= LW * real(target)) target = int(c.weight / LW);
+    if (params.ss > 1.5) {
+        target = int(params.ss * r.weight + .5);
+        if (c.weight <= params.lw * real(target)) target = int(c.weight / params.lw);
         if (target > 1) {
             c.coef /= real(target);
             c.weight /= real(target);
@@ -33,7 +33,7 @@ void PushGaussianSamples(IN(Ray) r, real3 colour, real alpha2, real3 point, real
     DONT_UNROLL for (int trial = 0; taken < target && trial < 10 * target; ++trial) {
         real phi = 2. * kPi * Rand();
         real rv1 = Rand();
-        if (SS >= 0. && SS < 1.) rv1 = 1. - SS * rv1;
+        if (params.ss >= 0. && params.ss < 1.) rv1 = 1. - params.ss * rv1;
         real d = rv1 <= kTiny ? 1. : sqrt(alpha2 * -log(rv1));
         real3 offset = d * (cos(phi) * u + sin(phi) * v);
         real3 dir;
@@ -159,15 +159,15 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
                 real u = Rand(), v = Rand();
                 hemi = max(0., SpecularHemi(b, KJitter(ksr.y, u, v), xmit == 1) - viewed);
             }
-            if (hemi <= ST + kTiny) {  // (no pattern on reflection)
+            if (hemi <= params.st + kTiny) {  // (no pattern on reflection)
                 if (hemi > kTiny) unsampled = hemi * (xmit == 1 ? pcol : real3(1));
             } else {
                 // -ss above 1.5: -ss x weight samples, stratified in xrand, sharing the value
-                int target = SS > 1.5 ? max(1, int(SS * r.weight + .5)) : 1;
+                int target = params.ss > 1.5 ? max(1, int(params.ss * r.weight + .5)) : 1;
                 DONT_UNROLL for (int n = 0; n < target; ++n) {
                     real xrand = Rand();
                     if (target == 1) {
-                        if (SS < 1.) xrand = .5 + SS * (xrand - .5);
+                        if (params.ss < 1.) xrand = .5 + params.ss * (xrand - .5);
                     } else {
                         xrand = (real(n) + xrand) / real(target);
                     }
@@ -185,7 +185,7 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
                     if (!Spawn(r, kSpecular, value * (xmit == 1 ? pcol : real3(1)), c)) {
                         if (n == 0 && target > 1) {  // RADIANCE lowers its target, starts again
                             int before = target;
-                            target = int(real(target) * c.weight / LW);
+                            target = int(real(target) * c.weight / params.lw);
                             if (target == before) break;
                             n = -1;
                         }
@@ -203,7 +203,7 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
         PushHemisphere(r, (xmit == 0 ? rdiff : tdiff) + unsampled, origin,
                        xmit == 0 ? normal : -normal);
     }
-    if (NDIRECT == 0) return;
+    if (params.ndirect == 0) return;
     // direct(): dir_bsdf(), or dir_brdf() and dir_btdf() apart for a proxy.
     Item it;
     it.r = r;
@@ -218,7 +218,7 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
     it.n = b;
     it.alpha2 = surround;
     it.next = 0;
-    it.end = NSOURCES;
+    it.end = params.nsources;
     it.part = 0;
     it.turn = Pcg(rng ^ 0x68e31da4u);
     bool reflect_only = Bright(tdiff) <= kTiny && !HasTransmission(b);
@@ -326,7 +326,7 @@ void ShadeBasic(IN(Ray) r, IN(PackedSurface) m, IN(real3) point, IN(real3) norma
     real trans = real(m.params.y) * (1. - rspec), tspec = trans * real(m.params.z);
     real tdiff = trans - tspec;
     bool rough_trans = !pure && tspec > kTiny;
-    bool rough_trans_below_threshold = rough_trans && ST >= tspec - kTiny;
+    bool rough_trans_below_threshold = rough_trans && params.st >= tspec - kTiny;
     if (pure && tspec > kTiny) PushChild(r, kTrans, c * tspec, point, r.dir);  // shadow rays too
     if ((r.crtype & kShadow) != 0) return;  // the rest blocks shadow rays
     real3 sc = real3(0);
@@ -336,7 +336,7 @@ void ShadeBasic(IN(Ray) r, IN(PackedSurface) m, IN(real3) point, IN(real3) norma
         if (metal) sc = fest > kTiny ? fest + c * spec * (1. - fest) : c * rspec;
         if (pure)
             PushChild(r, kReflected, sc, point, normalize(r.dir + 2. * pdot * normal));
-        else if (ST >= rspec - kTiny)
+        else if (params.st >= rspec - kTiny)
             rough_below_threshold = true;
         else
             sample_reflection = true;
@@ -480,7 +480,7 @@ void Shade(INOUT(Ray) r, int object, int k, int source, INOUT(PackedSurface) m, 
                 !pass && hit_front &&
                 !(m.alpha2 > 0. && real(m.alpha2) < 2. * kPi * (1. + dot(XYZ(m.params), r.dir)));
             Contribute(k, r, point, normal, t, source,
-                       CONTRIBUTIONS == 0 ? real3(1)
+                       params.contributions == 0 ? real3(1)
                        : lit              ? Colour(m, r, point, normal, t)
                                           : real3(0));
         }
@@ -500,11 +500,11 @@ void Shade(INOUT(Ray) r, int object, int k, int source, INOUT(PackedSurface) m, 
             Ray met = r;
             met.coef *= HemisphereShare(r, t, rod);
             Contribute(k, met, point, normal, t, source,
-                       CONTRIBUTIONS != 0 ? Colour(m, r, point, normal, t) : real3(1));
+                       params.contributions != 0 ? Colour(m, r, point, normal, t) : real3(1));
         } else
 #endif
             Contribute(k, r, point, normal, t, source,
-                       CONTRIBUTIONS != 0 ? Colour(m, r, point, normal, t) : real3(1));
+                       params.contributions != 0 ? Colour(m, r, point, normal, t) : real3(1));
     }
     if (m.kind == kMatAntimatter) {
         int inside = PassAntimatter(r, m, point);
@@ -514,7 +514,7 @@ void Shade(INOUT(Ray) r, int object, int k, int source, INOUT(PackedSurface) m, 
     // -i: primary rays (and rays straight through transparent things before them) find the
     // first opaque surface and measure irradiance there, as off a Lambertian surface of
     // reflectance pi (RADIANCE's raytirrad()); light sources stay what they are.
-    if (FIRST_HIT != 0 && (r.crtype & ~(kPrimary | kTrans)) == 0 && !light && m.kind != kMatGlow) {
+    if (params.first_hit != 0 && (r.crtype & ~(kPrimary | kTrans)) == 0 && !light && m.kind != kMatGlow) {
         if ((int(m.params.w) & kSurfaceTransparent) != 0) {
             PushChild(r, kTrans, real3(1), point, r.dir);
             return;

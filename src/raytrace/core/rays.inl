@@ -1,7 +1,7 @@
 // The estimator's rays and their stack (a fragment: see language.h). RADIANCE's ray tree is
 // walked with an explicit stack, since GLSL has no recursion: trace items, ambient hemisphere
 // loops and direct-source loops. What the driver provides is listed in raytrace/core/README.md;
-// the run's options are macros it defines (AB, AD, LW, ...).
+// the run's options are `params` (raytrace/core/parameters.h).
 
 // Ray types as RADIANCE's ray.h numbers them; a ray's crtype is the union over its ancestry.
 CONST int kPrimary = 1;
@@ -29,7 +29,7 @@ struct Ray {
     uint clip;    // antimatter bits of the modifiers it passes unseen (RADIANCE's clipset)
     uint next_clip;  // the set the rays it passes on (not reflections) start with (newcset)
 #ifdef DAYFLUX_ASUB
-    real dscale;  // -asub: what the diffuse paths it starts are multiplied by (1, 0 or ASUB^2)
+    real dscale;  // -asub: what the diffuse paths it starts are multiplied by (1, 0 or asub^2)
     // -asub's receivers (hemisphere.inl): a deeper hemisphere's ray or a receiver sample, the
     // hemisphere's density toward it (else 0); a sample, the distance to its point (else 0) and
     // the receiver's object
@@ -130,9 +130,9 @@ void SetRayVariables(IN(Ray) r, real3 point, real3 normal, real t) {
     cal_chan[4] = normal.x;
     cal_chan[5] = normal.y;
     cal_chan[6] = normal.z;
-    cal_chan[7] = double(point.x) + CENTRE_X;
-    cal_chan[8] = double(point.y) + CENTRE_Y;
-    cal_chan[9] = double(point.z) + CENTRE_Z;
+    cal_chan[7] = double(point.x) + params.centre_x;
+    cal_chan[8] = double(point.y) + params.centre_y;
+    cal_chan[9] = double(point.z) + params.centre_z;
     cal_chan[10] = t;
     cal_chan[11] = -dot(r.dir, normal);
     cal_chan[12] = 1;
@@ -166,7 +166,7 @@ void Contribute(int k, IN(Ray) r, IN(real3) point, IN(real3) normal, real t, int
         return;
     }
     int bin = int(floor(b + 0.5));
-    AddToRecord(entry[kTrackedColumn] + bin, CONTRIBUTIONS != 0 ? r.coef * radiance : r.coef);
+    AddToRecord(entry[kTrackedColumn] + bin, params.contributions != 0 ? r.coef * radiance : r.coef);
 }
 
 #ifdef DAYFLUX_INSIDE
@@ -210,15 +210,15 @@ bool Spawn(IN(Ray) parent, int type, real3 rc, OUT(Ray) child) {
 #endif
     if (child.weight <= 0.) return false;
     if ((child.crtype & kShadow) != 0) return true;  // shadow rays are never cut short
-    if (LR <= 0) {
-        if (LR < 0 && child.rlvl > -LR) return false;
-        if (child.weight >= LW) return true;
-        if (Rand() > child.weight / LW) return false;
-        child.coef *= real(LW) / child.weight;
-        child.weight = real(LW);
+    if (params.lr <= 0) {
+        if (params.lr < 0 && child.rlvl > -params.lr) return false;
+        if (child.weight >= params.lw) return true;
+        if (Rand() > child.weight / params.lw) return false;
+        child.coef *= real(params.lw) / child.weight;
+        child.weight = real(params.lw);
         return true;
     }
-    return child.weight >= LW && child.rlvl <= LR;
+    return child.weight >= params.lw && child.rlvl <= params.lr;
 }
 
 void PushItem(IN(Item) it) { STACK(PushSlot()) = it; }
@@ -247,7 +247,7 @@ bool PushChild(IN(Ray) r, int type, IN(real3) coef, IN(real3) org, IN(real3) dir
 // direction (a ray aimed at a source can reach only that one), a glow only where no other does.
 bool Escape(IN(Ray) r, OUT(Hit) h) {
     int glow = -1, chosen = -1;
-    int first = r.aimed >= 0 ? r.aimed : 0, last = r.aimed >= 0 ? r.aimed + 1 : NSOURCES;
+    int first = r.aimed >= 0 ? r.aimed : 0, last = r.aimed >= 0 ? r.aimed + 1 : params.nsources;
     for (int i = first; i < last; ++i) {
         // images in mirrors are not met
         if (int(sources[i].u.w) != kSourceDistant || sources[i].relay >= 0) continue;
@@ -284,7 +284,7 @@ bool Escape(IN(Ray) r, OUT(Hit) h) {
 }
 
 #ifdef DAYFLUX_ASUB
-// -asub: a first-level sub-sample starts the diffuse paths of its cell (scale ASUB^2) or none
+// -asub: a first-level sub-sample starts the diffuse paths of its cell (scale asub^2) or none
 // (0); false for none.
 bool ScaleForDiffuse(INOUT(Ray) r) {
     if (r.dscale == 0.0) return false;

@@ -64,7 +64,7 @@ void ShadeMet(INOUT(Ray) r, bool met, INOUT(Hit) h) {
     if ((r.clip & h.m.clip) != 0u) {
         // raycont(): antimatter hides the surface; rcontrib's trace_contrib() still sees the
         // hit, so a tracked modifier counts its coefficient (no value for -V).
-        if (h.tracked >= 0 && CONTRIBUTIONS == 0 &&
+        if (h.tracked >= 0 && params.contributions == 0 &&
             (r.aimed < 0 || h.object == sources[r.aimed].object))
             Contribute(h.tracked, r, h.point, h.normal, h.t, h.source, real3(1));
         r.from = h.object;
@@ -97,7 +97,7 @@ bool TraceAllButCells(real3 org, real3 dir, uint index, uint replica, uint slice
     top = 0;
     pushed0 = 0u;
     hemispheres0 = 0u;
-    cell_key = Key(SEED, index, replica, 0x2545f491u);
+    cell_key = Key(params.seed, index, replica, 0x2545f491u);
     rng = Key(cell_key, slice, 17u, 5u);
     Ray r;
     r.org = org;
@@ -127,7 +127,7 @@ bool TraceAllButCells(real3 org, real3 dir, uint index, uint replica, uint slice
     r.counter = -1;
     r.counter_front = 0;
 #endif
-    if (IRRADIANCE == 0) {
+    if (params.irradiance == 0) {
         if (slice == 0u) {
             PushTrace(r);
             RunStack();
@@ -138,14 +138,14 @@ bool TraceAllButCells(real3 org, real3 dir, uint index, uint replica, uint slice
     // that the ambient value is irradiance (RADIANCE offsets it by 1e-4 along the normal).
     real3 point = org + 1e-4 * dir;
     real3 lamb = real3(kPi);
-    int per_slice = (NSOURCES + int(slices) - 1) / int(slices);
+    int per_slice = (params.nsources + int(slices) - 1) / int(slices);
     int source_first = int(slice) * per_slice;
-    if (source_first < NSOURCES) {
+    if (source_first < params.nsources) {
         rng = Key(cell_key, 0u, 17u, 5u);  // slice 0's: the direct item turns alike in all
         PushDirect(r, lamb, 1.0, 0.0, 0.0, 0, point, dir, real3(0), 0.0);
         if (top > 0) {
             STACK(top - 1).next = source_first;
-            STACK(top - 1).end = min(NSOURCES, source_first + per_slice);
+            STACK(top - 1).end = min(params.nsources, source_first + per_slice);
             RunStack();
         }
         rng = Key(cell_key, slice, 17u, 5u);
@@ -159,10 +159,10 @@ bool TraceAllButCells(real3 org, real3 dir, uint index, uint replica, uint slice
     if (row_first >= row_end) return false;
     int row_steps = h.n, replayed = row_first * h.n;
 #ifdef DAYFLUX_ASUB
-    if (ASUB > 1) {
+    if (params.asub > 1) {
         // -asub's steps draw from numbers keyed by the step and keep no rows: of the steps
         // before, only step 0's start is replayed
-        row_steps *= ASUB * ASUB;
+        row_steps *= params.asub * params.asub;
         if (row_first > 0) StartSubsamples();
         replayed = 0;
     }

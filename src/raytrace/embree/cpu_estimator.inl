@@ -9,16 +9,13 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
     // its owner's bins (lanes run in turns on one thread).
     DAYFLUX_ESTIMATOR(const CpuScene &s, int paths, CpuBins *shared_bins = nullptr)
         : scene_(s),
-          options_(s.options),
+          params(MakeParameters<CpuParameters>(s.packed, s.options)),
           surfaces(s.packed.surfaces.data()),
           sources(s.packed.sources.data()),
           relays(s.packed.relays.data()),
           receivers(s.packed.receivers.data()),
           klems(s.packed.klems.data()),
           tracked(s.packed.tracked.data()),
-          nsources_(static_cast<int>(s.packed.sources.size())),
-          ndirect_(s.packed.ndirect),
-          seed_(static_cast<uint>(s.options.seed ^ (s.options.seed >> 32))),
           centre_(s.packed.centre[0], s.packed.centre[1], s.packed.centre[2]),
           own_bins_(shared_bins ? nullptr : std::make_unique<CpuBins>(s)),
           bins_(shared_bins ? shared_bins : own_bins_.get()) {
@@ -68,26 +65,7 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
         if (dropped != 0u) scene_.dropped.fetch_add(dropped), dropped = 0;
     }
 
-    // ---- the core, its options as the macros it reads
-#define AB (options_.ambient_bounces)
-#define AD (options_.ambient_divisions)
-#define LW (options_.limit_weight)
-#define LR (options_.limit_reflections)
-#define IRRADIANCE (options_.irradiance ? 1 : 0)
-#define FIRST_HIT (options_.first_hit_irradiance ? 1 : 0)
-#define CONTRIBUTIONS (options_.contributions ? 1 : 0)
-#define NSOURCES nsources_
-#define NDIRECT ndirect_
-#define DJ (options_.source_jitter)
-#define SEED seed_
-#define ST (options_.specular_threshold)
-#define SS (options_.specular_jitter)
-#define DS (options_.source_size_ratio)
-#define ASUB (options_.ambient_subsamples)
-#define CENTRE_X (centre_.x)
-#define CENTRE_Y (centre_.y)
-#define CENTRE_Z (centre_.z)
-// Sizes: larger than the GPU's, where memory is cheap (-ss up to 100 at -ab 10, -ad up to 16M,
+    // ---- the core (its parameters: the member `params`), and its sizes, larger than the GPU's, where memory is cheap (-ss up to 100 at -ab 10, -ad up to 16M,
 // mixfuncs 63 deep).
 #define STACK_SIZE 4096
 #define MAXN 4096
@@ -104,24 +82,6 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
 #include "raytrace/core/materials.inl"
 #include "raytrace/core/walk.inl"
     // clang-format on
-#undef AB
-#undef AD
-#undef LW
-#undef LR
-#undef IRRADIANCE
-#undef FIRST_HIT
-#undef CONTRIBUTIONS
-#undef NSOURCES
-#undef NDIRECT
-#undef DJ
-#undef SEED
-#undef ST
-#undef SS
-#undef DS
-#undef ASUB
-#undef CENTRE_X
-#undef CENTRE_Y
-#undef CENTRE_Z
 #undef STACK_SIZE
 #undef MAXN
 #undef DEEP_N
@@ -224,7 +184,7 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
         if (ahead_valid_ && from == ahead_from_ && org == ahead_org_ && first >= ahead_first_ &&
             end <= ahead_end_)
             return;
-        if (ahead_.size() < static_cast<size_t>(nsources_)) ahead_.resize(nsources_);
+        if (ahead_.size() < static_cast<size_t>(params.nsources)) ahead_.resize(params.nsources);
         ahead_valid_ = scene_.BlockedAhead(org, normal, from, front, back, first, end,
                                            ahead_.data(), &ahead_buffers_);
         ahead_org_ = org;
@@ -245,17 +205,15 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
         at[0] += v.x, at[1] += v.y, at[2] += v.z;
     }
 
-    // ---- the run, as the core's macros read it
+    // ---- the run, as the core reads it
     const CpuScene &scene_;
-    const ContribOptions &options_;
+    const CpuParameters params;
     const PackedSurface *surfaces;
     const PackedSource *sources;
     const vec4 *relays;
     const vec4 *receivers;
     const float *klems;
     const ivec4 *tracked;
-    int nsources_, ndirect_;
-    uint seed_;
     real3 centre_;
     double *record_ = nullptr;
     std::unique_ptr<CpuBins> own_bins_;

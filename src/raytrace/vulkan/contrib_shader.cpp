@@ -81,43 +81,20 @@ std::string PatternGlsl(const std::vector<const PatternFunction *> &patterns) {
     return glsl + "    return vec3(1);\n}\n";
 }
 
-// The run's macros: its options, read from the tasks buffer (shaders/common.h), so that runs
-// that differ only in them share one compiled shader; its sizes; the features its scene needs.
+// The run's macros: its sizes and the features its scene needs (its options are in the
+// parameters buffer, so that runs differing only in them share one compiled shader).
 std::string Macros(const PackedScene &packed, const ContribOptions &options, bool float_accum) {
     std::string src;
     const auto define = [&](const char *name, const std::string &value) {
         src += std::string("#define ") + name + " " + value + "\n";
     };
-    static const char *const kOptions[][2] = {{"AB", "ab"},
-                                              {"AD", "ad"},
-                                              {"LW", "lw"},
-                                              {"LR", "lr"},
-                                              {"IRRADIANCE", "irradiance"},
-                                              {"FIRST_HIT", "first_hit"},
-                                              {"CONTRIBUTIONS", "contributions"},
-                                              {"NSOURCES", "nsources"},
-                                              {"NDIRECT", "ndirect"},
-                                              {"DJ", "dj"},
-                                              {"SEED", "seed"},
-                                              {"TMIN", "tmin"},
-                                              {"ST", "st"},
-                                              {"SS", "ss"},
-                                              {"DS", "ds"},
-                                              {"NCOLS", "ncols"},
-                                              {"CENTRE_X", "centre_x"},
-                                              {"CENTRE_Y", "centre_y"},
-                                              {"CENTRE_Z", "centre_z"}};
-    for (const auto &o : kOptions) define(o[0], std::string("tasks.") + o[1]);
     define("DEEP_N", std::to_string(kGpuDeepN));
     define("DEEP_LEVELS", std::to_string(kGpuDeepLevels));
     define("MIX_STACK", std::to_string(kGpuMixStack));
     define("LOCAL_SIZE", std::to_string(kGpuLocalSize));
     define("STACK_SIZE", std::to_string(kGpuStackSize));
     define("ACCUM_T", float_accum ? "float" : "double");
-    if (options.ambient_subsamples > 1) {
-        define("DAYFLUX_ASUB", "1");
-        define("ASUB", std::to_string(options.ambient_subsamples));
-    }
+    if (options.ambient_subsamples > 1) define("DAYFLUX_ASUB", "1");
     if (packed.bsdf) define("DAYFLUX_BSDF", "1");
     if (packed.aperture) define("DAYFLUX_APERTURE", "1");
     if (packed.dielectric) define("DAYFLUX_DIELECTRIC", "1");

@@ -19,8 +19,10 @@ namespace dayflux {
 
 namespace {
 
-static_assert(sizeof(core::GpuTasks) == 128);
-static_assert(offsetof(core::GpuTasks, lw) == 64 && offsetof(core::GpuTasks, centre_x) == 96);
+// std430's layouts of these are their C++ layouts: no padding between their members.
+static_assert(sizeof(core::GpuTasks) == 48 && offsetof(core::GpuTasks, tmin) == 32);
+static_assert(sizeof(core::GpuParameters) == 88 && offsetof(core::GpuParameters, lw) == 24 &&
+              offsetof(core::GpuParameters, ab) == 44 && offsetof(core::GpuParameters, seed) == 80);
 
 // Bytes of results per dispatch: within every device's maxStorageBufferRange (lavapipe: 128 MiB).
 constexpr size_t kAccumBudget = size_t(64) << 20;
@@ -181,8 +183,8 @@ class VulkanContribEngine : public ContribEngine {
           float_accumulators_(float_accumulators),
           tasks_per_dispatch_(tasks_per_dispatch),
           columns_(packed.columns),
-          nsources_(static_cast<int>(packed.sources.size())),
-          ndirect_(packed.ndirect),
+          parameters_(Bytes(std::vector<core::GpuParameters>{
+              MakeParameters<core::GpuParameters>(packed, options)})),
           extent_(packed.extent),
           max_rows_(std::max(1, static_cast<int>(std::sqrt(double(o_.ambient_divisions)) + 1.5))) {
         std::copy(packed.centre, packed.centre + 3, centre_);
@@ -258,7 +260,8 @@ class VulkanContribEngine : public ContribEngine {
     ContribOptions o_;
     bool float_accumulators_;
     int tasks_per_dispatch_;  // EngineOptions::gpu_tasks_per_dispatch
-    int columns_, nsources_, ndirect_;
+    int columns_;
+    std::vector<uint8_t> parameters_;  // the core's (kBindingParameters)
     double centre_[3], extent_;
     int max_rows_;  // divisions along one side of the first hemisphere (slices are rows)
     std::mutex mutex_;
@@ -271,25 +274,8 @@ core::GpuTasks VulkanContribEngine::Tasks(size_t n, int slices, uint64_t first_i
     t.slices = slices;
     t.first_ray = static_cast<int>(first_index);
     t.replica = replica;
-    t.ab = o_.ambient_bounces;
-    t.ad = o_.ambient_divisions;
-    t.lr = o_.limit_reflections;
-    t.irradiance = o_.irradiance;
-    t.first_hit = o_.first_hit_irradiance;
-    t.contributions = o_.contributions;
-    t.nsources = nsources_;
-    t.ndirect = ndirect_;
     t.ncols = columns_;
-    t.seed = static_cast<uint32_t>(o_.seed ^ (o_.seed >> 32));
-    t.lw = static_cast<float>(o_.limit_weight);
-    t.dj = static_cast<float>(o_.source_jitter);
     t.tmin = static_cast<float>(std::max(1e-6 * extent_, 1e-9));
-    t.st = static_cast<float>(o_.specular_threshold);
-    t.ss = static_cast<float>(o_.specular_jitter);
-    t.ds = static_cast<float>(o_.source_size_ratio);
-    t.centre_x = centre_[0];
-    t.centre_y = centre_[1];
-    t.centre_z = centre_[2];
     return t;
 }
 
@@ -338,7 +324,7 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
     // records where they start at nought (every caller's).
     const bool sum_slices = slices > 1 && !dev.sum_spirv.empty() && per_run >= size_t(slices);
     if (sum_slices) per_run -= per_run % slices;
-    std::vector<uint8_t> ray_bytes = Bytes(in), accum;
+    std::vector<uint8_t> ray_bytes = Bytes(in), accum, parameter_bytes = parameters_;
     for (size_t offset = 0; offset < total; offset += per_run) {
         const size_t count = std::min(per_run, total - offset);
         core::GpuTasks tasks = Tasks(n, slices, first_index, replica);
@@ -361,6 +347,7 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         named.Set(core::kBindingAccum, sum_slices ? G::ZeroedScratch(count * record * AccumBytes())
                                                   : G::Accumulator(&accum));
         named.Set(core::kBindingTasks, G::In(&task_bytes));
+        named.Set(core::kBindingParameters, G::In(&parameter_bytes));
         named.Set(core::kBindingStats, G::InOut(&stats));
         named.Set(core::kBindingShapes, G::OnDevice(dev.shapes));
         std::vector<uint8_t> none;

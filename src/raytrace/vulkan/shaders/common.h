@@ -4,6 +4,7 @@
 #define DAYFLUX_SHADERS_COMMON_H
 
 #include "raytrace/core/language.h"
+#include "raytrace/core/parameters.h"
 
 #ifdef __cplusplus
 namespace dayflux::core {
@@ -35,34 +36,24 @@ CONST int kBindingReceivers = 17;     // vec4: what -asub samples directly (tabl
 // The slices' records summed on the device (contrib_shader.h's CompileSliceSumShader): double, the
 // dispatch's rays x columns x 3; kBindingAccum is then scratch that this stage reads.
 CONST int kBindingSliceSums = 18;
-CONST int kBindingCount = 19;
+CONST int kBindingParameters = 19;  // GpuParameters (core/parameters.h): the run's, `params`
+CONST int kBindingCount = 20;
 
 // One dispatch: tasks [task_offset, task_offset + count) of rays x slices; a slice traces a
 // share of the rows of the first hemisphere (the rest of a path follows the cell that started
-// it). Results: count x columns x 3 accumulators. The run's options are here too, not compiled
-// in, so one compiled shader serves every run with the same bins (compiling is slow on
-// lavapipe).
+// it). Results: count x columns x 3 accumulators. What the core reads of the run is in the
+// parameters (kBindingParameters); these are the driver's own.
 struct GpuTasks {
-    int rays;           // input rays in the batch (the rays buffer)
-    int slices;         // tasks per ray
-    int first_ray;      // index of the batch's first ray in the whole input (random numbers)
-    int replica;        // -se replica (random numbers)
-    int task_offset;    // first task of this dispatch
-    int count;          // tasks in this dispatch
-    int ab, ad;         // -ab, -ad
-    int lr;             // -lr
-    int irradiance;     // -I
-    int first_hit;      // -i
-    int contributions;  // -V
-    int nsources;
-    uint seed;
-    int ndirect;             // sources sampled with shadow rays (not glow)
-    int ncols;               // columns of a record (all tracked modifiers' bins)
-    float lw, dj, tmin, st;  // -lw, -dj, the ray start offset, -st
-    float ss, ds;            // -ss, -ds
-    int maxn;                // first-hemisphere cells a side the rows hold: at least any -ad gives
-    int pad4;
-    double centre_x, centre_y, centre_z, pad5;  // added back to positions for the bins
+    int rays;         // input rays in the batch (the rays buffer)
+    int slices;       // tasks per ray
+    int first_ray;    // index of the batch's first ray in the whole input (random numbers)
+    int replica;      // -se replica (random numbers)
+    int task_offset;  // first task of this dispatch
+    int count;        // tasks in this dispatch
+    int ncols;        // columns of a record (all tracked modifiers' bins)
+    int maxn;         // first-hemisphere cells a side the rows hold: at least any -ad gives
+    float tmin;       // the ray start offset
+    int pad0, pad1, pad2;
 };
 
 #ifdef __cplusplus

@@ -3,11 +3,11 @@
 // hit (Intersect), where contributions go (AddToRecord, one record per task), and main(), which
 // maps a task to an input ray and a slice of its first hemisphere.
 //
-// The host prepends: #version and extensions, the run's macros (AB AD LW LR IRRADIANCE
-// FIRST_HIT CONTRIBUTIONS NSOURCES NDIRECT DJ SEED ST SS DS CENTRE_X CENTRE_Y CENTRE_Z TMIN NCOLS,
-// read from the tasks buffer; DEEP_N DEEP_LEVELS STACK_SIZE MIX_STACK LOCAL_SIZE ACCUM_T
-// and the DAYFLUX_* features the scene needs, compiled in), shaders/common.h (the bindings), the
-// generated calcomp functions, EvalBin(j), which runs bin function j, and PatternRGB(k).
+// The host prepends: #version and extensions, its sizes (DEEP_N DEEP_LEVELS STACK_SIZE
+// MIX_STACK LOCAL_SIZE), ACCUM_T and the DAYFLUX_* features the scene needs, compiled in;
+// shaders/common.h (the bindings, GpuTasks, and the core's Parameters); the generated calcomp
+// functions, EvalBin(j), which runs bin function j, and PatternRGB(k). The run's options are
+// read from the parameters buffer, so that runs differing only in them share one shader.
 
 #include "raytrace/core/tables.h"
 #include "raytrace/core/random.h"
@@ -29,6 +29,7 @@ layout(std430, set = 0, binding = kBindingSurfaces) readonly buffer Surfaces { P
 layout(std430, set = 0, binding = kBindingSources) readonly buffer Sources { PackedSource sources[]; };
 layout(std430, set = 0, binding = kBindingAccum) buffer Accum { ACCUM_T accum[]; };
 layout(std430, set = 0, binding = kBindingTasks) readonly buffer Tasks { GpuTasks tasks; };
+layout(std430, set = 0, binding = kBindingParameters) readonly buffer RunParameters { Parameters params; };
 layout(std430, set = 0, binding = kBindingStats) buffer Stats { uint stats_dropped, stats_reports; };
 layout(std430, set = 0, binding = kBindingShapes) readonly buffer Shapes { PackedShape shapes[]; };
 layout(std430, set = 0, binding = kBindingRelays) readonly buffer Relays { vec4 relays[]; };
@@ -87,12 +88,12 @@ float ShapeDistance(int s, vec3 org, vec3 dir, float tmin, float tmax) {
 
 // Rays leaving a surface (from >= 0) meet every other surface from the start and their own
 // object not at all where they start (a polygon never: it is planar; a mesh or analytic surface
-// not before TMIN), as the CPU backend's filter has it; other rays start TMIN off.
-float StartOf(int from) { return from >= 0 ? 1e-3 * TMIN : TMIN; }
+// not before tasks.tmin), as the CPU backend's filter has it; other rays start tasks.tmin off.
+float StartOf(int from) { return from >= 0 ? 1e-3 * tasks.tmin : tasks.tmin; }
 bool OwnTriangle(int p, int from, float t) {
-    return triangles[p].object == from && (triangles[p].mesh == 0 || t < TMIN);
+    return triangles[p].object == from && (triangles[p].mesh == 0 || t < tasks.tmin);
 }
-float ShapeStart(int s, int from) { return shapes[s].object == from ? TMIN : StartOf(from); }
+float ShapeStart(int s, int from) { return shapes[s].object == from ? tasks.tmin : StartOf(from); }
 
 #ifdef DAYFLUX_BVH
 // Moller-Trumbore, with a hair of slack at the edges so that rays do not slip between
@@ -156,7 +157,7 @@ bool Closest(vec3 org, vec3 dir, int from, out float t, out int prim, out int sh
 #else
 // The nearest hit: a triangle (shape < 0) or an analytic surface.
 // Triangles are opaque (no candidates to filter), so a ray that meets its own object where it
-// starts is cast again from beyond that point, from further off each time (at last TMIN).
+// starts is cast again from beyond that point, from further off each time (at last tasks.tmin).
 bool Closest(vec3 org, vec3 dir, int from, out float t, out int prim, out int shape) {
     float tmin = StartOf(from);
     for (int attempt = 0; attempt < 4; ++attempt) {
@@ -180,7 +181,7 @@ bool Closest(vec3 org, vec3 dir, int from, out float t, out int prim, out int sh
         prim = rayQueryGetIntersectionPrimitiveIndexEXT(q, true);
         shape = type == gl_RayQueryCommittedIntersectionGeneratedEXT ? prim : -1;
         if (shape >= 0 || attempt == 3 || !OwnTriangle(prim, from, t)) return true;
-        tmin = attempt == 2 ? max(2. * t, TMIN) : max(2. * t, 10. * tmin);
+        tmin = attempt == 2 ? max(2. * t, tasks.tmin) : max(2. * t, 10. * tmin);
     }
     return false;
 }
@@ -224,7 +225,7 @@ void main() {
     if (local_task < uint(tasks.count)) {
         uint task = uint(tasks.task_offset) + local_task;
         uint ray_in = task / uint(tasks.slices), slice = task % uint(tasks.slices);
-        acc_base = local_task * uint(NCOLS * 3);
+        acc_base = local_task * uint(tasks.ncols * 3);
 #ifdef DAYFLUX_SCRATCH
         stack_base = local_task * uint(STACK_SIZE + 1);
         rows_base = local_task * uint(2 * MAXN + DEEP_LEVELS * 2 * DEEP_N);
