@@ -85,8 +85,7 @@ class Expression {
     double Evaluate(const Context &cx, const Channels *channels = nullptr) const;
     const Node *Root() const { return root_.get(); }
     // Whether it runs specialised (specialise.h) rather than interpreted, while its context
-    // keeps the definitions it was compiled with (CompileInterpreted() keeps the interpreter,
-    // for comparisons).
+    // keeps the definitions it was compiled with (CompileInterpreted() keeps the interpreter).
     bool Specialised() const { return fast_ != nullptr; }
     // Whether it is one of lib/'s bin functions computed directly (direct_bins.h).
     bool Direct() const { return direct_ != nullptr; }
@@ -127,7 +126,8 @@ class Context {
     void Set(const std::string &name, double value, bool constant = false);
     // Parses an expression (for example a -b bin expression).
     Expression Compile(std::string_view text, const FileLoc &loc) const;
-    // The same, always interpreted (to compare the specialised evaluation with).
+    // The same, always interpreted: the parse tree alone (what the GPU's shader maker turns
+    // into GLSL, and what the tests compare the specialised evaluation with).
     Expression CompileInterpreted(std::string_view text, const FileLoc &loc) const;
 
     // The names e uses, directly or through the definitions it reaches, that are neither

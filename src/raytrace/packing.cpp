@@ -174,7 +174,7 @@ class Packer {
         s.clip = static_cast<uint32_t>(clip);
         s.counter = table_.InsideCounterOfClipMask(clip);
         switch (m.kind) {
-            case Material::kAntimatter:
+            case Material::kAntimatter:  // (read by tables.h's Antimatter*)
                 s.fore = static_cast<int>(m.clip_mask);
                 s.pattern = static_cast<int>(m.inside_counters);
                 if (m.alternate) {

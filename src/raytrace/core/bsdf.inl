@@ -18,39 +18,43 @@ real3 BsdfUp(int b, IN(Ray) r, real3 point, real3 front_normal, real t) {
     return real3(PatternRGB(p));
 }
 
-// m_bsdf()'s frame where a ray meets a BSDF surface: z the front normal, x = up x z, the view
-// direction (toward where the ray came from) in it, and the BSDF's resolution about it (sqrt of
-// the smallest and largest projected solid angles).
-real3 kx, ky, kz, kview;
-real2 ksr;
-real3 ToLocal(real3 w) { return normalize(real3(dot(kx, w), dot(ky, w), dot(kz, w))); }
-real3 ToWorld(real3 l) { return normalize(kx * l.x + ky * l.y + kz * l.z); }
+// m_bsdf()'s frame where a ray meets a BSDF surface: z the front normal, x = up x z, and the view
+// direction (toward where the ray came from) in it.
+struct BsdfFrame {
+    real3 x, y, z;
+    real3 view;
+};
+real3 ToLocal(IN(BsdfFrame) f, real3 w) {
+    return normalize(real3(dot(f.x, w), dot(f.y, w), dot(f.z, w)));
+}
+real3 ToWorld(IN(BsdfFrame) f, real3 l) { return normalize(f.x * l.x + f.y * l.y + f.z * l.z); }
 // False when the up vector is parallel to the normal.
-bool KlemsFrame(real3 up, real3 front_normal, real3 raydir) {
-    kz = normalize(front_normal);
-    real3 x = cross(up, kz);
+bool MakeBsdfFrame(real3 up, real3 front_normal, real3 raydir, OUT(BsdfFrame) f) {
+    f.z = normalize(front_normal);
+    real3 x = cross(up, f.z);
     if (dot(x, x) == 0.) return false;
-    kx = normalize(x);
-    ky = cross(kz, kx);
-    kview = ToLocal(-raydir);
+    f.x = normalize(x);
+    f.y = cross(f.z, f.x);
+    f.view = ToLocal(f, -raydir);
     return true;
 }
-// bsdf_jitter(): the view direction moved within +-size/2 (times -ss below 1).
-real3 KJitter(real size, real u, real v) {
+// bsdf_jitter(): view direction `view` moved within +-size/2 (times -ss below 1).
+real3 KJitter(real3 view, real size, real u, real v) {
     if (params.ss < 1.) size *= params.ss;
-    if (size <= 1e-6) return kview;
-    return normalize(kview + real3(size * (.5 - u), size * (.5 - v), 0));
+    if (size <= 1e-6) return view;
+    return normalize(view + real3(size * (.5 - u), size * (.5 - v), 0));
 }
 
 #ifdef DAYFLUX_APERTURE
 // compute_through() for aBSDF: where the transmission for a ray met on side `front` peaks about
 // its straight-through direction, the peak's value times its projected solid angle (through) and
 // the mean BTDF around it (surround), both grey and before the pattern; 0 where there is no such
-// peak (or the pattern is black there). Of 29 directions about the straight-through one, a
-// smallest patch apart, those of distinct values, brightest first, join the peak while their
-// patches are that small and their value is above an eighth of the peak's mean; the rest are
-// the surround.
-void ComputeThrough(int b, bool front, bool pattern_lit, OUT(real) through, OUT(real) surround) {
+// peak (or the pattern is black there). kview: the view direction in the BSDF's frame. Of 29
+// directions about the straight-through one, a smallest patch apart, those of distinct values,
+// brightest first, join the peak while their patches are that small and their value is above an
+// eighth of the peak's mean; the rest are the surround.
+void ComputeThrough(int b, real3 kview, bool front, bool pattern_lit, OUT(real) through,
+                    OUT(real) surround) {
     through = 0.;
     surround = 0.;
     int q = PartT(b, front);
@@ -118,10 +122,10 @@ void ComputeThrough(int b, bool front, bool pattern_lit, OUT(real) through, OUT(
 // omega), averaged over 4 x ss x weight jittered views; -1 when none is to be added. Through an
 // aBSDF's peak (through: it has one; `front` the side its ray met), near enough the
 // straight-through direction, the surround given instead (and at_surround set).
-real DirectSpecular(int b, real3 source_dir, real weight, real omega, bool through, bool front,
-                    real surround, OUT(bool) at_surround) {
+real DirectSpecular(int b, IN(BsdfFrame) f, real3 source_dir, real weight, real omega, bool through,
+                    bool front, real surround, OUT(bool) at_surround) {
     at_surround = false;
-    real3 vsrc = ToLocal(source_dir);
+    real3 vsrc = ToLocal(f, source_dir), kview = f.view;
     bool sf = vsrc.z > 0., vf = kview.z > 0.;
     real lamb;
     if (sf == vf) {
@@ -151,7 +155,7 @@ real DirectSpecular(int b, real3 source_dir, real weight, real omega, bool throu
         real3 vjit = kview;
         if (i >= 0) {
             real u = Rand(), v = Rand();
-            vjit = KJitter(tsr, u, v);
+            vjit = KJitter(kview, tsr, u, v);
         }
         real size = SizeMin(b, vjit, vsrc);
         if (i < 0) {

@@ -202,7 +202,7 @@ void PushHemisphere(IN(Ray) ray, IN(real3) colour, IN(real3) point, IN(real3) no
 #ifdef DAYFLUX_ASUB
     if (r.adepth == 0) STACK(at).end *= params.asub * params.asub;  // steps: the cells' sub-samples
 #endif
-    STACK(at).incident = RandomTangent(normal, t0, t1, t2, t3);
+    STACK(at).tangent = RandomTangent(normal, t0, t1, t2, t3);
 #ifdef DAYFLUX_ASUB
     // (above the hemisphere: traced first, they spawn nothing, so the stack stays as deep)
     if (SamplesReceivers(r.adepth)) SampleReceivers(r, colour, point, normal, n * n);
@@ -228,7 +228,7 @@ bool CellDirection(IN(Item) it, int n, int i, int j, real cos_thresh, bool check
                    OUT(real3) dir) {
     if (!Spawn(it.r, kAmbient, it.colour, child)) return false;
     child.adepth = it.r.adepth + 1;
-    real3 ux = it.incident, uy = cross(it.normal, ux);
+    real3 ux = it.tangent, uy = cross(it.normal, ux);
     int d = it.r.adepth, cur = i & 1, prev = (i + 1) & 1;
     real u = Rand(), v = Rand();
     for (int tries = 0;; ++tries) {
@@ -276,7 +276,7 @@ bool ProbeMeetsTarget(IN(Item) it, int i, int j) {
     probe.org = it.point;
     probe.dir =
         DiskToHemisphere(SquareToDisk((real(j) + 0.5) / real(it.n), (real(i) + 0.5) / real(it.n)),
-                         it.incident, cross(it.normal, it.incident), it.normal);
+                         it.tangent, cross(it.normal, it.tangent), it.normal);
     probe.aimed = -1;
     Hit h;
     if (!Intersect(probe, h)) return Escape(probe, h);
@@ -341,8 +341,8 @@ bool SubsampleStep(INOUT(Item) it, int k) {
     rng = Key(cell_key, uint(k), 0x9e3779b9u, hemispheres0);
     int at = PushSlot();  // the sub-sample's ray, spawned in its slot
     real3 dir;
-    if (!CellDirection(it, it.n * params.asub, i * params.asub + s / params.asub, j * params.asub + s % params.asub, 0.0, false,
-                       STACK(at).r, dir)) {
+    if (!CellDirection(it, it.n * params.asub, i * params.asub + s / params.asub,
+                       j * params.asub + s % params.asub, 0.0, false, STACK(at).r, dir)) {
         Unpush(at);
         return false;
     }

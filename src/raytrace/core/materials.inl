@@ -3,8 +3,17 @@
 // m_dielectric(), m_mirror() (with its substitute and the relay of shadow rays toward sources'
 // images), raymixture() (mixfunc), m_bsdf() (Klems data), and rcontrib's -i.
 
-bool hit_front;   // whether the ray being shaded met its surface's front
-bool hit_planar;  // whether that surface is flat to m_normal() (Hit.planar)
+// Where a ray is shaded, as the materials read it (RADIANCE's rop, ron, rod, rot, and its SP_FLAT
+// flag): made once by Shade from what the ray met.
+struct ShadingPoint {
+    real3 point;
+    real3 normal;  // the surface's, turned to face the ray
+    real rod;      // the cosine between normal and the ray's reverse (>= 0)
+    real t;        // the ray's length to the point
+    int object;    // the object met
+    bool front;    // whether the ray met its front (flipped where antimatter shows its inside)
+    bool planar;   // flat to m_normal() (a face or a ring): a source's size widens a rough lobe
+};
 
 // gaussamp(): SPECULAR rays drawn from the Gaussian of roughness^2 alpha2, reflected (their
 // half vectors about the normal, leaving above the surface) or transmitted (the ray's direction
@@ -57,20 +66,21 @@ void PushGaussianSamples(IN(Ray) r, real3 colour, real alpha2, real3 point, real
 // constant / 500 nm); the refracted ray carries the solid angle ratio. Inside, the colour is a
 // transmission per unit length, an extinction that RADIANCE's raycontrib() leaves out of
 // contributions (with a warning, the packer's): only rayorigin()'s weights see it.
-// cos1 = rod > 0, normal faces the ray.
-void ShadeDielectric(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real cos1, real t) {
+void ShadeDielectric(IN(Ray) r, IN(PackedSurface) m, IN(ShadingPoint) sp) {
+    real3 point = sp.point, normal = sp.normal;
+    real cos1 = sp.rod;
     PackedSurface unit = m;  // the pattern alone
     unit.color = vec4(1, 1, 1, m.color.w);
-    real3 pcol = Colour(unit, r, point, normal, t), ext;
+    real3 pcol = Colour(unit, r, point, normal, sp.t), ext;
     for (int k = 0; k < 3; ++k) {  // RADIANCE's mylog()
         real x = real(m.color[k]) * pcol[k];
         ext[k] = x < 1e-38 ? 100.0 : x >= 1.0 ? 0.0 : -log(x);
     }
     real nratio = m.color.w;
     Ray inc = r;  // the incident ray: inside, it travelled in the medium
-    inc.t = t;
+    inc.t = sp.t;
     real3 ctrans = real3(0);
-    if (!hit_front) {
+    if (!sp.front) {
         inc.cext = ext;
     } else {
         nratio = 1.0 / nratio;
@@ -103,10 +113,12 @@ void ShadeDielectric(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, 
 // A thickness makes the surface a proxy: rays other than scattered ones pass, and transmitted
 // rays leave from that far behind it. An aBSDF's peak about the straight-through direction
 // (ComputeThrough) passes shadow rays, and the rays that are neither specular nor ambient, as
-// one unscattered ray, whose direction its samples then leave out. normal faces the ray.
-void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t) {
+// one unscattered ray, whose direction its samples then leave out.
+void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, IN(ShadingPoint) sp) {
+    real3 point = sp.point, normal = sp.normal;
+    real t = sp.t;
     int b = m.fore;
-    bool front = hit_front;
+    bool front = sp.front;
     real3 front_normal = front ? normal : -normal;  // the BSDF's frame: the surface's own side
     real thick = BsdfThickness(b, r, point, front_normal, t);
     if (abs(thick) <= kTiny) thick = 0.;
@@ -127,13 +139,14 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
                                                            klems[b + kKlemsTransmission + 2])) *
                   pcol;
     real3 up = BsdfUp(b, r, point, front_normal, t);
-    if (!KlemsFrame(up, front_normal, r.dir)) {
+    BsdfFrame frame;
+    if (!MakeBsdfFrame(up, front_normal, r.dir, frame)) {
         reports |= kReportBsdfFrame;
         return;
     }
     real through = 0., surround = 0.;  // (nought in scenes without aBSDF)
 #ifdef DAYFLUX_APERTURE
-    if (aperture) ComputeThrough(b, front, Bright(pcol) > kTiny, through, surround);
+    if (aperture) ComputeThrough(b, frame.view, front, Bright(pcol) > kTiny, through, surround);
 #endif
     real3 thru = through * pcol;  // the peak's coefficient
     bool has_thru = Bright(thru) > kTiny;
@@ -141,7 +154,10 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
         if (through > 0.) PushChild(r, kTrans, thru, point, r.dir);
         return;
     }
-    ksr = sqrt(SizeMinMax(b, kview));
+    real3 kview = frame.view;
+    // the BSDF's resolution about the view: sqrt of the smallest and largest projected solid
+    // angles
+    real2 ksr = sqrt(SizeMinMax(b, kview));
     real3 behind = point - thick * front_normal;
     // sample_sdf() for reflection, then transmission: a specular ray from the part serving the
     // ray's side, or (below -st) the total left to the ambient hemisphere on that side.
@@ -157,7 +173,7 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
             real hemi = 0.;
             if (klems[q + kPartMaxHemi] - viewed > kTiny) {
                 real u = Rand(), v = Rand();
-                hemi = max(0., SpecularHemi(b, KJitter(ksr.y, u, v), xmit == 1) - viewed);
+                hemi = max(0., SpecularHemi(b, KJitter(kview, ksr.y, u, v), xmit == 1) - viewed);
             }
             if (hemi <= params.st + kTiny) {  // (no pattern on reflection)
                 if (hemi > kTiny) unsampled = hemi * (xmit == 1 ? pcol : real3(1));
@@ -172,7 +188,7 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
                         xrand = (real(n) + xrand) / real(target);
                     }
                     real u = Rand(), v = Rand();
-                    real3 vsmp = KJitter(ksr.x, u, v), outv;
+                    real3 vsmp = KJitter(kview, ksr.x, u, v), outv;
                     real pu = Rand(), pv = Rand();
                     real value = KlemsSample(q, vsmp, xrand, pu, pv, outv);
                     if (value <= kTiny) break;
@@ -192,7 +208,7 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
                         continue;
                     }
                     c.org = xmit == 1 ? behind : point;
-                    c.dir = ToWorld(outv);
+                    c.dir = ToWorld(frame, outv);
                     PushTrace(c);
                 }
             }
@@ -205,29 +221,32 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
     }
     if (params.ndirect == 0) return;
     // direct(): dir_bsdf(), or dir_brdf() and dir_btdf() apart for a proxy.
+    BsdfDirect direct;
+    direct.bsdf = b;
+    direct.up = up;
+    direct.rdiff = rdiff;
+    direct.tdiff = tdiff;
+    direct.pattern = pcol;
+    direct.surround = surround;
     Item it;
     it.r = r;
     it.kind = kItemDirectBsdf;
     it.normal = normal;
-    it.colour = rdiff;
-    it.spec = tdiff;
-    it.incident = pcol;
-    it.rdiff = up.x;
-    it.tdiff = up.y;
-    it.trans = up.z;
-    it.n = b;
-    it.alpha2 = surround;
     it.next = 0;
     it.end = params.nsources;
     it.part = 0;
     it.turn = Pcg(rng ^ 0x68e31da4u);
     bool reflect_only = Bright(tdiff) <= kTiny && !HasTransmission(b);
+    int side = front ? kBsdfFront : 0;
     it.point = point;
-    it.fresnel = (front ? 1 : 0) | 2 | (reflect_only || thick != 0. ? 0 : 4) | (has_thru ? 8 : 0);
+    direct.sides = side | kBsdfReflect | (reflect_only || thick != 0. ? 0 : kBsdfTransmit) |
+                   (has_thru ? kBsdfThrough : 0);
+    PutBsdfDirect(it, direct);
     PushItem(it);
     if (thick != 0. && !reflect_only) {
         it.point = behind;
-        it.fresnel = (front ? 1 : 0) | 4;
+        direct.sides = side | kBsdfTransmit;
+        PutBsdfDirect(it, direct);
         PushItem(it);
     }
 }
@@ -236,45 +255,36 @@ void ShadeBsdf(IN(Ray) r, IN(PackedSurface) m, real3 point, real3 normal, real t
 // m_mirror() toward a source's image: a shadow ray aimed at the image that meets its mirror
 // goes on toward the source imaged, whatever the limits (rayorigin()'s verdict is ignored).
 void RelayShadowRay(IN(Ray) r, real3 colour, real3 point, real3 reflected) {
-    Ray c = r;
-    c.depth = r.depth + 1;
-    c.rlvl = r.rlvl + 1;
-    c.crtype = r.crtype | kReflected;
+    Ray c;
+    ChildRay(r, kReflected, colour, c);
     c.aimed = sources[r.aimed].next;
-    c.coef = r.coef * colour;
     c.org = point;
     c.dir = reflected;
-    c.next_clip = c.clip;
-#ifdef DAYFLUX_DIELECTRIC
-    c.t = 0.;
-#endif
-#ifdef DAYFLUX_INSIDE
-    c.counter = -1;
-#endif
     PushTrace(c);
 }
 
 // plastic, metal, trans, glass, mirror, dielectric, BSDF: one material's own scattering.
-void ShadeBasic(IN(Ray) r, IN(PackedSurface) m, IN(real3) point, IN(real3) normal, real rod,
-                real t) {
+void ShadeBasic(IN(Ray) r, IN(PackedSurface) m, IN(ShadingPoint) sp) {
     if (m.kind == kMatBlack || m.kind == kMatGlow || m.kind == kMatLight || m.kind == kMatIllum ||
         m.kind == kMatAntimatter)  // (a mixfunc's side: not RADIANCE's use of it)
         return;
 #ifdef DAYFLUX_BSDF
     if (m.kind == kMatBsdf) {
-        ShadeBsdf(r, m, point, normal, t);
+        ShadeBsdf(r, m, sp);
         return;
     }
 #endif
 #ifdef DAYFLUX_DIELECTRIC
     if (m.kind == kMatDielectric) {
-        ShadeDielectric(r, m, point, normal, rod, t);
+        ShadeDielectric(r, m, sp);
         return;
     }
 #endif
-    real3 c = Colour(m, r, point, normal, t);
+    real3 point = sp.point, normal = sp.normal;
+    real rod = sp.rod;
+    real3 c = Colour(m, r, point, normal, sp.t);
     if (m.kind == kMatMirror) {  // its back is black
-        if (!hit_front) return;
+        if (!sp.front) return;
         real3 reflected = normalize(r.dir + 2. * rod * normal);
 #ifdef DAYFLUX_MIRROR_IMAGES
         // Shade() set r.from to the object met.
@@ -352,7 +362,7 @@ void ShadeBasic(IN(Ray) r, IN(PackedSurface) m, IN(real3) point, IN(real3) norma
     if (pure && rdiff <= kTiny && tdiff <= kTiny) return;
     PushDirect(r, c, rdiff, tdiff, trans,
                (pure && spec >= kFresnelThreshold ? kDirectFresnel : 0) |
-                   (rough_trans ? kDirectRoughTransmission : 0) | (hit_planar ? kDirectFlat : 0),
+                   (rough_trans ? kDirectRoughTransmission : 0) | (sp.planar ? kDirectFlat : 0),
                point, normal, sc, pure ? 0.0 : real(m.alpha2));
     if (tdiff > kTiny)  // the hemisphere behind
         PushHemisphere(r, c * (rough_trans_below_threshold ? trans : tdiff), point, -normal);
@@ -364,21 +374,22 @@ void ShadeBasic(IN(Ray) r, IN(PackedSurface) m, IN(real3) point, IN(real3) norma
 // leaving removes them. Where it names a material for its inside and the ray went into what is
 // cut, the ray meets the cut's side: returns that material's surface, to be shaded as seen
 // from the other side of this one (flipsurface()); else passes the ray on and returns -1.
-int PassAntimatter(INOUT(Ray) r, IN(PackedSurface) m, real3 point) {
-    uint bits = uint(m.fore);
-    r.next_clip = hit_front ? r.clip | bits : r.clip & ~bits;
+int PassAntimatter(INOUT(Ray) r, IN(PackedSurface) m, INOUT(ShadingPoint) sp) {
+    uint bits = AntimatterClips(m);
+    r.next_clip = sp.front ? r.clip | bits : r.clip & ~bits;
 #ifdef DAYFLUX_INSIDE
-    if (m.back >= 0) {
+    if (AntimatterInside(m) >= 0) {
         int inside = 0;
+        uint counters = AntimatterCounters(m);
         for (int c = 0; c < 16; ++c)
-            if (((m.pattern >> c) & 1) != 0) inside += InsideCount(r.inside, c);
+            if (((counters >> uint(c)) & 1u) != 0u) inside += InsideCount(r.inside, c);
         if (inside > 0) {
-            hit_front = !hit_front;
-            return m.back;
+            sp.front = !sp.front;
+            return AntimatterInside(m);
         }
     }
 #endif
-    PushChild(r, kTrans, real3(1), point, r.dir);
+    PushChild(r, kTrans, real3(1), sp.point, r.dir);
     return -1;
 }
 
@@ -390,11 +401,10 @@ int PassAntimatter(INOUT(Ray) r, IN(PackedSurface) m, real3 point) {
 // recursion, so the sides of mixfuncs of mixfuncs wait on a small stack (MIX_STACK: the host
 // refuses trees deeper than it holds). One call of ShadeBasic, so that the GPU's compiler
 // inlines it once.
-void ShadeMaterial(INOUT(Ray) r, int object, INOUT(PackedSurface) m, IN(real3) point,
-                   IN(real3) normal, real rod, real t) {
+void ShadeMaterial(INOUT(Ray) r, INOUT(PackedSurface) m, INOUT(ShadingPoint) sp) {
     bool substituted =
-        !(r.aimed >= 0 && sources[r.aimed].relay >= 0 && sources[r.aimed].object == object) &&
-        !((r.crtype & (kAmbient | kSpecular)) != 0 && hit_front);
+        !(r.aimed >= 0 && sources[r.aimed].relay >= 0 && sources[r.aimed].object == sp.object) &&
+        !((r.crtype & (kAmbient | kSpecular)) != 0 && sp.front);
     int waiting[MIX_STACK];
     real waiting_share[MIX_STACK];
     int nwaiting = 0;
@@ -410,11 +420,11 @@ void ShadeMaterial(INOUT(Ray) r, int object, INOUT(PackedSurface) m, IN(real3) p
         if (m.kind == kMatMirror && (int(m.params.w) & kSurfaceMirrorAlternate) != 0 &&
             substituted) {
             if (m.fore < 0) {
-                PushChild(r, kTrans, real3(1), point, r.dir);
+                PushChild(r, kTrans, real3(1), sp.point, r.dir);
             } else {
                 m = surfaces[m.fore];
                 if (m.kind != kMatAntimatter) continue;  // shaded as the mirror would have been
-                int inside = PassAntimatter(r, m, point);
+                int inside = PassAntimatter(r, m, sp);
                 if (inside >= 0) {
                     next_clip = r.next_clip;
                     m = surfaces[inside];
@@ -422,7 +432,7 @@ void ShadeMaterial(INOUT(Ray) r, int object, INOUT(PackedSurface) m, IN(real3) p
                 }
             }
         } else if (m.kind == kMatMix) {
-            SetRayVariables(r, point, normal, t);
+            SetRayVariables(r, sp.point, sp.normal, sp.t);
             real c = clamp(real(PatternRGB(m.pattern).x), 0.0, 1.0);
             for (int side = 1; side >= 0; --side) {  // the foreground is shaded first
                 real fraction = side == 0 ? c : 1. - c;
@@ -431,7 +441,7 @@ void ShadeMaterial(INOUT(Ray) r, int object, INOUT(PackedSurface) m, IN(real3) p
                 if (s < 0) {
                     r.weight = weight * share * fraction;
                     r.coef = coef * share * fraction;
-                    PushChild(r, kTrans, real3(1), point, r.dir);
+                    PushChild(r, kTrans, real3(1), sp.point, r.dir);
                     continue;
                 }
                 waiting[nwaiting] = s;
@@ -439,7 +449,7 @@ void ShadeMaterial(INOUT(Ray) r, int object, INOUT(PackedSurface) m, IN(real3) p
                 ++nwaiting;
             }
         } else {
-            ShadeBasic(r, m, point, normal, rod, t);
+            ShadeBasic(r, m, sp);
         }
         if (nwaiting == 0) return;
         --nwaiting;
@@ -448,20 +458,31 @@ void ShadeMaterial(INOUT(Ray) r, int object, INOUT(PackedSurface) m, IN(real3) p
     }
 }
 
-// A ray reaches a surface (tracked modifier k, material m) or, escaping, a distant source
-// (source >= 0): its contribution if k is tracked, then m_light()'s rules, antimatter, -i, and
-// the material. normal faces the ray afterwards.
-void Shade(INOUT(Ray) r, int object, int k, int source, INOUT(PackedSurface) m, IN(real3) point,
-           IN(real3) geo_normal, real t) {
-    r.from = object;  // the rays it spawns leave this object
-    real rod = -dot(r.dir, geo_normal);
-    hit_front = rod > 0.;
-    real3 normal = rod < 0. ? -geo_normal : geo_normal;
-    rod = abs(rod);
+// The shading point of a ray that met h: a surface, or a distant source (never planar).
+ShadingPoint ShadingPointOf(IN(Ray) r, IN(Hit) h) {
+    ShadingPoint sp;
+    real rod = -dot(r.dir, h.normal);
+    sp.point = h.point;
+    sp.normal = rod < 0. ? -h.normal : h.normal;
+    sp.rod = abs(rod);
+    sp.t = h.t;
+    sp.object = h.object;
+    sp.front = rod > 0.;
+    sp.planar = h.planar;
+    return sp;
+}
+
+// A ray reaches what h holds: a surface (material h.m, counting for tracked modifier h.tracked)
+// or, escaping, a distant source (h.source >= 0): its contribution where that is tracked, then
+// m_light()'s rules, antimatter, -i, and the material, at its shading point (ShadingPointOf).
+void Shade(INOUT(Ray) r, INOUT(Hit) h) {
+    ShadingPoint sp = ShadingPointOf(r, h);
+    int k = h.tracked, source = h.source;
+    r.from = sp.object;  // the rays it spawns leave this object
     // A ray aimed at a source counts only there (trace_contrib()).
-    bool aimed_elsewhere = r.aimed >= 0 && object != sources[r.aimed].object;
+    bool aimed_elsewhere = r.aimed >= 0 && sp.object != sources[r.aimed].object;
     if (aimed_elsewhere) k = -1;
-    bool light = m.kind == kMatLight || m.kind == kMatIllum;
+    bool light = h.m.kind == kMatLight || h.m.kind == kMatIllum;
     if (light) {
         // m_light(): an ambient or specular ray reaching a light from the front counts nothing
         // (direct() samples it); so does a shadow ray aimed at another source, unless this is
@@ -469,61 +490,64 @@ void Shade(INOUT(Ray) r, int object, int k, int source, INOUT(PackedSurface) m, 
         // shadow ray toward a sample it would reach from behind (open tube ends). An illum that
         // a ray was not aimed at passes it on to its alternate material.
         bool shadow = (r.crtype & kShadow) != 0;
-        if ((r.crtype & (kAmbient | kSpecular)) != 0 && !shadow && hit_front) return;
+        if ((r.crtype & (kAmbient | kSpecular)) != 0 && !shadow && sp.front) return;
         if (aimed_elsewhere &&
-            (m.kind != kMatIllum || (hit_front && (int(sources[r.aimed].v.w) & kSourceWeak) != 0)))
+            (h.m.kind != kMatIllum || (sp.front && (int(sources[r.aimed].v.w) & kSourceWeak) != 0)))
             return;
-        if (shadow && r.aimed >= 0 && !aimed_elsewhere && !hit_front) return;
-        bool pass = m.kind == kMatIllum && (r.aimed < 0 || aimed_elsewhere);
+        if (shadow && r.aimed >= 0 && !aimed_elsewhere && !sp.front) return;
+        bool pass = h.m.kind == kMatIllum && (r.aimed < 0 || aimed_elsewhere);
         if (k >= 0) {
-            bool lit =
-                !pass && hit_front &&
-                !(m.alpha2 > 0. && real(m.alpha2) < 2. * kPi * (1. + dot(XYZ(m.params), r.dir)));
-            Contribute(k, r, point, normal, t, source,
+            bool lit = !pass && sp.front &&
+                       !(h.m.alpha2 > 0. &&
+                         real(h.m.alpha2) < 2. * kPi * (1. + dot(XYZ(h.m.params), r.dir)));
+            Contribute(k, r, sp.point, sp.normal, sp.t, source,
                        params.contributions == 0 ? real3(1)
-                       : lit              ? Colour(m, r, point, normal, t)
-                                          : real3(0));
+                       : lit                     ? Colour(h.m, r, sp.point, sp.normal, sp.t)
+                                                 : real3(0));
         }
         // A distant source passes a ray on to nothing: it lies at infinity (RADIANCE traces on
         // from there, meeting it again until -lr; a ray from 1e30 is none of Embree's).
         if (!pass || source >= 0) return;
-        if (m.fore < 0) {
-            PushChild(r, kTrans, real3(1), point, r.dir);
+        if (h.m.fore < 0) {
+            PushChild(r, kTrans, real3(1), sp.point, r.dir);
             return;
         }
-        m = surfaces[m.fore];  // rayshade() with the alternate material
+        h.m = surfaces[h.m.fore];  // rayshade() with the alternate material
         light = false;
     } else if (k >= 0) {
 #ifdef DAYFLUX_ASUB
-        if (r.mis > 0. && (int(m.params.w) & kSurfaceSampled) != 0) {
+        if (r.mis > 0. && (int(h.m.params.w) & kSurfaceSampled) != 0) {
             // a hemisphere ray meeting a receiver its surface sampled too: its share
             Ray met = r;
-            met.coef *= HemisphereShare(r, t, rod);
-            Contribute(k, met, point, normal, t, source,
-                       params.contributions != 0 ? Colour(m, r, point, normal, t) : real3(1));
+            met.coef *= HemisphereShare(r, sp.t, sp.rod);
+            Contribute(
+                k, met, sp.point, sp.normal, sp.t, source,
+                params.contributions != 0 ? Colour(h.m, r, sp.point, sp.normal, sp.t) : real3(1));
         } else
 #endif
-            Contribute(k, r, point, normal, t, source,
-                       params.contributions != 0 ? Colour(m, r, point, normal, t) : real3(1));
+            Contribute(
+                k, r, sp.point, sp.normal, sp.t, source,
+                params.contributions != 0 ? Colour(h.m, r, sp.point, sp.normal, sp.t) : real3(1));
     }
-    if (m.kind == kMatAntimatter) {
-        int inside = PassAntimatter(r, m, point);
+    if (h.m.kind == kMatAntimatter) {
+        int inside = PassAntimatter(r, h.m, sp);
         if (inside < 0) return;
-        m = surfaces[inside];
+        h.m = surfaces[inside];
     }
     // -i: primary rays (and rays straight through transparent things before them) find the
     // first opaque surface and measure irradiance there, as off a Lambertian surface of
     // reflectance pi (RADIANCE's raytirrad()); light sources stay what they are.
-    if (params.first_hit != 0 && (r.crtype & ~(kPrimary | kTrans)) == 0 && !light && m.kind != kMatGlow) {
-        if ((int(m.params.w) & kSurfaceTransparent) != 0) {
-            PushChild(r, kTrans, real3(1), point, r.dir);
+    if (params.first_hit != 0 && (r.crtype & ~(kPrimary | kTrans)) == 0 && !light &&
+        h.m.kind != kMatGlow) {
+        if ((int(h.m.params.w) & kSurfaceTransparent) != 0) {
+            PushChild(r, kTrans, real3(1), sp.point, r.dir);
             return;
         }
-        m.kind = kMatDiffuse;
-        m.color = vec4(kPi, kPi, kPi, 0);
-        m.params = vec4(0);
-        m.alpha2 = 0.;
-        m.pattern = -1;
+        h.m.kind = kMatDiffuse;
+        h.m.color = vec4(kPi, kPi, kPi, 0);
+        h.m.params = vec4(0);
+        h.m.alpha2 = 0.;
+        h.m.pattern = -1;
     }
-    ShadeMaterial(r, object, m, point, normal, rod, t);
+    ShadeMaterial(r, h.m, sp);
 }

@@ -55,20 +55,24 @@ CONST int kItemTrace = 0;
 CONST int kItemAmbient = 1;
 CONST int kItemDirect = 2;
 CONST int kItemDirectBsdf = 3;
+// An item: a ray to trace, or a loop that pushes rays, at point about normal (facing r).
+//   kItemAmbient: a hemisphere of n x n cells, next .. end - 1 in RADIANCE's order (i, j from
+//     n - 1 down), its coefficient colour (already / n^2), its (turned) tangent.
+//   kItemDirect: sources next .. end - 1 seen from a diffuse surface of colour, rdiff, tdiff and
+//     trans, its rough specular colour spec and roughness squared alpha2 (0: none), flags
+//     kDirect* (direct.inl).
+//   kItemDirectBsdf: the same loop for a BSDF: its fields hold a BsdfDirect (direct.inl's
+//     PutBsdfDirect and BsdfDirectOf, the only code that reads them as such).
 struct Item {
     Ray r;
     int kind;
-    // kItemAmbient: a hemisphere about normal at point, cells next .. end in RADIANCE's order
-    // (i, j from n - 1 down); kItemDirect: sources next .. end - 1.
-    real3 point, normal, colour;  // colour: the hemisphere's coefficient (already / n^2), or
-                                  // the surface colour for the direct part
+    real3 point, normal, colour;
     real rdiff, tdiff, trans;
-    int n, next, end, fresnel;
-    real3 spec, incident;  // kItemDirect: rough specular colour and the ray's direction;
-                           // kItemAmbient: incident holds the hemisphere's (turned) tangent
-    real alpha2;           // kItemDirect: its roughness squared (0: none)
-    int part;              // kItemDirect*: the part of local source `next` sampled next
-    uint turn;             // kItemDirect*: keys the random turn of local sources' squares
+    int n, next, end, flags;
+    real3 spec, tangent;
+    real alpha2;
+    int part;   // kItemDirect*: the part of local source `next` sampled next
+    uint turn;  // kItemDirect*: keys the random turn of local sources' squares
 };
 
 // Where a ray ends: a surface (the driver's Intersect fills object, surface, point, normal and
@@ -166,7 +170,8 @@ void Contribute(int k, IN(Ray) r, IN(real3) point, IN(real3) normal, real t, int
         return;
     }
     int bin = int(floor(b + 0.5));
-    AddToRecord(entry[kTrackedColumn] + bin, params.contributions != 0 ? r.coef * radiance : r.coef);
+    AddToRecord(entry[kTrackedColumn] + bin,
+                params.contributions != 0 ? r.coef * radiance : r.coef);
 }
 
 #ifdef DAYFLUX_INSIDE
@@ -180,15 +185,52 @@ void InsideAdd(INOUT(uvec4) inside, int counter, int delta) {
 }
 #endif
 
-// rayorigin(): the child's coefficient and weight, Russian roulette. False if it dies.
-bool Spawn(IN(Ray) parent, int type, real3 rc, OUT(Ray) child) {
-    real rw = min(1.0, Max3(rc));
+// The ray an input ray starts: a primary ray from org along dir (rayorigin() without a parent).
+Ray PrimaryRay(real3 org, real3 dir) {
+    Ray r;
+    r.org = org;
+    r.dir = dir;
+    r.coef = real3(1);
+    r.weight = 1.;
+    r.rlvl = 0;
+    r.crtype = kPrimary;
+    r.adepth = 0;
+    r.aimed = -1;
+    r.depth = 0;
+    r.from = -1;
+    r.clip = 0u;
+    r.next_clip = 0u;
+#ifdef DAYFLUX_ASUB
+    r.dscale = 1.0;
+    r.mis = 0.;
+    r.target = 0.;
+    r.target_object = -1;
+#endif
+#ifdef DAYFLUX_DIELECTRIC
+    r.cext = real3(0);
+    r.t = 0.;
+#endif
+#ifdef DAYFLUX_INSIDE
+    r.inside = uvec4(0x80808080u);
+    r.counter = -1;
+    r.counter_front = 0;
+#endif
+    return r;
+}
+
+// Every other ray is made here: rayorigin()'s child of parent, of ray type `type` (joined to its
+// ancestry's), carrying coefficient rc (coef: the product down the tree; weight: times rc's
+// largest part, at most 1, and the extinction over the parent's length in a medium). A
+// reflection resets the source aimed at and keeps the clip set; a ray passed on takes the set
+// the parent left it. The caller sets its origin and direction, and asks Survives() where
+// rayorigin()'s verdict counts (direct() and a mirror's relay of a shadow ray ignore it).
+void ChildRay(IN(Ray) parent, int type, real3 rc, OUT(Ray) child) {
     bool reflected = (type & kReflectionTypes) != 0;
     child = parent;
     child.depth = parent.depth + 1;
     child.rlvl = parent.rlvl + (reflected ? 1 : 0);
     child.crtype = parent.crtype | type;
-    child.weight = parent.weight * rw;
+    child.weight = parent.weight * min(1.0, Max3(rc));
     child.coef = parent.coef * rc;
     child.aimed = reflected ? -1 : parent.aimed;
     child.clip = reflected ? parent.clip : parent.next_clip;
@@ -208,8 +250,13 @@ bool Spawn(IN(Ray) parent, int type, real3 rc, OUT(Ray) child) {
     real re = min(parent.cext.x, min(parent.cext.y, parent.cext.z)) * parent.t;
     if (re > 0.1) child.weight = re > 92.0 ? 0.0 : child.weight * exp(-re);
 #endif
+}
+
+// rayorigin()'s verdict on a child: false where it dies (no weight; beyond -lr; Russian roulette
+// below -lw with -lr <= 0, a survivor's coefficient raised). Shadow rays are never cut short.
+bool Survives(INOUT(Ray) child) {
     if (child.weight <= 0.) return false;
-    if ((child.crtype & kShadow) != 0) return true;  // shadow rays are never cut short
+    if ((child.crtype & kShadow) != 0) return true;
     if (params.lr <= 0) {
         if (params.lr < 0 && child.rlvl > -params.lr) return false;
         if (child.weight >= params.lw) return true;
@@ -219,6 +266,12 @@ bool Spawn(IN(Ray) parent, int type, real3 rc, OUT(Ray) child) {
         return true;
     }
     return child.weight >= params.lw && child.rlvl <= params.lr;
+}
+
+// rayorigin(): a child (ChildRay) where it survives; false if it dies.
+bool Spawn(IN(Ray) parent, int type, real3 rc, OUT(Ray) child) {
+    ChildRay(parent, type, rc, child);
+    return Survives(child);
 }
 
 void PushItem(IN(Item) it) { STACK(PushSlot()) = it; }
@@ -267,6 +320,7 @@ bool Escape(IN(Ray) r, OUT(Hit) h) {
     h.surface = -1;
     h.tracked = s.tracked;
     h.source = chosen;
+    h.planar = false;
     h.m.color = vec4(s.colour.x, s.colour.y, s.colour.z, 0);
     h.m.params = vec4(0);
     h.m.alpha2 = 0.;

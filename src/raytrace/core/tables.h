@@ -81,6 +81,13 @@ struct PackedSurface {
     int counter;     // the penetration counter of that bit (antimatter with an inside), or -1
 };
 
+// An antimatter surface's fields by name (packing.cpp writes them there): the clip bits of the
+// modifiers it cuts (fore), the surface of the material for its inside (back; -1: void), and the
+// penetration counters that tell whether a ray went into what it cuts (pattern's bits).
+inline uint AntimatterClips(PackedSurface m) { return uint(m.fore); }
+inline int AntimatterInside(PackedSurface m) { return m.back; }
+inline uint AntimatterCounters(PackedSurface m) { return uint(m.pattern); }
+
 // Whether a shadow ray meeting the surface, from either side, ends there and brings nothing
 // (Shade pushes no ray for it): black, or plastic, metal and trans without pure specular
 // transmission (rough transmission is sampled only for rays other than shadow rays), clipped

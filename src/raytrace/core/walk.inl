@@ -71,8 +71,7 @@ void ShadeMet(INOUT(Ray) r, bool met, INOUT(Hit) h) {
         PushChild(r, kTrans, real3(1), h.point, r.dir);
         return;
     }
-    hit_planar = met && h.planar;
-    Shade(r, h.object, h.tracked, h.source, h.m, h.point, h.normal, h.t);
+    Shade(r, h);
 }
 
 // The walk: each ray the stack gives traced (the driver's Intersect) and shaded.
@@ -99,34 +98,7 @@ bool TraceAllButCells(real3 org, real3 dir, uint index, uint replica, uint slice
     hemispheres0 = 0u;
     cell_key = Key(params.seed, index, replica, 0x2545f491u);
     rng = Key(cell_key, slice, 17u, 5u);
-    Ray r;
-    r.org = org;
-    r.dir = dir;
-    r.coef = real3(1);
-    r.weight = 1.;
-    r.rlvl = 0;
-    r.crtype = kPrimary;
-    r.adepth = 0;
-    r.aimed = -1;
-    r.depth = 0;
-    r.from = -1;
-    r.clip = 0u;
-    r.next_clip = 0u;
-#ifdef DAYFLUX_ASUB
-    r.dscale = 1.0;
-    r.mis = 0.;
-    r.target = 0.;
-    r.target_object = -1;
-#endif
-#ifdef DAYFLUX_DIELECTRIC
-    r.cext = real3(0);
-    r.t = 0.;
-#endif
-#ifdef DAYFLUX_INSIDE
-    r.inside = uvec4(0x80808080u);
-    r.counter = -1;
-    r.counter_front = 0;
-#endif
+    Ray r = PrimaryRay(org, dir);
     if (params.irradiance == 0) {
         if (slice == 0u) {
             PushTrace(r);
