@@ -96,13 +96,6 @@ void WriteFurnace(const fs::path &file) {
 
 // A distant sun of radiance 1 (modifier 'solar', RADIANCE's 0.533 degrees) at altitude alt
 // (radians), due north.
-std::string SunScene(double alt) {
-    std::ostringstream sun;
-    sun.precision(17);
-    sun << "void light solar 0 0 3 1 1 1\nsolar source sun 0 0 4 0 " << std::cos(alt) << " "
-        << std::sin(alt) << " 0.533\n";
-    return sun.str();
-}
 
 }  // namespace
 
@@ -203,16 +196,11 @@ TEST(RcontribGpu, DoubleAccumulationAtManySamples) {
 // at -ad 4000 over 12 seeds, RADIANCE's about half of that at -ad 20000).
 TEST(RcontribGpu, RoughSpecularAsRadiance) {
     TempDir tmp;
-    const double alt = 40 * M_PI / 180;
-    WriteFile(tmp.path() / "sky.rad", SunScene(alt) +
-                                          "void glow skyglow 0 0 4 .2 .2 .2 0\n"
-                                          "skyglow source sky 0 0 4 0 0 1 180\n");
-    const std::string floor = " polygon floor 0 0 12 -50 -50 0 50 -50 0 50 50 0 -50 50 0\n";
-    WriteFile(tmp.path() / "metal.rad", "void metal f 0 0 5 .6 .5 .4 .8 .2\nf" + floor);
-    WriteFile(tmp.path() / "plastic.rad", "void plastic f 0 0 5 .5 .4 .3 .015 .1\nf" + floor);
+    WriteFile(tmp.path() / "metal.rad", RoughFloor(true));
+    WriteFile(tmp.path() / "plastic.rad", RoughFloor(false));
     const std::string run =
         "echo '0 -1 1 0 0.7 -0.7' | rcontrib-gpu -dj 0 -I+ -ab 2 -ad 4000 -lw 1e-7 -faa -h "
-        "-m solar -m skyglow sky.rad ";
+        "-m solar -m skyglow ";
     std::vector<double> v = RunForValues(run + "metal.rad", tmp.path());
     ASSERT_EQ(v.size(), 6u);
     EXPECT_NEAR(v[0], 4.270985e-05, 5 * 1.12 * 5.2e-8);
@@ -235,13 +223,10 @@ TEST(RcontribGpu, RoughSpecularAsRadiance) {
 // 20 records, RADIANCE's mean's).
 TEST(RcontribGpu, RoughTransmissionAsRadiance) {
     TempDir tmp;
-    WriteFile(tmp.path() / "sky.rad", SunScene(50 * M_PI / 180) +
-                                          "void glow skyglow 0 0 4 .2 .2 .2 0\n"
-                                          "skyglow source sky 0 0 4 0 -.5 .866 40\n");
-    const std::string sheet = "\nfrost polygon sheet 0 0 12 -50 -50 1 50 -50 1 50 50 1 -50 50 1\n";
-    WriteFile(tmp.path() / "a.rad", "void trans frost 0 0 7 .8 .7 .6 .05 .15 .9 .8" + sheet);
-    WriteFile(tmp.path() / "b.rad", "void trans frost 0 0 7 .8 .7 .6 0 .15 .5 .03" + sheet);
-    WriteFile(tmp.path() / "c.rad", "void trans frost 0 0 7 .8 .7 .6 0 .15 .02 1" + sheet);
+    WriteFile(tmp.path() / "sky.rad", SunAndPatch());
+    WriteFile(tmp.path() / "a.rad", FrostedSheet('a'));
+    WriteFile(tmp.path() / "b.rad", FrostedSheet('b'));
+    WriteFile(tmp.path() / "c.rad", FrostedSheet('c'));
     const std::string run =
         "printf '0 0 0 0 0 1\\n0 0 0 0 0.64 0.77\\n' | rcontrib-gpu -dj 0 -I+ -ab 2 -ad 16000 "
         "-lw 1e-7 -faa -h -m solar -m skyglow sky.rad ";
@@ -280,15 +265,11 @@ TEST(RcontribGpu, RoughTransmissionAsRadiance) {
 // over 20-2000 records, RADIANCE's mean's), 1e-6 relative where neither program has any noise.
 TEST(RcontribGpu, ApertureBsdfAsRadiance) {
     TempDir tmp;
-    WriteFile(tmp.path() / "sky.rad", SunScene(50 * M_PI / 180) +
-                                          "void glow skyglow 0 0 4 .2 .2 .2 0\n"
-                                          "skyglow source sky 0 0 4 0 -.5 .866 40\n");
+    WriteFile(tmp.path() / "sky.rad", SunAndPatch());
     for (const char *xml : {"clear.xml", "frads_klems_aniso_high.xml"})
         fs::copy_file(DataDir() / "bsdf" / xml, tmp.path() / xml);
-    const std::string sheet = " polygon sheet 0 0 12 -50 -50 1 50 -50 1 50 50 1 -50 50 1\n";
-    WriteFile(tmp.path() / "clear.rad", "void aBSDF w 5 clear.xml 0 1 0 . 0 0\nw" + sheet);
-    WriteFile(tmp.path() / "fabric.rad",
-              "void aBSDF w 5 frads_klems_aniso_high.xml 0 1 0 . 0 0\nw" + sheet);
+    WriteFile(tmp.path() / "clear.rad", ApertureSheet("clear.xml"));
+    WriteFile(tmp.path() / "fabric.rad", ApertureSheet("frads_klems_aniso_high.xml"));
     const std::string sensors = "0 0 0 0 0 1\n0 0 0 0 0.64 0.77\n",
                       views =
                           "0 0 0 0 0.6427876 0.7660444\n0 0 0 0 -.5 .866\n"
@@ -354,15 +335,8 @@ TEST(RcontribGpu, ApertureBsdfAsRadiance) {
 // second sensor's line starts with a minus sign, which is data, not a resolution line.
 TEST(RcontribGpu, MixfuncAsRadiance) {
     TempDir tmp;
-    WriteFile(tmp.path() / "mix.cal", "side = if(Px, 1, A1);\nscr = .3;\n");
-    WriteFile(tmp.path() / "mix.rad",
-              std::string(kSky) +
-                  "void plastic white 0 0 5 .8 .8 .8 0 0\n"
-                  "void plastic black 0 0 5 0 0 0 0 0\n"
-                  "void mixfunc halves 4 white black side mix.cal 0 1 .5\n"
-                  "void mixfunc screen 4 black void scr mix.cal 0 0\n"
-                  "halves polygon floor 0 0 12 -9 -9 0 9 -9 0 9 9 0 -9 9 0\n"
-                  "screen polygon shade 0 0 12 -1 -1 2 -1 1 2 1 1 2 1 -1 2\n");
+    WriteFile(tmp.path() / "mix.cal", kMixCal);
+    WriteFile(tmp.path() / "mix.rad", MixfuncHalvesAndScreen());
     const std::vector<double> v = RunForValues(
         "printf '0 0 .5 0 0 1\\n-3 3 1 0 0 -1\\n' | rcontrib-gpu -I+ -ab 2 -ad 4000 -lw 1e-6 "
         "-faa -h -m skyglow mix.rad",
@@ -1224,24 +1198,8 @@ TEST(RcontribGpu, SeveralSpecularSamples) {
 // stays out of contributions, as in rcontrib, with its warning.
 TEST(RcontribGpu, DielectricAsRadiance) {
     TempDir tmp;
-    const double sun[3] = {0.3, 0.5, 0.8};
-    std::ostringstream scene;
-    scene.precision(17);
-    scene << kSky << "void light solar 0 0 3 1 1 1\nsolar source sun 0 0 4 " << sun[0] << " "
-          << sun[1] << " " << sun[2] << " 0.533\nvoid dielectric water 0 0 5 .9 .85 .8 1.33 0\n";
-    const double z0 = 1, z1 = 1.3, h = 5;
-    const double box[6][4][3] = {{{-h, -h, z1}, {h, -h, z1}, {h, h, z1}, {-h, h, z1}},
-                                 {{-h, -h, z0}, {-h, h, z0}, {h, h, z0}, {h, -h, z0}},
-                                 {{-h, -h, z0}, {h, -h, z0}, {h, -h, z1}, {-h, -h, z1}},
-                                 {{h, -h, z0}, {h, h, z0}, {h, h, z1}, {h, -h, z1}},
-                                 {{h, h, z0}, {-h, h, z0}, {-h, h, z1}, {h, h, z1}},
-                                 {{-h, h, z0}, {-h, -h, z0}, {-h, -h, z1}, {-h, h, z1}}};
-    for (int f = 0; f < 6; ++f) {
-        scene << "water polygon f" << f << " 0 0 12";
-        for (const auto &v : box[f]) scene << " " << v[0] << " " << v[1] << " " << v[2];
-        scene << "\n";
-    }
-    WriteFile(tmp.path() / "slab.rad", scene.str());
+    const double *sun = kSlabSun;
+    WriteFile(tmp.path() / "slab.rad", DielectricSlab());
     const CommandResult r = RunCommand(
         "echo '0 0 0 0 0 1' | rcontrib-gpu -dj 0 -I+ -ab 0 -faa -h -m solar slab.rad", tmp.path());
     ASSERT_EQ(r.status, 0) << r.err;
@@ -1495,22 +1453,7 @@ void ExpectAsRadiance(double ours, double mean, double se, double sd, const std:
 // combined standard error (one of our runs: its standard deviation over 8 seeds).
 TEST(RcontribGpu, LocalSourcesAsRadiance) {
     TempDir tmp;
-    WriteFile(tmp.path() / "room.rad",
-              "void plastic wall 0 0 5 .5 .5 .5 0 0\n"
-              "wall polygon floor 0 0 12  0 0 0  0 4 0  5 4 0  5 0 0\n"
-              "wall polygon ceil 0 0 12  0 0 3  5 0 3  5 4 3  0 4 3\n"
-              "wall polygon w1 0 0 12  0 0 0  5 0 0  5 0 3  0 0 3\n"
-              "wall polygon w2 0 0 12  5 0 0  5 4 0  5 4 3  5 0 3\n"
-              "wall polygon w3 0 0 12  5 4 0  0 4 0  0 4 3  5 4 3\n"
-              "wall polygon w4 0 0 12  0 4 0  0 0 0  0 0 3  0 4 3\n"
-              "void light lamp 0 0 3 100 100 100\n"
-              "lamp polygon panel 0 0 12  2 1.5 2.99  2 2.5 2.99  3 2.5 2.99  3 1.5 2.99\n"
-              "void light bulb 0 0 3 50 50 50\n"
-              "bulb sphere b1 0 0 4  1 1 2 0.1\n"
-              "void light disc 0 0 3 80 80 80\n"
-              "disc ring r1 0 0 8  4 3 2.99  0 0 -1  0 0.2\n"
-              "lamp polygon hex 0 0 18  3.7 1.2 2.99  3.7 1.5 2.99  4 1.7 2.99  4.3 1.5 2.99  4.3 "
-              "1.2 2.99  4 1 2.99\n");
+    WriteFile(tmp.path() / "room.rad", LocalSourcesRoom());
     WriteFile(tmp.path() / "illum.rad",
               "void glow skyglow 0 0 4 1 1 1 0\nskyglow source sky 0 0 4 0 0 1 180\n" +
                   test::IllumWindowRoom() +

@@ -378,7 +378,9 @@ TEST_F(VulkanContrib, ModifiersWithTheirOwnParametersAsEmbree) {
 // Rough specular reflection (sampled, and as a lobe toward the sun), a rough surface below -st
 // folded into the diffuse part, and rough specular transmission (sampled, and as a lobe toward
 // the sun): sensors facing a rough metal floor, half of it under a frosted pane, and a rough
-// plastic wall under a sky and a sun, both backends within their standard errors.
+// plastic wall under a sky and a sun, both backends within their standard errors. Then the
+// floors RoughSpecularAsRadiance traces (scenes.h's RoughFloor), from its tilted sensor, and
+// the frosted sheets RoughTransmissionAsRadiance traces, from its sensors.
 TEST_F(VulkanContrib, RoughSpecularAsEmbree) {
     WriteFile(tmp_.path() / "scene.rad",
               "void metal brushed 0 0 5 .8 .7 .6 .9 .1\n"
@@ -395,6 +397,22 @@ TEST_F(VulkanContrib, RoughSpecularAsEmbree) {
         ExpectSameTotals(std::string("-ab 2 -ad 1024 -lw 1e-4 -dj .5") + kBins + run +
                              " scene.rad sky.rad < rays",
                          3 * 146, 0);
+    WriteFile(tmp_.path() / "metal.rad", test::RoughFloor(true));
+    WriteFile(tmp_.path() / "plastic.rad", test::RoughFloor(false));
+    WriteFile(tmp_.path() / "tilted", "0 -1 1 0 0.7 -0.7\n");
+    for (const char *floor : {"metal.rad", "plastic.rad"})
+        ExpectSameTotals(std::string("-I+ -ab 2 -ad 1024 -lw 1e-5 -dj 0") + kBins +
+                             "-m solar -m skyglow " + floor + " < tilted",
+                         2 * 146, 0);
+    // and the frosted sheets RoughTransmissionAsRadiance traces (scenes.h's FrostedSheet)
+    WriteFile(tmp_.path() / "patch.rad", test::SunAndPatch());
+    WriteFile(tmp_.path() / "below", "0 0 0 0 0 1\n0 0 0 0 0.64 0.77\n");
+    for (char which : {'a', 'b', 'c'}) {
+        WriteFile(tmp_.path() / "sheet.rad", test::FrostedSheet(which));
+        ExpectSameTotals(std::string("-I+ -ab 2 -ad 1024 -lw 1e-5 -dj 0") + kBins +
+                             "-m solar -m skyglow patch.rad sheet.rad < below",
+                         2 * 2 * 146, 0);
+    }
 }
 
 // Records as rcontrib makes them: -c 2 averages two rays, a zero direction counts as a ray that
@@ -539,26 +557,37 @@ TEST_F(VulkanContrib, PatternsAsEmbree) {
 // mixfunc: a panel that is grey plastic where x < 0 and mostly void (20 % grey) elsewhere,
 // over sensors under a sky; where y > 0 that mixfunc is itself mixed with frosted trans, and
 // the whole with void: mixfuncs of mixfuncs, three deep. Both backends' totals (one bin, so
-// that each has its own standard error) within their standard errors, each below 2 %.
+// that each has its own standard error) within their standard errors, each below 2 %. Then the
+// scene MixfuncAsRadiance traces (scenes.h's MixfuncHalvesAndScreen), from sensors above both
+// halves of its floor, some under its screen, and its downward one.
 TEST_F(VulkanContrib, MixfuncAsEmbree) {
-    WriteFile(tmp_.path() / "mix.cal", "side = if(Px, .2, 1);\nband = if(Py, .4, 1);\n");
-    WriteFile(tmp_.path() / "mix.rad",
+    WriteFile(tmp_.path() / "veil.cal", "side = if(Px, .2, 1);\nband = if(Py, .4, 1);\n");
+    WriteFile(tmp_.path() / "veil.rad",
               "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
               "void trans frost 0 0 7 .8 .8 .8 0 0 .6 0\n"
-              "void mixfunc half 4 grey void side mix.cal 0 0\n"
-              "void mixfunc veil 4 half frost band mix.cal 0 0\n"
+              "void mixfunc half 4 grey void side veil.cal 0 0\n"
+              "void mixfunc veil 4 half frost band veil.cal 0 0\n"
               "void mixfunc thin 4 veil void .5 . 0 0\n"
               "thin polygon p 0 0 12 -2 -2 1  2 -2 1  2 2 1  -2 2 1\n");
     WriteSensorLine();
     const double total = ExpectSameEntries(
-        "-I+ -ab 2 -ad 1024 -lw 1e-5 -b 0 -bn 1 -m skyglow mix.rad sky.rad < rays", 20, .02);
+        "-I+ -ab 2 -ad 1024 -lw 1e-5 -b 0 -bn 1 -m skyglow veil.rad sky.rad < rays", 20, .02);
     EXPECT_GT(total, 20.);  // the sky through the void and frosted parts
+    WriteFile(tmp_.path() / "mix.cal", test::kMixCal);
+    WriteFile(tmp_.path() / "mix.rad", test::MixfuncHalvesAndScreen());
+    std::string above;
+    for (int i = 0; i < 10; ++i) above += std::to_string(-1.8 + .4 * i) + " 0 .5 0 0 1\n";
+    WriteFile(tmp_.path() / "above", above + "-3 3 1 0 0 -1\n");
+    EXPECT_GT(ExpectSameEntries("-I+ -ab 2 -ad 1024 -lw 1e-5 -b 0 -bn 1 -m skyglow mix.rad < above",
+                                11, .03),
+              10.);
 }
 
 // Dielectric: an absorbing block (its extinction weighs the rays it spawns against -lw; rays
 // reflect inside it, totally at its sides) and a ball lens above it, which turns the sky
 // upside down, between sensors and the sky. Both backends within their standard errors, per
-// sky bin and per sensor.
+// sky bin and per sensor. Then the slab DielectricAsRadiance traces (scenes.h's DielectricSlab)
+// over the same sensors, its sun and sky.
 TEST_F(VulkanContrib, DielectricAsEmbree) {
     WriteFile(tmp_.path() / "block.rad",
               "void dielectric water 0 0 5 .5 .6 .7 1.5 0\n" +
@@ -572,12 +601,18 @@ TEST_F(VulkanContrib, DielectricAsEmbree) {
     ASSERT_EQ(gpu.size(), 20u * 146 * 3);
     ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 2000);
     ExpectSameSensorTotals(gpu, se_gpu, cpu, se_cpu, 20, 146);
+    WriteFile(tmp_.path() / "slab.rad", test::DielectricSlab());
+    const auto slab = RunBoth(
+        "-I+ -ab 3 -ad 512 -lw 0.02" + kBins + "-m solar -m skyglow slab.rad < rays", tmp_.path());
+    ExpectSameMatrix(slab.gpu, slab.se_gpu, slab.cpu, slab.se_cpu, 2000);
+    ExpectSameSensorTotals(slab.gpu, slab.se_gpu, slab.cpu, slab.se_cpu, 20, 2 * 146);
 }
 
 // Local light sources on the GPU: a square panel, a hexagon (sampled over a turned square) facing
 // away, a sphere, a spotlight disc and a tube, split by -ds, over a grey floor (-ab 1); then a
-// window of illum (void behind it) in a room under a glow sky (-ab 2). Both backends within
-// their standard errors, per sensor and modifier.
+// window of illum (void behind it) in a room under a glow sky (-ab 2); then the room of lamps
+// LocalSourcesAsRadiance traces. Both backends within their standard errors, per sensor and
+// modifier.
 TEST_F(VulkanContrib, LocalSourcesAsEmbree) {
     WriteFile(tmp_.path() / "lamps.rad",
               "void light lamp 0 0 3 10 10 10\n"
@@ -608,6 +643,13 @@ TEST_F(VulkanContrib, LocalSourcesAsEmbree) {
               0.1);
     EXPECT_GT(ExpectSameEntries(
                   "-I+ -ab 2 -ad 256 -lw 1e-5 -m winillum -m wall illum.rad < room_rays", 10 * 2),
+              0.1);
+    // The room LocalSourcesAsRadiance traces (scenes.h's LocalSourcesRoom), from its sensors.
+    WriteFile(tmp_.path() / "room.rad", test::LocalSourcesRoom());
+    WriteFile(tmp_.path() / "sensors",
+              "2.5 2 0.8 0 0 1\n1 1 0.8 0 0 1\n4 3 0.8 0 0 1\n0.5 3.5 1 1 0 0\n");
+    EXPECT_GT(ExpectSameEntries(
+                  "-I+ -ab 1 -ad 256 -lw 1e-4 -m lamp -m bulb -m disc room.rad < sensors", 4 * 3),
               0.1);
 }
 
@@ -929,23 +971,27 @@ TEST_F(VulkanContrib, DaylightMatrixAsEmbree) {
     ExpectSameMatrix(gpu, se_gpu, cpu, se_cpu, 1000);
 }
 
-// aBSDF (a fabric with some openness: a peak about the straight-through direction and a
-// surround) between a sun and sensors (-I+) and view rays (-I-) below it: shadow rays passing
-// the peak, view rays straight through it and their samples leaving its direction out (-st 0:
-// all sampled), and the surround given to sources near it; both backends within their
-// standard errors.
+// aBSDF, on the sheets ApertureBsdfAsRadiance traces (scenes.h's ApertureSheet: clear glass
+// with a strong peak, and a fabric with some openness: a peak and a surround) under its sun and
+// patch, from its sensors (-I+) and view rays (-I-) below: shadow rays passing the peak, view
+// rays straight through it and their samples leaving its direction out (-st 0: all sampled),
+// and the surround given to sources near it; both backends within their standard errors (and
+// 1e-5 of the values that have none).
 TEST_F(VulkanContrib, ApertureBsdfAsEmbree) {
-    fs::copy_file(DataDir() / "bsdf/frads_klems_aniso_high.xml", tmp_.path() / "fabric.xml");
-    WriteFile(tmp_.path() / "scene.rad",
-              "void aBSDF w 5 fabric.xml 0 1 0 . 0 0\n"
-              "w polygon sheet 0 0 12 -50 -50 1 50 -50 1 50 50 1 -50 50 1\n"
-              "void light solar 0 0 3 1e4 1e4 1e4\nsolar source sun 0 0 4 0 .6428 .766 .533\n");
-    WriteFile(tmp_.path() / "rays",
-              "0 0 0 0 0 1\n0 0 0 0 .64 .77\n0 0 0 0 .6428 .766\n0 0 0 .3 .2 .93\n");
-    for (const char *run : {"-I+ -m skyglow -m solar", "-I- -st 0 -m skyglow -m solar"})
-        ExpectSameTotals(std::string("-dj 0 -ab 2 -ad 1024 -lw 1e-4") + kBins + run +
-                             " scene.rad sky.rad < rays",
-                         4 * 292, 1e-6);
+    for (const char *xml : {"clear.xml", "frads_klems_aniso_high.xml"})
+        fs::copy_file(DataDir() / "bsdf" / xml, tmp_.path() / xml);
+    WriteFile(tmp_.path() / "patch.rad", test::SunAndPatch());
+    WriteFile(tmp_.path() / "sensors", "0 0 0 0 0 1\n0 0 0 0 0.64 0.77\n");
+    WriteFile(tmp_.path() / "views",
+              "0 0 0 0 0.6427876 0.7660444\n0 0 0 0 -.5 .866\n0 0 0 0.3 0.2 0.93\n");
+    for (const char *xml : {"clear.xml", "frads_klems_aniso_high.xml"}) {
+        SCOPED_TRACE(xml);
+        WriteFile(tmp_.path() / "sheet.rad", test::ApertureSheet(xml));
+        const std::string run = std::string("-dj 0 -ab 2 -ad 1024 -lw 1e-4") + kBins +
+                                "-m skyglow -m solar patch.rad sheet.rad ";
+        ExpectSameTotals("-I+ " + run + "< sensors", 2 * 292, 1e-5);
+        ExpectSameTotals("-I- -st 0 " + run + "< views", 3 * 292, 1e-5);
+    }
 }
 
 // The BSDF material on the GPU: the tutorial room with venetian blinds (a Klems BSDF) in its
