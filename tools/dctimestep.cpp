@@ -294,14 +294,10 @@ int Main(int argc, char **argv) {
         OutputFile out(ospec);
         if (o.header) out.Write(ResultHeader(header_start, nrows, nsteps, o.out_format, -1));
         if (o.out_format == DataFormat::RGBE) out.Write(ResolutionLine(nsteps, nrows));
-        if (left.Rows() > 0) {
+        if (left.Rows() > 0)
             StreamProduct(left, right, fmt, out);
-        } else {
-            ColorMatrix res = Multiply(whole, right);
-            std::string text;
-            for (int r = 0; r < res.rows; ++r) fmt.Append(res.row(r), &text);
-            out.Write(text);
-        }
+        else
+            StreamProduct(whole, right, fmt, out);
         out.Commit();
         return 0;
     }

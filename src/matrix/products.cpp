@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <mutex>
 
 #include "util/pipeline.h"
 
@@ -11,36 +12,36 @@ namespace dayflux {
 
 namespace {
 
-// Register-blocked micro-kernel: 4 rows x 8 columns of one component, k ascending, so every
-// accumulator sums its terms exactly in RADIANCE's order. Float products are exact in double,
-// so fused multiply-adds give the same bits. Compiled for x86-64-v3 (AVX2, FMA) where available.
-__attribute__((target_clones("arch=x86-64-v3", "default"))) void MicroKernel(
-    const float *a, int inner, const float *b, int ldb, int c, double acc[4][8]) {
-    double s[4][8] = {};
+// A tile of one component, kTileRows rows x kStrip columns: c[r][j] = sum over k ascending of
+// ap[k][r] * bp[k][j], from nought, each entry's terms in RADIANCE's order. Float products are
+// exact in double, so fused multiply-adds give the same bits. Both operands are packed (k-major,
+// contiguous, already double), so the loop is loads, broadcasts and FMAs on accumulators held in
+// registers. Compiled for x86-64-v3 (AVX2, FMA) where available.
+constexpr int kTileRows = 4;
+constexpr int kStrip = 8;
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void TileKernel(const double *ap,
+                                                                            const double *bp,
+                                                                            int inner, double *c) {
+    double s[kTileRows][kStrip] = {};
     for (int k = 0; k < inner; ++k) {
-        const float *bk = b + static_cast<size_t>(k) * ldb;
-        double bv[8];
-        for (int j = 0; j < 8; ++j) bv[j] = bk[j];
-        for (int r = 0; r < 4; ++r) {
-            const double av = a[(static_cast<size_t>(r) * inner + k) * 3 + c];
-            for (int j = 0; j < 8; ++j) s[r][j] += av * bv[j];
-        }
+        const double *a = ap + kTileRows * k, *b = bp + kStrip * k;
+        for (int r = 0; r < kTileRows; ++r)
+            for (int j = 0; j < kStrip; ++j) s[r][j] += a[r] * b[j];
     }
-    for (int r = 0; r < 4; ++r)
-        for (int j = 0; j < 8; ++j) acc[r][j] = s[r][j];
+    std::memcpy(c, s, sizeof s);
 }
 
-// Any block shape (the edges of the product), same order of sums.
-void EdgeKernel(const float *a, int nrows, int inner, const float *b, int ldb, int c, int width,
-                float *out, int out_cols, int out_col0) {
-    for (int r = 0; r < nrows; ++r)
-        for (int j = 0; j < width; ++j) {
-            double s = 0;
-            for (int k = 0; k < inner; ++k)
-                s += static_cast<double>(a[(static_cast<size_t>(r) * inner + k) * 3 + c]) *
-                     b[static_cast<size_t>(k) * ldb + j];
-            out[(static_cast<size_t>(r) * out_cols + out_col0 + j) * 3 + c] = static_cast<float>(s);
-        }
+// Rows of a (interleaved components) as the tiles read them: component comp, k-major within each
+// group of kTileRows rows, zero past nrows.
+void PackRows(const float *a, int nrows, int inner, int comp, double *packed) {
+    const int groups = (nrows + kTileRows - 1) / kTileRows;
+    for (int g = 0; g < groups; ++g)
+        for (int k = 0; k < inner; ++k)
+            for (int r = 0; r < kTileRows; ++r) {
+                const int row = g * kTileRows + r;
+                packed[(static_cast<size_t>(g) * inner + k) * kTileRows + r] =
+                    row < nrows ? a[(static_cast<size_t>(row) * inner + k) * 3 + comp] : 0.0;
+            }
 }
 
 }  // namespace
@@ -75,6 +76,7 @@ ColumnOperand ColumnOperand::FromMatrix(const ColorMatrix &m) {
             for (int j = 0; j < m.cols; ++j)
                 for (int c = 0; c < 3; ++c)
                     op.planes_[c][static_cast<size_t>(r) * m.cols + j] = m.at(r, j, c);
+        op.PackStrips();
         return op;
     }
     op.start_ = count;
@@ -128,6 +130,7 @@ ColumnOperand ColumnOperand::Read(MatrixReader &reader) {
             for (int c = 0; c < 3; ++c)
                 op.planes_[c][static_cast<size_t>(rows_of[e]) * cols + cols_of[e]] =
                     values[3 * e + c];
+        op.PackStrips();
         return op;
     }
     op.sparse_ = true;
@@ -143,6 +146,17 @@ ColumnOperand ColumnOperand::Read(MatrixReader &reader) {
         std::copy(&values[3 * e], &values[3 * e + 3], &op.entry_value_[3 * at]);
     }
     return op;
+}
+
+void ColumnOperand::PackStrips() {
+    const int strips = (cols_ + kStrip - 1) / kStrip;
+    for (int c = 0; c < 3; ++c) {
+        strips_[c].assign(static_cast<size_t>(strips) * rows_ * kStrip, 0.0);
+        for (int k = 0; k < rows_; ++k)
+            for (int j = 0; j < cols_; ++j)
+                strips_[c][(static_cast<size_t>(j / kStrip) * rows_ + k) * kStrip + j % kStrip] =
+                    planes_[c][static_cast<size_t>(k) * cols_ + j];
+    }
 }
 
 ColorMatrix ColumnOperand::ToMatrix() const {
@@ -187,32 +201,28 @@ void MultiplyRows(const float *a, int nrows, int inner, const ColumnOperand &b, 
         }
         return;
     }
-    // Column panels small enough to stay in cache while every block of rows passes over them.
-    constexpr int kPanel = 128;
+    // For each component: the rows packed once, then each strip of columns (in L1) against every
+    // group of rows (in L2), so the right operand passes through the cache once per block.
+    const int groups = (nrows + kTileRows - 1) / kTileRows;
+    std::vector<double> packed(static_cast<size_t>(groups) * inner * kTileRows);
+    const int s0 = col0 / kStrip, s1 = (col1 + kStrip - 1) / kStrip;
     for (int c = 0; c < 3; ++c) {
-        const float *plane = b.planes_[c].data();
-        for (int p0 = col0; p0 < col1; p0 += kPanel) {
-            const int p1 = std::min(col1, p0 + kPanel);
-            int r0 = 0;
-            for (; r0 + 4 <= nrows; r0 += 4) {
-                const float *ablock = a + static_cast<size_t>(r0) * inner * 3;
-                int j = p0;
-                for (; j + 8 <= p1; j += 8) {
-                    double acc[4][8];
-                    MicroKernel(ablock, inner, plane + j, b.cols_, c, acc);
-                    for (int r = 0; r < 4; ++r)
-                        for (int jj = 0; jj < 8; ++jj)
-                            out[(static_cast<size_t>(r0 + r) * width + (j - col0) + jj) * 3 + c] =
-                                static_cast<float>(acc[r][jj]);
+        PackRows(a, nrows, inner, c, packed.data());
+        for (int strip = s0; strip < s1; ++strip) {
+            const double *bp = b.strips_[c].data() + static_cast<size_t>(strip) * inner * kStrip;
+            const int j0 = std::max(col0, strip * kStrip),
+                      j1 = std::min(col1, (strip + 1) * kStrip);
+            for (int g = 0; g < groups; ++g) {
+                double tile[kTileRows][kStrip];
+                TileKernel(packed.data() + static_cast<size_t>(g) * inner * kTileRows, bp, inner,
+                           &tile[0][0]);
+                const int rows = std::min(kTileRows, nrows - g * kTileRows);
+                for (int r = 0; r < rows; ++r) {
+                    float *orow = out + static_cast<size_t>(g * kTileRows + r) * width * 3;
+                    for (int j = j0; j < j1; ++j)
+                        orow[(j - col0) * 3 + c] = static_cast<float>(tile[r][j - strip * kStrip]);
                 }
-                if (j < p1)
-                    EdgeKernel(ablock, 4, inner, plane + j, b.cols_, c, p1 - j,
-                               out + static_cast<size_t>(r0) * width * 3, width, j - col0);
             }
-            if (r0 < nrows)
-                EdgeKernel(a + static_cast<size_t>(r0) * inner * 3, nrows - r0, inner, plane + p0,
-                           b.cols_, c, p1 - p0, out + static_cast<size_t>(r0) * width * 3, width,
-                           p0 - col0);
         }
     }
 }
@@ -229,6 +239,71 @@ ColorMatrix Multiply(const ColorMatrix &a, const ColumnOperand &b) {
     return r;
 }
 
+namespace {
+
+// The product of the rows read_row gives (each inner x 3 floats; false at the end) and right,
+// formatted by fmt and written to out in order, blocks of rows computed in parallel.
+template <class ReadRow>
+int ProductOfRows(int inner, ReadRow read_row, const ColumnOperand &right, const RowFormatter &fmt,
+                  OutputFile &out) {
+    const int ncols = right.Cols();
+    // Rows per block: enough work per task, bounded memory (about 8 MiB of results per block).
+    const size_t row_bytes = static_cast<size_t>(ncols) * 3 * sizeof(float);
+    const int block_rows =
+        static_cast<int>(std::clamp<size_t>((8u << 20) / std::max<size_t>(row_bytes, 1), 4, 256));
+    struct Block {
+        std::vector<float> a, res;  // the left rows read, their products
+        int nrows = 0;
+        std::string text;  // the products formatted, unless written as they are
+    };
+    // Finished blocks' buffers, reused: fresh ones cost a page fault per 4 KiB, which was a third
+    // of the run with 150 MB of products (docs/benchmarks.md).
+    std::mutex pool_mutex;
+    std::vector<std::unique_ptr<Block>> pool;
+    const bool as_they_are = fmt.WritesFloatsAsTheyAre();
+    bool done = false;
+    int total = 0;
+    OrderedPipeline<Block>(
+        [&]() -> std::unique_ptr<Block> {
+            if (done) return nullptr;
+            std::unique_ptr<Block> b;
+            {
+                const std::lock_guard lock(pool_mutex);
+                if (!pool.empty()) b = std::move(pool.back()), pool.pop_back();
+            }
+            if (!b) b = std::make_unique<Block>();
+            b->a.resize(static_cast<size_t>(block_rows) * inner * 3);
+            b->nrows = 0;
+            while (b->nrows < block_rows &&
+                   read_row(b->a.data() + static_cast<size_t>(b->nrows) * inner * 3))
+                ++b->nrows;
+            if (b->nrows < block_rows) done = true;
+            if (b->nrows == 0) return nullptr;
+            return b;
+        },
+        [&](Block &b) {
+            b.res.resize(static_cast<size_t>(b.nrows) * ncols * 3);
+            MultiplyRows(b.a.data(), b.nrows, inner, right, 0, ncols, b.res.data());
+            if (as_they_are) return;
+            b.text.clear();
+            for (int r = 0; r < b.nrows; ++r)
+                fmt.Append(b.res.data() + static_cast<size_t>(r) * ncols * 3, &b.text);
+        },
+        [&](Block &b) {
+            if (as_they_are)
+                out.Write(b.res.data(), b.res.size() * sizeof(float));
+            else
+                out.Write(b.text);
+            total += b.nrows;
+            auto spent = std::make_unique<Block>(std::move(b));
+            const std::lock_guard lock(pool_mutex);
+            pool.push_back(std::move(spent));
+        });
+    return total;
+}
+
+}  // namespace
+
 int StreamProduct(MatrixReader &left, const ColumnOperand &right, const RowFormatter &fmt,
                   OutputFile &out) {
     if (left.Comps() != 3) {
@@ -241,44 +316,24 @@ int StreamProduct(MatrixReader &left, const ColumnOperand &right, const RowForma
                             " columns but the matrix it multiplies has " +
                             std::to_string(right.Rows()) + " rows");
     }
-    const int inner = left.Cols();
-    const int ncols = right.Cols();
-    // Rows per block: enough work per task, bounded memory (about 8 MiB of results per block).
-    const size_t row_bytes = static_cast<size_t>(ncols) * 3 * sizeof(float);
-    const int block_rows =
-        static_cast<int>(std::clamp<size_t>((8u << 20) / std::max<size_t>(row_bytes, 1), 4, 256));
-    struct Block {
-        std::vector<float> a;
-        int nrows = 0;
-        std::string text;
-    };
-    bool done = false;
-    int total = 0;
-    OrderedPipeline<Block>(
-        [&]() -> std::unique_ptr<Block> {
-            if (done) return nullptr;
-            auto b = std::make_unique<Block>();
-            b->a.resize(static_cast<size_t>(block_rows) * inner * 3);
-            while (b->nrows < block_rows &&
-                   left.ReadRow(b->a.data() + static_cast<size_t>(b->nrows) * inner * 3))
-                ++b->nrows;
-            if (b->nrows < block_rows) done = true;
-            if (b->nrows == 0) return nullptr;
-            return b;
-        },
-        [&](Block &b) {
-            std::vector<float> res(static_cast<size_t>(b.nrows) * ncols * 3);
-            MultiplyRows(b.a.data(), b.nrows, inner, right, 0, ncols, res.data());
-            std::vector<float>().swap(b.a);
-            for (int r = 0; r < b.nrows; ++r)
-                fmt.Append(res.data() + static_cast<size_t>(r) * ncols * 3, &b.text);
-        },
-        [&](Block &b) {
-            out.Write(b.text);
-            total += b.nrows;
-        });
+    const int total = ProductOfRows(
+        left.Cols(), [&](float *row) { return left.ReadRow(row); }, right, fmt, out);
     left.Finish();
     return total;
+}
+
+int StreamProduct(const ColorMatrix &left, const ColumnOperand &right, const RowFormatter &fmt,
+                  OutputFile &out) {
+    CHECK(left.ncomp == 3 && left.cols == right.Rows());
+    int next = 0;
+    return ProductOfRows(
+        left.cols,
+        [&](float *row) {
+            if (next == left.rows) return false;
+            std::memcpy(row, left.row(next++), static_cast<size_t>(left.cols) * 3 * sizeof(float));
+            return true;
+        },
+        right, fmt, out);
 }
 
 }  // namespace dayflux

@@ -33,11 +33,15 @@ class ColumnOperand {
   private:
     friend void MultiplyRows(const float *, int, int, const ColumnOperand &, int, int, float *);
     void Finish();
+    void PackStrips();  // strips_ from planes_
 
     int rows_ = 0, cols_ = 0;
     bool sparse_ = false;
     std::vector<float> planes_[3];  // dense: [k][row * cols + col]
-    std::vector<uint32_t> start_;   // sparse: entries of column j in [start_[j], start_[j+1])
+    // dense, as the product's tiles read it: per component, strips of 8 columns (zero past the
+    // last), each k-major (row k's 8 values together), in double
+    std::vector<double> strips_[3];
+    std::vector<uint32_t> start_;  // sparse: entries of column j in [start_[j], start_[j+1])
     std::vector<uint32_t> entry_row_;
     std::vector<float> entry_value_;  // 3 per entry
 };
@@ -53,6 +57,9 @@ ColorMatrix Multiply(const ColorMatrix &a, const ColumnOperand &b);
 // Streams the rows of left through left x right and writes each result row with fmt, in order,
 // computing and formatting blocks of rows in parallel. Returns the number of rows written.
 int StreamProduct(MatrixReader &left, const ColumnOperand &right, const RowFormatter &fmt,
+                  OutputFile &out);
+// The same for a left matrix held whole (one whose row count its header did not give).
+int StreamProduct(const ColorMatrix &left, const ColumnOperand &right, const RowFormatter &fmt,
                   OutputFile &out);
 
 }  // namespace dayflux

@@ -24,6 +24,8 @@ class RowFormatter {
     // Appends one row of ncols x ncomp interleaved values.
     void Append(const double *values, std::string *out) const;
     void Append(const float *values, std::string *out) const;
+    // Whether a row of floats is written as its own bytes (float output, this machine's order).
+    bool WritesFloatsAsTheyAre() const { return format_ == DataFormat::Float; }
 
   private:
     template <class T>

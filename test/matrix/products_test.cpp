@@ -104,5 +104,42 @@ TEST(Products, StreamedProductEqualsTheWholeProduct) {
     EXPECT_FALSE(back.ReadRow(row.data()));
 }
 
+// A window of columns (per-step outputs compute one), starting and ending inside the 8-column
+// strips the dense kernel works in, with rows that leave a partial group of four.
+TEST(Products, ColumnWindowsAreBitIdenticalToRadianceOrder) {
+    ColorMatrix a = Random(7, 146, 7, 0.1), b = Random(146, 61, 8);
+    ColumnOperand op = ColumnOperand::FromMatrix(b);
+    ASSERT_FALSE(op.IsSparse());
+    for (const auto &[col0, col1] : {std::pair{3, 5}, {5, 22}, {0, 61}, {60, 61}, {16, 24}}) {
+        std::vector<float> out(static_cast<size_t>(a.rows) * (col1 - col0) * 3, -1.f);
+        MultiplyRows(a.row(0), a.rows, a.cols, op, col0, col1, out.data());
+        for (int i = 0; i < a.rows; ++i)
+            for (int j = col0; j < col1; ++j)
+                for (int c = 0; c < 3; ++c)
+                    ASSERT_EQ(out[(static_cast<size_t>(i) * (col1 - col0) + j - col0) * 3 + c],
+                              Reference(a, b, i, j, c))
+                        << col0 << ".." << col1 << ": " << i << "," << j;
+    }
+}
+
+// A left matrix held whole (no NROWS in its header), through more blocks than the pipeline holds
+// at once, so that blocks' buffers are reused: ascii text, each row as the whole product's.
+TEST(Products, StreamedFromMemoryReusesBlocksWithoutMixingThem) {
+    ColorMatrix a = Random(1500, 20, 9), b = Random(20, 30, 10);
+    ColumnOperand op = ColumnOperand::FromMatrix(b);
+    test::TempDir tmp;
+    const std::string path = (tmp.path() / "p.txt").string();
+    RowFormatter fmt(DataFormat::Ascii, 30, 3, AsciiStyle::kCmatrix);
+    {
+        OutputFile out(path);
+        EXPECT_EQ(StreamProduct(a, op, fmt, out), 1500);
+        out.Commit();
+    }
+    ColorMatrix whole = Multiply(a, op);
+    std::string expect;
+    for (int r = 0; r < whole.rows; ++r) fmt.Append(whole.row(r), &expect);
+    EXPECT_EQ(test::ReadFile(path), expect);
+}
+
 }  // namespace
 }  // namespace dayflux
