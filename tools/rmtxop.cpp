@@ -1,4 +1,5 @@
 // rmtxop: RADIANCE's matrix calculator, with the same arguments, evaluation order and output.
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -7,6 +8,7 @@
 #include "matrix/header.h"
 #include "matrix/matrices.h"
 #include "matrix/operations.h"
+#include "matrix/writer.h"
 #include "util/errors.h"
 #include "util/strings.h"
 
@@ -47,32 +49,85 @@ const std::string &DisplayName(const Operand &op) {
     return op.spec == "-" ? stdin_name : op.spec;
 }
 
-// Loads the operand and applies its unary operations in RADIANCE's order: -s, -c, then -t.
-Matrix LoadWithOps(Operand &op) {
-    Matrix m = std::move(Load(op));
-    op.loaded.reset();
-    const std::string &name = DisplayName(op);
-    if (!op.ops.scale.empty()) {
-        if (!op.ops.transform.empty()) ErrorExit("Options -s and -c are exclusive");
-        std::vector<double> sf = op.ops.scale;
+// Applies unary operations to m in RADIANCE's order: -s, -c, then -t (name: the operand's, for
+// messages; report: say so with -v).
+Matrix ApplyOps(Matrix m, const UnaryOps &ops, const std::string &name, bool report) {
+    if (!ops.scale.empty()) {
+        if (!ops.transform.empty()) ErrorExit("Options -s and -c are exclusive");
+        std::vector<double> sf = ops.scale;
         if (sf.size() == 1)
             sf.assign(m.ncomp, sf[0]);
         else if (static_cast<int>(sf.size()) != m.ncomp)
             ErrorExit(name + ": -s must have one or " + std::to_string(m.ncomp) + " factors");
         Scale(&m, sf);
-        if (verbose) std::fprintf(stderr, "%s: applied scalar\n", name.c_str());
+        if (report) std::fprintf(stderr, "%s: applied scalar\n", name.c_str());
     }
-    if (!op.ops.transform.empty()) {
-        if (op.ops.transform.size() % m.ncomp)
+    if (!ops.transform.empty()) {
+        if (ops.transform.size() % m.ncomp)
             ErrorExit(name + ": -c must have N x " + std::to_string(m.ncomp) + " coefficients");
-        m = TransformComponents(m, op.ops.transform);
-        if (verbose) std::fprintf(stderr, "%s: applied component transform\n", name.c_str());
+        m = TransformComponents(m, ops.transform);
+        if (report) std::fprintf(stderr, "%s: applied component transform\n", name.c_str());
     }
-    if (op.ops.transpose) {
+    if (ops.transpose) {
         m = Transpose(m);
-        if (verbose) std::fprintf(stderr, "%s: transposed rows and columns\n", name.c_str());
+        if (report) std::fprintf(stderr, "%s: transposed rows and columns\n", name.c_str());
     }
     return m;
+}
+
+// Loads the operand and applies its unary operations.
+Matrix LoadWithOps(Operand &op) {
+    Matrix m = std::move(Load(op));
+    op.loaded.reset();
+    return ApplyOps(std::move(m), op.ops, DisplayName(op), verbose);
+}
+
+constexpr const char *kTrailing = "trailing_ops";
+
+// One matrix, no transpose, its row count in its header: each block of rows read, its
+// operations applied (the trailing ones after its own) and written before the next is read, so
+// memory stays flat and a pipe's programs overlap. The same numbers and header as the whole
+// matrix's: the operations run on the header's shape first (their notes, checks and messages),
+// then on each block. False where it cannot stream (the matrix is then loaded into op).
+bool StreamOne(Operand &op, const UnaryOps &trailing, DataFormat outfmt,
+               const std::string &header_start) {
+    if (op.ops.transpose || trailing.transpose || IsXmlSpec(op.spec)) return false;
+    MatrixReader reader(op.spec == "-" ? "" : op.spec);
+    Matrix shape;
+    shape.cols = reader.Cols();
+    shape.ncomp = reader.Comps();
+    shape.dtype = reader.Format();
+    shape.info = reader.Header().info;
+    shape = ApplyOps(ApplyOps(std::move(shape), op.ops, DisplayName(op), verbose), trailing,
+                     kTrailing, verbose);
+    const DataFormat format = outfmt == DataFormat::Unknown ? shape.dtype : outfmt;
+    if (reader.Rows() <= 0 || (IsPicture(format) && shape.ncomp != 3)) {
+        op.loaded = std::make_unique<Matrix>(ReadAll<Matrix>(reader));
+        return false;
+    }
+    shape.rows = reader.Rows();
+    OutputFile out("-");
+    out.Write(MatrixHeaderText(shape, format, header_start));
+    const RowFormatter fmt(format, shape.cols, shape.ncomp, AsciiStyle::kRmatrix,
+                           RmatrixPrecision(shape.dtype));
+    const int block_rows = static_cast<int>(std::clamp<size_t>(
+        (size_t{1} << 20) / (sizeof(double) * reader.Cols() * reader.Comps() + 1), 1, 1024));
+    Matrix block(block_rows, reader.Cols(), reader.Comps());
+    std::string text;
+    for (int done = 0; done < shape.rows;) {
+        block.rows = std::min(block_rows, shape.rows - done);
+        block.data.resize(static_cast<size_t>(block.rows) * block.cols * block.ncomp);
+        for (int r = 0; r < block.rows; ++r) reader.ReadRow(block.row(r));
+        const Matrix result =
+            ApplyOps(ApplyOps(block, op.ops, DisplayName(op), false), trailing, kTrailing, false);
+        text.clear();
+        for (int r = 0; r < result.rows; ++r) fmt.Append(result.row(r), &text);
+        out.Write(text);
+        done += block.rows;
+    }
+    reader.Finish();
+    out.Commit();
+    return true;
 }
 
 Matrix BinaryOp(const std::string &name, Matrix left, char op, Matrix right) {
@@ -192,6 +247,8 @@ int Main(int argc, char **argv) {
         ErrorExit(std::string(argv[0]) + ": missing matrix argument after '" +
                   std::string(1, ops[nmats - 1].binop) + "' operation");
     Operand &trailing = ops[nmats];
+    const std::string header_start = HeaderStart(argc, argv);
+    if (nmats == 1 && StreamOne(ops[0], trailing.ops, outfmt, header_start)) return 0;
 
     Matrix result;
     if (PreferRightToLeft(ops)) {
@@ -205,13 +262,13 @@ int Main(int argc, char **argv) {
             result = BinaryOp(DisplayName(ops[i + 1]), std::move(result), ops[i].binop,
                               LoadWithOps(ops[i + 1]));
     }
-    trailing.spec = "trailing_ops";
+    trailing.spec = kTrailing;
     trailing.loaded = std::make_unique<Matrix>(std::move(result));
     result = LoadWithOps(trailing);
 
     if (outfmt == DataFormat::Unknown) outfmt = result.dtype;
     OutputFile out("-");
-    WriteMatrix(result, outfmt, HeaderStart(argc, argv), out);
+    WriteMatrix(result, outfmt, header_start, out);
     out.Commit();
     return 0;
 }

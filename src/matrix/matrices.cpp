@@ -73,27 +73,30 @@ Matrix LoadMatrix(const std::string &spec, BsdfPart part) {
     return ReadAll<Matrix>(reader);
 }
 
+std::string MatrixHeaderText(const Matrix &m, DataFormat format, const std::string &header_start) {
+    if (format == DataFormat::Unknown) format = m.dtype;
+    std::string text = header_start + m.info;
+    if (IsPicture(format)) {
+        if (m.ncomp != 3 && m.ncomp != 1)
+            ErrorExit("cannot write a " + std::to_string(m.ncomp) +
+                      "-component matrix as a picture");
+        return text + FormatLine(format) + "\n" + ResolutionLine(m.cols, m.rows);
+    }
+    return text + HeaderFields(m.rows, m.cols, m.ncomp, format);
+}
+
 void WriteMatrix(const Matrix &m, DataFormat format, const std::string &header_start,
                  OutputFile &out) {
     if (format == DataFormat::Unknown) format = m.dtype;
-    std::string text = header_start + m.info;
+    out.Write(MatrixHeaderText(m, format, header_start));
     const Matrix *src = &m;
     Matrix grey;
-    if (IsPicture(format)) {
-        if (m.ncomp != 3) {
-            if (m.ncomp != 1)
-                ErrorExit("cannot write a " + std::to_string(m.ncomp) +
-                          "-component matrix as a picture");
-            grey = Matrix(m.rows, m.cols, 3);
-            for (size_t i = 0; i < m.data.size(); ++i)
-                grey.data[3 * i] = grey.data[3 * i + 1] = grey.data[3 * i + 2] = m.data[i];
-            src = &grey;
-        }
-        text += FormatLine(format) + "\n" + ResolutionLine(m.cols, m.rows);
-    } else {
-        text += HeaderFields(m.rows, m.cols, m.ncomp, format);
+    if (IsPicture(format) && m.ncomp == 1) {
+        grey = Matrix(m.rows, m.cols, 3);
+        for (size_t i = 0; i < m.data.size(); ++i)
+            grey.data[3 * i] = grey.data[3 * i + 1] = grey.data[3 * i + 2] = m.data[i];
+        src = &grey;
     }
-    out.Write(text);
     RowFormatter fmt(format, src->cols, src->ncomp, AsciiStyle::kRmatrix,
                      RmatrixPrecision(m.dtype));
     std::string buf;

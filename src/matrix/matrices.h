@@ -55,5 +55,8 @@ Matrix LoadMatrix(const std::string &spec, BsdfPart part = BsdfPart::kTransmissi
 // picture becomes grey.
 void WriteMatrix(const Matrix &m, DataFormat format, const std::string &header_start,
                  OutputFile &out);
+// What WriteMatrix writes before the data (m.rows as the header's row count), for a writer
+// that streams the rows itself.
+std::string MatrixHeaderText(const Matrix &m, DataFormat format, const std::string &header_start);
 
 }  // namespace dayflux

@@ -17,16 +17,27 @@ namespace {
 // exact in double, so fused multiply-adds give the same bits. Both operands are packed (k-major,
 // contiguous, already double), so the loop is loads, broadcasts and FMAs on accumulators held in
 // registers. Compiled for x86-64-v3 (AVX2, FMA) where available.
-constexpr int kTileRows = 4;
+constexpr int kTileRows = 6;
 constexpr int kStrip = 8;
+// Written with GCC's vector types, so that each row's 8 sums stay in two 4-double registers: 12
+// accumulators, enough independent FMAs in flight to keep both FMA units busy (a plain loop over
+// 6 x 8 came out spilled, 4x slower; 4 x 8 reached 18 G multiply-adds a second, 6 x 8 in
+// vectors 24).
+typedef double Double4 __attribute__((vector_size(32)));
 __attribute__((target_clones("arch=x86-64-v3", "default"))) void TileKernel(const double *ap,
-                                                                            const double *bp,
-                                                                            int inner, double *c) {
-    double s[kTileRows][kStrip] = {};
+                                                                             const double *bp,
+                                                                             int inner, double *c) {
+    Double4 s[kTileRows][2] = {};
     for (int k = 0; k < inner; ++k) {
-        const double *a = ap + kTileRows * k, *b = bp + kStrip * k;
-        for (int r = 0; r < kTileRows; ++r)
-            for (int j = 0; j < kStrip; ++j) s[r][j] += a[r] * b[j];
+        Double4 b0, b1;
+        std::memcpy(&b0, bp + kStrip * k, sizeof b0);
+        std::memcpy(&b1, bp + kStrip * k + 4, sizeof b1);
+        const double *a = ap + kTileRows * k;
+        for (int r = 0; r < kTileRows; ++r) {
+            const Double4 av = {a[r], a[r], a[r], a[r]};
+            s[r][0] += av * b0;
+            s[r][1] += av * b1;
+        }
     }
     std::memcpy(c, s, sizeof s);
 }

@@ -238,4 +238,44 @@ TEST(MatrixInputs, ByteSwappedFloatReadsTheSame) {
     EXPECT_EQ(a.out.substr(a.out.find("\n\n")), b.out.substr(b.out.find("\n\n")));
 }
 
+// rmtxop streams a single matrix whose header gives its rows (each block read, transformed and
+// written before the next) and holds one that does not: both give the same bytes, header and
+// all, for each unary operation it streams (-s, -c, those after the matrix, output formats),
+// through more blocks than one. A matrix without NROWS, the same bytes otherwise.
+TEST(MatrixInputs, RmtxopStreamsWhatItWouldHoldTheSame) {
+    TempDir tmp;
+    const int rows = 700, cols = 400;  // 2.2 MB of doubles: three blocks of 1 MiB
+    std::string text =
+        "#?RADIANCE\nsome info line\nNCOLS=" + std::to_string(cols) + "\nNCOMP=3\nFORMAT=ascii\n\n";
+    for (int r = 0; r < rows; ++r) {
+        for (int j = 0; j < cols; ++j)
+            text += std::to_string((r * 7 + j * 3) % 101 * 0.25) + " " + std::to_string(r * 0.5) +
+                    " " + std::to_string(j) + "\t";
+        text += "\n";
+    }
+    fs::create_directories(tmp.path() / "held");
+    fs::create_directories(tmp.path() / "streamed");
+    WriteFile(tmp.path() / "held/m.txt", text);
+    WriteFile(tmp.path() / "streamed/m.txt",
+              text.replace(text.find("NCOLS"), 0, "NROWS=" + std::to_string(rows) + "\n"));
+    for (const char *args :
+         {"-ff -c 47.4 119.9 11.6 -", "-fa -s 2 .5 3 -", "-fd - -s 4",
+          "-fc -c .2 .3 .5 .1 .1 .8 .6 .3 .1 -", "-c .3 .3 .4 - -s 2", "-fa -c 1 0 0 0 1 0 -"}) {
+        SCOPED_TRACE(args);
+        const std::string cmd = std::string("cat m.txt | rmtxop ") + args;
+        const CommandResult held = RunCommand(cmd, tmp.path() / "held"),
+                            streamed = RunCommand(cmd, tmp.path() / "streamed");
+        ASSERT_EQ(held.status, 0) << held.err;
+        ASSERT_EQ(streamed.status, 0) << streamed.err;
+        EXPECT_GT(streamed.out.size(), size_t{rows} * cols);
+        EXPECT_EQ(streamed.out, held.out);
+        EXPECT_EQ(streamed.err, held.err);
+    }
+    // A stream that ends before its header's rows: an error, after what was written.
+    WriteFile(tmp.path() / "streamed/short.txt", text.substr(0, text.size() / 2));
+    const CommandResult cut = RunCommand("cat short.txt | rmtxop -ff -", tmp.path() / "streamed");
+    EXPECT_NE(cut.status, 0);
+    EXPECT_NE(cut.err.find("<stdin>"), std::string::npos) << cut.err;
+}
+
 }  // namespace dayflux::test
