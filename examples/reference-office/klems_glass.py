@@ -57,8 +57,9 @@ def main():
         refl += [r / lam] * nphi
     out = sys.stdout
     out.write('<?xml version="1.0" encoding="UTF-8"?>\n')
-    out.write(f"<!-- klems_glass.py --transmissivity {a.transmissivity} --index {a.index}: "
-              "RADIANCE glass as a Klems BSDF -->\n")
+    # (XML forbids "--" inside a comment: RADIANCE's parser refuses the file, so no option names)
+    out.write(f"<!-- klems_glass.py: RADIANCE glass of transmissivity {a.transmissivity}, index "
+              f"{a.index}, as a Klems BSDF -->\n")
     out.write('<WindowElement xmlns="http://windows.lbl.gov" '
               'xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance" '
               'xsi:schemaLocation="http://windows.lbl.gov/BSDF-v1.4.xsd">\n')

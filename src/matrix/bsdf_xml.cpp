@@ -2,6 +2,7 @@
 
 #include <strings.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -94,6 +95,7 @@ class BsdfFile {
     const AngleBasis *FindBasis(const char *name) const;
     void LoadBlock(pugi::xml_node block, char channel, bool rows_incident);
     void ExtractDiffuse(Component *c);
+    void WarnOfDashesInComments() const;
     ColorMatrix Convert(const Component &c, bool reciprocal, double lambertian) const;
     ColorMatrix Lambertian(double lambertian) const;
 
@@ -113,6 +115,26 @@ void BsdfFile::Fail(const std::string &msg, ptrdiff_t offset) {
     ErrorExit(&loc, msg);
 }
 
+// XML forbids "--" inside a comment. pugixml takes such a file; RADIANCE's reader refuses it
+// ("unclosed <!--"), so a file that works here would stop a RADIANCE pipeline: warned, once.
+void BsdfFile::WarnOfDashesInComments() const {
+    for (size_t at = text_.find("<!--"); at != std::string::npos; at = text_.find("<!--", at)) {
+        const size_t end = text_.find("-->", at + 4);
+        const size_t dashes = text_.find("--", at + 4);
+        if (dashes < end) {
+            const FileLoc loc{
+                path_,
+                1 + static_cast<int>(std::count(
+                        text_.begin(), text_.begin() + static_cast<ptrdiff_t>(dashes), '\n'))};
+            Warning(&loc,
+                    "'--' inside a comment, which XML forbids: RADIANCE's programs refuse "
+                    "this file");
+            return;
+        }
+        at = end == std::string::npos ? end : end + 3;
+    }
+}
+
 const AngleBasis *BsdfFile::FindBasis(const char *name) const {
     for (const AngleBasis &b : bases_)
         if (NameIs(b.name.c_str(), name)) return &b;
@@ -128,6 +150,7 @@ BsdfFile::BsdfFile(const std::string &path) : path_(path) {
     pugi::xml_document doc;
     pugi::xml_parse_result res = doc.load_buffer(text_.data(), text_.size());
     if (!res) Fail(std::string("not a valid XML file: ") + res.description(), res.offset);
+    WarnOfDashesInComments();
     pugi::xml_node root = doc.child("WindowElement");
     if (!root) Fail("not a BSDF file: the top element is not 'WindowElement'");
     if (pugi::xml_node ft = root.child("FileType"); ft && std::string(ft.text().get()) != "BSDF")

@@ -278,4 +278,23 @@ TEST(MatrixInputs, RmtxopStreamsWhatItWouldHoldTheSame) {
     EXPECT_NE(cut.err.find("<stdin>"), std::string::npos) << cut.err;
 }
 
+// A BSDF file with "--" inside a comment is taken, with a warning naming its line: XML forbids
+// it, and RADIANCE's reader refuses the file ("unclosed <!--"). A clean comment draws none.
+TEST(MatrixInputs, DashesInAnXmlCommentAreWarnedAbout) {
+    TempDir tmp;
+    const std::string xml = ReadFile(DataDir() / "bsdf/clear.xml");
+    const size_t body = xml.find('>') + 1;  // after the XML declaration
+    WriteFile(tmp.path() / "bad.xml",
+              xml.substr(0, body) + "\n<!-- made by a tool --option 1 -->" + xml.substr(body));
+    WriteFile(tmp.path() / "good.xml",
+              xml.substr(0, body) + "\n<!-- made by a tool, option 1 -->" + xml.substr(body));
+    const CommandResult bad = RunCommand("rmtxop -ff bad.xml", tmp.path()),
+                        good = RunCommand("rmtxop -ff good.xml", tmp.path());
+    ASSERT_EQ(bad.status, 0) << bad.err;
+    ASSERT_EQ(good.status, 0) << good.err;
+    EXPECT_NE(bad.err.find("bad.xml:2: '--' inside a comment"), std::string::npos) << bad.err;
+    EXPECT_EQ(good.err, "");
+    EXPECT_EQ(bad.out.substr(bad.out.find("\n\n")), good.out.substr(good.out.find("\n\n")));
+}
+
 }  // namespace dayflux::test
