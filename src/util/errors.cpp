@@ -1,5 +1,7 @@
 #include "util/errors.h"
 
+#include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <new>
 
@@ -47,6 +49,12 @@ const std::string &ProgramName() { return ProgramNameStorage(); }
 
 int RunTool(int argc, char **argv, int (*body)(int, char **)) {
     SetProgramName(argc > 0 ? argv[0] : "dayflux");
+    // -version, as RADIANCE's programs answer it (its first line is what plugins probe).
+    for (int i = 1; i < argc; ++i)
+        if (std::strcmp(argv[i], "-version") == 0) {
+            std::printf("%s %s\n", DAYFLUX_VERSION_LINE, ProgramName().c_str());
+            return 0;
+        }
     IgnoreFileSizeSignal();
     try {
         return body(argc, argv);

@@ -10,7 +10,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <regex>
 #include <string>
+#include <tuple>
 
 #include "matrix/matrices.h"
 #include "test_util.h"
@@ -228,6 +230,34 @@ TEST(RadianceNames, RunOursAndReportTheRest) {
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(r.out, "RADIANCE oconv a.rad\n");
     EXPECT_NE(r.err.find("oconv: not in dayflux; running RADIANCE's"), std::string::npos) << r.err;
+}
+
+// -version on every program, ours under their own names and RADIANCE's, and on the names dayflux
+// lacks: a first line in RADIANCE's form, as honeybee-radiance parses it (its installation probe:
+// the YYYY-MM-DD date at least 2020-09-03, the version in the last brackets, 5.4), naming dayflux
+// and the program, and exit status 0.
+TEST(RadianceNames, EveryProgramAnswersVersion) {
+    std::vector<fs::path> programs;
+    for (const fs::path &dir : {BinDir(), RadianceNames()})
+        for (const auto &e : fs::directory_iterator(dir))
+            if (e.path().filename() != "radiance-missing.sh") programs.push_back(e.path());
+    ASSERT_GT(programs.size(), 40u);
+    const std::regex date(R"((\d*)-(\d*)-(\d*))");
+    for (const fs::path &program : programs) {
+        SCOPED_TRACE(program.string());
+        const CommandResult r = RunCommand("'" + program.string() + "' -version", BinDir());
+        EXPECT_EQ(r.status, 0) << r.err;
+        const std::string line = r.out.substr(0, r.out.find('\n'));
+        EXPECT_EQ(line.rfind("RADIANCE 5.4a ", 0), 0u) << line;
+        EXPECT_NE(line.find("dayflux"), std::string::npos) << line;
+        EXPECT_NE(line.find(program.filename().string()), std::string::npos) << line;
+        std::smatch m;
+        ASSERT_TRUE(std::regex_search(line, m, date)) << line;
+        EXPECT_GE(std::make_tuple(std::stoi(m[1]), std::stoi(m[2]), std::stoi(m[3])),
+                  std::make_tuple(2020, 9, 3));
+        const std::string bracketed = line.substr(line.rfind('(') + 1);
+        EXPECT_EQ(bracketed.substr(0, bracketed.find(')')), "5.4") << line;
+    }
 }
 
 }  // namespace
