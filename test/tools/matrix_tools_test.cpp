@@ -297,4 +297,26 @@ TEST(MatrixInputs, DashesInAnXmlCommentAreWarnedAbout) {
     EXPECT_EQ(bad.out.substr(bad.out.find("\n\n")), good.out.substr(good.out.find("\n\n")));
 }
 
+// getinfo against RADIANCE 5.4a's own (test/data/getinfo: commands.txt, expected/ made by
+// make_expected.sh): each command's standard output byte for byte, and its exit status.
+TEST(Getinfo, OutputsEqualRadianceByteForByte) {
+    const fs::path dir = DataDir() / "getinfo";
+    std::istringstream commands(ReadFile(dir / "commands.txt"));
+    int compared = 0;
+    for (std::string line; std::getline(commands, line);) {
+        if (line.empty() || line[0] == '#') continue;
+        const size_t t1 = line.find('\t'), t2 = line.find('\t', t1 + 1);
+        ASSERT_NE(t2, std::string::npos) << line;
+        const std::string name = line.substr(0, t1), args = line.substr(t1 + 1, t2 - t1 - 1),
+                          input = line.substr(t2 + 1);
+        SCOPED_TRACE(name);
+        const CommandResult r = RunCommand(
+            "getinfo " + args + " < " + (input == "-" ? std::string("/dev/null") : input), dir);
+        EXPECT_EQ(r.out + "status " + std::to_string(r.status) + "\n",
+                  ReadFile(dir / "expected" / (name + ".out")));
+        ++compared;
+    }
+    EXPECT_EQ(compared, 15);
+}
+
 }  // namespace dayflux::test
