@@ -297,10 +297,14 @@ TEST(MatrixInputs, DashesInAnXmlCommentAreWarnedAbout) {
     EXPECT_EQ(bad.out.substr(bad.out.find("\n\n")), good.out.substr(good.out.find("\n\n")));
 }
 
-// getinfo against RADIANCE 5.4a's own (test/data/getinfo: commands.txt, expected/ made by
-// make_expected.sh): each command's standard output byte for byte, and its exit status.
-TEST(Getinfo, OutputsEqualRadianceByteForByte) {
-    const fs::path dir = DataDir() / "getinfo";
+// Small programs against RADIANCE 5.4a's own (test/data/PROGRAM: commands.txt, and expected/
+// made by test/data/make_expected.sh): each command's standard output byte for byte, and its exit
+// status.
+class RadiancePrograms : public ::testing::TestWithParam<std::pair<const char *, int>> {};
+
+TEST_P(RadiancePrograms, OutputsEqualRadianceByteForByte) {
+    const auto [program, commands_expected] = GetParam();
+    const fs::path dir = DataDir() / program;
     std::istringstream commands(ReadFile(dir / "commands.txt"));
     int compared = 0;
     for (std::string line; std::getline(commands, line);) {
@@ -310,13 +314,18 @@ TEST(Getinfo, OutputsEqualRadianceByteForByte) {
         const std::string name = line.substr(0, t1), args = line.substr(t1 + 1, t2 - t1 - 1),
                           input = line.substr(t2 + 1);
         SCOPED_TRACE(name);
-        const CommandResult r = RunCommand(
-            "getinfo " + args + " < " + (input == "-" ? std::string("/dev/null") : input), dir);
+        const CommandResult r = RunCommand(std::string(program) + " " + args + " < " +
+                                               (input == "-" ? std::string("/dev/null") : input),
+                                           dir);
         EXPECT_EQ(r.out + "status " + std::to_string(r.status) + "\n",
                   ReadFile(dir / "expected" / (name + ".out")));
         ++compared;
     }
-    EXPECT_EQ(compared, 15);
+    EXPECT_EQ(compared, commands_expected);
 }
+
+INSTANTIATE_TEST_SUITE_P(Matrix, RadiancePrograms,
+                         ::testing::Values(std::pair{"getinfo", 15}, std::pair{"total", 31}),
+                         [](const auto &info) { return std::string(info.param.first); });
 
 }  // namespace dayflux::test
