@@ -2,6 +2,7 @@
 // its metrics do not depend on the thread count, and the direct-sun metric, which has no
 // sampling noise (-ab 0 -dj 0), is what the geometry gives.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <map>
 #include <sstream>
@@ -212,6 +213,40 @@ TEST(DaysimExample, TinyRunAgreesWithDaylightCoefficients) {
     EXPECT_NEAR(sum_daysim / sum_dc, 0.95, 0.08);
     const std::string metrics = ReadFile(tmp.path() / "daysim" / "metrics.txt");
     EXPECT_NE(metrics.find("office0            15"), std::string::npos) << metrics;
+}
+
+// The Debian package (cpack, CMakeLists.txt): made from this build, installed with dpkg (its
+// dependencies are this machine's libraries), the tiny example run from its installed programs
+// (/opt/dayflux/bin, the .cal files found beside them) gives the build tree's metrics, its
+// RADIANCE names answer, and removing it leaves nothing. Only as root, with dpkg, where no dayflux
+// is installed already.
+TEST(ReferenceOfficeExample, InstalledPackageRunsIt) {
+    if (geteuid() != 0) GTEST_SKIP() << "installing a package needs root";
+    if (RunCommand("command -v dpkg cpack", ".").status != 0) GTEST_SKIP() << "no dpkg or cpack";
+    if (fs::exists("/opt/dayflux")) GTEST_SKIP() << "/opt/dayflux exists: not touched";
+    const fs::path example = DataDir() / ".." / ".." / "examples" / "reference-office";
+    TempDir tmp;
+    CommandResult r = RunCommand("cd '" + (BinDir() / "..").string() + "' && cpack -B '" +
+                                     tmp.path().string() + "' > /dev/null",
+                                 tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    r = RunCommand("dpkg -i dayflux_*.deb > /dev/null", tmp.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string common = "make -s --no-print-directory -C '" + example.string() +
+                               "' NX=3 NY=5 AB=2 AD=64 NPROC=2 OUT='" + tmp.path().string();
+    const CommandResult installed = RunCommand(common + "/installed' BIN=/opt/dayflux/bin", "/");
+    const CommandResult version =
+        RunCommand("/opt/dayflux/lib/dayflux/radiance/bin/rcontrib -version", "/");
+    const CommandResult removed = RunCommand("dpkg -r dayflux > /dev/null", "/");
+    EXPECT_EQ(removed.status, 0) << removed.err;
+    EXPECT_FALSE(fs::exists("/opt/dayflux/bin"));
+    ASSERT_EQ(installed.status, 0) << installed.err;
+    EXPECT_EQ(version.out.rfind("RADIANCE 5.4a", 0), 0u) << version.out;
+    r = RunCommand(common + "/built' BIN='" + BinDir().string() + "'", "/");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string csv = ReadFile(tmp.path() / "installed" / "metrics.csv");
+    EXPECT_GT(csv.size(), 100u);
+    EXPECT_EQ(csv, ReadFile(tmp.path() / "built" / "metrics.csv"));
 }
 
 }  // namespace
