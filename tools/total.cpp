@@ -49,6 +49,29 @@ int BinaryColumns(const char *digits, const char *prog) {
     return n;
 }
 
+// -in N or -on N (a record count), else -ia/-oa, -id[N]/-od or -if[N]/-of (a format: N doubles
+// a record, positive; N floats, negative; ascii, 0; an output's column count is its own).
+void CountOrFormat(int argc, char **argv, int *a, long *count, int *binary, bool input) {
+    const char *arg = argv[*a];
+    switch (arg[2]) {
+        case 'n':
+            if (*a + 1 >= argc) Usage(argv[0]);
+            *count = std::atol(argv[++*a]);
+            return;
+        case 'a':
+            *binary = 0;
+            return;
+        case 'd':
+            *binary = input ? BinaryColumns(arg + 3, argv[0]) : 1;
+            return;
+        case 'f':
+            *binary = input ? -BinaryColumns(arg + 3, argv[0]) : -1;
+            return;
+        default:
+            Usage(argv[0]);
+    }
+}
+
 // The next record's fields (0 at the end). Ascii records are lines of fields split at white space
 // or at -t's character, as RADIANCE reads them (a line over 128 KiB read in parts; an empty field
 // between separators the function's starting value).
@@ -199,28 +222,10 @@ int Main(int argc, char **argv) {
                 o.running = !o.running;
                 break;
             case 'i':
-                if (arg[2] == 'n' && a + 1 < argc)
-                    o.in_count = std::atol(argv[++a]);
-                else if (arg[2] == 'a')
-                    o.binary_in = 0;
-                else if (arg[2] == 'd')
-                    o.binary_in = BinaryColumns(arg + 3, argv[0]);
-                else if (arg[2] == 'f')
-                    o.binary_in = -BinaryColumns(arg + 3, argv[0]);
-                else
-                    Usage(argv[0]);
+                CountOrFormat(argc, argv, &a, &o.in_count, &o.binary_in, true);
                 break;
             case 'o':
-                if (arg[2] == 'n' && a + 1 < argc)
-                    o.out_count = std::atol(argv[++a]);
-                else if (arg[2] == 'a')
-                    o.binary_out = 0;
-                else if (arg[2] == 'd')
-                    o.binary_out = 1;
-                else if (arg[2] == 'f')
-                    o.binary_out = -1;
-                else
-                    Usage(argv[0]);
+                CountOrFormat(argc, argv, &a, &o.out_count, &o.binary_out, false);
                 break;
             default:
                 Usage(argv[0]);
