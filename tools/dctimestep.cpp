@@ -309,7 +309,7 @@ int Main(int argc, char **argv) {
     for (int j0 = 0; j0 < nsteps; j0 += chunk) {
         const int w = std::min(chunk, nsteps - j0);
         res.assign(static_cast<size_t>(vmat.rows) * w * 3, 0.f);
-        const int block = 16;
+        const int block = 18;  // (three of the kernel's groups of six rows)
         tbb::parallel_for(0, (vmat.rows + block - 1) / block, [&](int blk) {
             const int r0 = blk * block, nr = std::min(block, vmat.rows - r0);
             MultiplyRows(vmat.row(r0), nr, vmat.cols, right, j0, j0 + w,

@@ -17,11 +17,9 @@ for dir in $PATH; do
 done
 # -version answers as our programs do, naming what is missing (plugins probe a program of
 # RADIANCE's, honeybee-radiance rtrace's, to find the installation and its level).
-for arg in "$@"; do
-    if [ "$arg" = "-version" ]; then
-        echo "@DAYFLUX_VERSION_LINE@, which has no $name"
-        exit 0
-    fi
-done
+if [ "${1:-}" = "-version" ]; then
+    echo "@DAYFLUX_VERSION_LINE@, which has no $name"
+    exit 0
+fi
 echo "$name: not implemented by dayflux, and no RADIANCE $name on PATH" >&2
 exit 127

@@ -93,18 +93,26 @@ bool StreamOne(Operand &op, const UnaryOps &trailing, DataFormat outfmt,
                const std::string &header_start) {
     if (op.ops.transpose || trailing.transpose || IsXmlSpec(op.spec)) return false;
     MatrixReader reader(op.spec == "-" ? "" : op.spec);
-    Matrix shape;
-    shape.cols = reader.Cols();
-    shape.ncomp = reader.Comps();
-    shape.dtype = reader.Format();
-    shape.info = reader.Header().info;
-    shape = ApplyOps(ApplyOps(std::move(shape), op.ops, DisplayName(op), verbose), trailing,
-                     kTrailing, verbose);
-    const DataFormat format = outfmt == DataFormat::Unknown ? shape.dtype : outfmt;
-    if (reader.Rows() <= 0 || (IsPicture(format) && shape.ncomp != 3)) {
+    if (reader.Rows() <= 0) {
         op.loaded = std::make_unique<Matrix>(ReadAll<Matrix>(reader));
         return false;
     }
+    Matrix input;
+    input.cols = reader.Cols();
+    input.ncomp = reader.Comps();
+    input.dtype = reader.Format();
+    input.info = reader.Header().info;
+    const auto shape_after = [&](bool report) {
+        return ApplyOps(ApplyOps(input, op.ops, DisplayName(op), report), trailing, kTrailing,
+                        report);
+    };
+    Matrix shape = shape_after(false);
+    const DataFormat format = outfmt == DataFormat::Unknown ? shape.dtype : outfmt;
+    if (IsPicture(format) && shape.ncomp != 3) {  // (WriteMatrix's grey pictures)
+        op.loaded = std::make_unique<Matrix>(ReadAll<Matrix>(reader));
+        return false;
+    }
+    if (verbose) shape_after(true);  // its messages, once
     shape.rows = reader.Rows();
     OutputFile out("-");
     out.Write(MatrixHeaderText(shape, format, header_start));
@@ -117,7 +125,8 @@ bool StreamOne(Operand &op, const UnaryOps &trailing, DataFormat outfmt,
     for (int done = 0; done < shape.rows;) {
         block.rows = std::min(block_rows, shape.rows - done);
         block.data.resize(static_cast<size_t>(block.rows) * block.cols * block.ncomp);
-        for (int r = 0; r < block.rows; ++r) reader.ReadRow(block.row(r));
+        for (int r = 0; r < block.rows; ++r)
+            CHECK(reader.ReadRow(block.row(r)));  // (a short input is an error in ReadRow)
         const Matrix result =
             ApplyOps(ApplyOps(block, op.ops, DisplayName(op), false), trailing, kTrailing, false);
         text.clear();

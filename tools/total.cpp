@@ -94,7 +94,9 @@ int ReadRecord(const Options &o, std::FILE *fp, double *field) {
         while (is_space(*cp)) ++cp;
         if (!*cp) break;
         char *num = cp;
-        while (*cp && !(space_separated ? is_space(*cp) : *cp == o.separator)) ++cp;
+        while (*cp &&
+               !(space_separated ? is_space(*cp) : static_cast<unsigned char>(*cp) == o.separator))
+            ++cp;
         if (*cp) *cp++ = '\0';
         field[n] = !*num || is_space(*num) ? kInitial[o.func] : std::atof(num);
     }

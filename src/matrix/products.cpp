@@ -25,8 +25,8 @@ constexpr int kStrip = 8;
 // vectors 24).
 typedef double Double4 __attribute__((vector_size(32)));
 __attribute__((target_clones("arch=x86-64-v3", "default"))) void TileKernel(const double *ap,
-                                                                             const double *bp,
-                                                                             int inner, double *c) {
+                                                                            const double *bp,
+                                                                            int inner, double *c) {
     Double4 s[kTileRows][2] = {};
     for (int k = 0; k < inner; ++k) {
         Double4 b0, b1;
@@ -60,8 +60,9 @@ void PackRows(const float *a, int nrows, int inner, int comp, double *packed) {
 size_t ColumnOperand::NonZeros() const {
     if (sparse_) return entry_row_.size();
     size_t n = 0;
-    for (size_t i = 0; i < planes_[0].size(); ++i)
-        n += planes_[0][i] != 0 || planes_[1][i] != 0 || planes_[2][i] != 0;
+    for (int k = 0; k < rows_; ++k)
+        for (int j = 0; j < cols_; ++j)
+            n += Dense(0, k, j) != 0 || Dense(1, k, j) != 0 || Dense(2, k, j) != 0;
     return n;
 }
 
@@ -167,7 +168,12 @@ void ColumnOperand::PackStrips() {
             for (int j = 0; j < cols_; ++j)
                 strips_[c][(static_cast<size_t>(j / kStrip) * rows_ + k) * kStrip + j % kStrip] =
                     planes_[c][static_cast<size_t>(k) * cols_ + j];
+        std::vector<float>().swap(planes_[c]);  // (the strips hold them now, as doubles)
     }
+}
+
+double ColumnOperand::Dense(int c, int k, int j) const {
+    return strips_[c][(static_cast<size_t>(j / kStrip) * rows_ + k) * kStrip + j % kStrip];
 }
 
 ColorMatrix ColumnOperand::ToMatrix() const {
@@ -186,8 +192,7 @@ std::vector<float> ColumnOperand::Column(int j) const {
             std::copy(&entry_value_[3 * e], &entry_value_[3 * e + 3], &col[3 * entry_row_[e]]);
     } else {
         for (int r = 0; r < rows_; ++r)
-            for (int c = 0; c < 3; ++c)
-                col[3 * r + c] = planes_[c][static_cast<size_t>(r) * cols_ + j];
+            for (int c = 0; c < 3; ++c) col[3 * r + c] = static_cast<float>(Dense(c, r, j));
     }
     return col;
 }
@@ -242,7 +247,7 @@ ColorMatrix Multiply(const ColorMatrix &a, const ColumnOperand &b) {
     CHECK(a.ncomp == 3 && a.cols == b.Rows());
     ColorMatrix r(a.rows, b.Cols(), 3);
     r.dtype = DataFormat::Float;
-    const int block = 16;
+    const int block = 18;  // (three of the kernel's groups of six rows)
     tbb::parallel_for(0, (a.rows + block - 1) / block, [&](int blk) {
         const int r0 = blk * block, nr = std::min(block, a.rows - r0);
         MultiplyRows(a.row(r0), nr, a.cols, b, 0, b.Cols(), r.row(r0));
@@ -299,6 +304,7 @@ int ProductOfRows(int inner, ReadRow read_row, const ColumnOperand &right, const
             b.text.clear();
             for (int r = 0; r < b.nrows; ++r)
                 fmt.Append(b.res.data() + static_cast<size_t>(r) * ncols * 3, &b.text);
+            std::vector<float>().swap(b.res);  // (formatted: a pooled block keeps its text alone)
         },
         [&](Block &b) {
             if (as_they_are)

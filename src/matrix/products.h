@@ -33,11 +33,12 @@ class ColumnOperand {
   private:
     friend void MultiplyRows(const float *, int, int, const ColumnOperand &, int, int, float *);
     void Finish();
-    void PackStrips();  // strips_ from planes_
+    void PackStrips();                        // strips_ from planes_, which it then frees
+    double Dense(int c, int k, int j) const;  // component c of row k, column j (dense)
 
     int rows_ = 0, cols_ = 0;
     bool sparse_ = false;
-    std::vector<float> planes_[3];  // dense: [k][row * cols + col]
+    std::vector<float> planes_[3];  // dense, while it is made: [k][row * cols + col]
     // dense, as the product's tiles read it: per component, strips of 8 columns (zero past the
     // last), each k-major (row k's 8 values together), in double
     std::vector<double> strips_[3];

@@ -49,12 +49,12 @@ const std::string &ProgramName() { return ProgramNameStorage(); }
 
 int RunTool(int argc, char **argv, int (*body)(int, char **)) {
     SetProgramName(argc > 0 ? argv[0] : "dayflux");
-    // -version, as RADIANCE's programs answer it (its first line is what plugins probe).
-    for (int i = 1; i < argc; ++i)
-        if (std::strcmp(argv[i], "-version") == 0) {
-            std::printf("%s %s\n", DAYFLUX_VERSION_LINE, ProgramName().c_str());
-            return 0;
-        }
+    // -version as the first argument, as plugins probe RADIANCE's programs (anywhere else it
+    // may be an option's value: getinfo -a -version adds a header line).
+    if (argc > 1 && std::strcmp(argv[1], "-version") == 0) {
+        std::printf("%s %s\n", DAYFLUX_VERSION_LINE, ProgramName().c_str());
+        return 0;
+    }
     IgnoreFileSizeSignal();
     try {
         return body(argc, argv);

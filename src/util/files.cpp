@@ -16,12 +16,12 @@
 namespace dayflux {
 
 namespace {
-constexpr size_t kBufferSize = 1 << 20;
+constexpr size_t kBufferSize = 1 << 20, kPipeBufferSize = 1 << 16;
 
-// A pipe's kernel buffer, widened from Linux's 64 KiB to 1 MiB (the most an unprivileged process
-// may ask for by default), and what we read from one at a time: a year of products (150 MB)
-// through `dctimestep | rmtxop` took 2,300 turns between the programs. Best effort: where the
-// system refuses, the pipe stays as it was.
+// The standard input's and output's pipes, widened from Linux's 64 KiB to 1 MiB (the most an
+// unprivileged process may ask for by default), and what we read from one at a time: a year of
+// products (150 MB) through `dctimestep | rmtxop` took 2,300 turns between the programs. Best
+// effort: where the system refuses, the pipe stays as it was.
 constexpr int kPipeCapacity = 1 << 20;
 void WidenPipe(int fd) {
     struct stat st;
@@ -68,10 +68,12 @@ std::unique_ptr<InputSource> InputSource::Open(const std::string &spec) {
         in->fp_ = std::fopen(spec.c_str(), "rb");
         if (!in->fp_) ErrorExit("cannot open file '" + spec + "': " + std::strerror(errno));
     }
-    // A small file gets a small buffer (scenes open many), a pipe what it can hold at once.
-    WidenPipe(fileno(in->fp_));
+    // A small file gets a small buffer (scenes open many), a pipe what it can hold at once: the
+    // standard input's widened (matrices come that way), a command's left as it is (scenes'
+    // !xform, many at once: each widened pipe counts against the user's pipe pages).
+    if (in->is_stdin_) WidenPipe(fileno(in->fp_));
     struct stat st;
-    size_t size = kPipeCapacity;
+    size_t size = in->is_stdin_ ? kPipeCapacity : kPipeBufferSize;
     if (fstat(fileno(in->fp_), &st) == 0 && S_ISREG(st.st_mode)) {
         size = std::clamp<size_t>(static_cast<size_t>(st.st_size) + 1, 4096, kBufferSize);
         in->regular_ = true;
@@ -306,7 +308,6 @@ OutputFile::OutputFile(const std::string &spec, uint64_t keep_bytes) {
         fp_ = popen(spec.c_str() + 1, "w");
         if (!fp_) ErrorExit("cannot start command '" + spec + "'");
         is_pipe_ = true;
-        WidenPipe(fileno(fp_));
         return;
     }
     const OutputTarget target = ResolveOutput(spec);

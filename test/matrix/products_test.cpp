@@ -34,6 +34,11 @@ TEST(Products, DenseProductIsBitIdenticalToRadianceOrder) {
     ColorMatrix a = Random(13, 146, 1, 0.1), b = Random(146, 1031, 2, 0.3);
     ColumnOperand op = ColumnOperand::FromMatrix(b);
     ASSERT_FALSE(op.IsSparse());
+    EXPECT_EQ(op.ToMatrix().data, b.data);  // (held as the kernel's strips alone)
+    size_t nonzero = 0;
+    for (int k = 0; k < b.rows; ++k)
+        for (int j = 0; j < b.cols; ++j) nonzero += b.at(k, j, 0) != 0;  // (zero in all three)
+    EXPECT_EQ(op.NonZeros(), nonzero);
     ColorMatrix p = Multiply(a, op);
     for (int i = 0; i < p.rows; ++i)
         for (int j = 0; j < p.cols; ++j)
@@ -105,7 +110,7 @@ TEST(Products, StreamedProductEqualsTheWholeProduct) {
 }
 
 // A window of columns (per-step outputs compute one), starting and ending inside the 8-column
-// strips the dense kernel works in, with rows that leave a partial group of four.
+// strips the dense kernel works in, with rows that leave a partial group of six.
 TEST(Products, ColumnWindowsAreBitIdenticalToRadianceOrder) {
     ColorMatrix a = Random(7, 146, 7, 0.1), b = Random(146, 61, 8);
     ColumnOperand op = ColumnOperand::FromMatrix(b);

@@ -222,7 +222,8 @@ TEST(DaysimExample, TinyRunAgreesWithDaylightCoefficients) {
 // is installed already.
 TEST(ReferenceOfficeExample, InstalledPackageRunsIt) {
     if (geteuid() != 0) GTEST_SKIP() << "installing a package needs root";
-    if (RunCommand("command -v dpkg cpack", ".").status != 0) GTEST_SKIP() << "no dpkg or cpack";
+    if (RunCommand("command -v dpkg cpack dpkg-shlibdeps", ".").status != 0)
+        GTEST_SKIP() << "no dpkg, cpack or dpkg-shlibdeps";
     if (fs::exists("/opt/dayflux")) GTEST_SKIP() << "/opt/dayflux exists: not touched";
     const fs::path example = DataDir() / ".." / ".." / "examples" / "reference-office";
     TempDir tmp;
@@ -230,6 +231,10 @@ TEST(ReferenceOfficeExample, InstalledPackageRunsIt) {
                                      tmp.path().string() + "' > /dev/null",
                                  tmp.path());
     ASSERT_EQ(r.status, 0) << r.err;
+    // Removed whatever happens once installing was tried (a failed dpkg -i leaves it unpacked).
+    struct Purge {
+        ~Purge() { RunCommand("dpkg --purge dayflux > /dev/null 2>&1", "/"); }
+    } purge;
     r = RunCommand("dpkg -i dayflux_*.deb > /dev/null", tmp.path());
     ASSERT_EQ(r.status, 0) << r.err;
     const std::string common = "make -s --no-print-directory -C '" + example.string() +

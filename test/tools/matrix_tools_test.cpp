@@ -240,7 +240,8 @@ TEST(MatrixInputs, ByteSwappedFloatReadsTheSame) {
 
 // rmtxop streams a single matrix whose header gives its rows (each block read, transformed and
 // written before the next) and holds one that does not: both give the same bytes, header and
-// all, for each unary operation it streams (-s, -c, those after the matrix, output formats),
+// all, and the same messages (-v: once), for each unary operation it streams (-s, -c, those after
+// the matrix, output formats) and for a one-component picture, which it does not stream,
 // through more blocks than one. A matrix without NROWS, the same bytes otherwise.
 TEST(MatrixInputs, RmtxopStreamsWhatItWouldHoldTheSame) {
     TempDir tmp;
@@ -258,9 +259,9 @@ TEST(MatrixInputs, RmtxopStreamsWhatItWouldHoldTheSame) {
     WriteFile(tmp.path() / "held/m.txt", text);
     WriteFile(tmp.path() / "streamed/m.txt",
               text.replace(text.find("NCOLS"), 0, "NROWS=" + std::to_string(rows) + "\n"));
-    for (const char *args :
-         {"-ff -c 47.4 119.9 11.6 -", "-fa -s 2 .5 3 -", "-fd - -s 4",
-          "-fc -c .2 .3 .5 .1 .1 .8 .6 .3 .1 -", "-c .3 .3 .4 - -s 2", "-fa -c 1 0 0 0 1 0 -"}) {
+    for (const char *args : {"-ff -c 47.4 119.9 11.6 -", "-v -fa -s 2 .5 3 -", "-fd - -v -s 4",
+                             "-fc -c .2 .3 .5 .1 .1 .8 .6 .3 .1 -", "-c .3 .3 .4 - -s 2",
+                             "-fa -c 1 0 0 0 1 0 -", "-v -fc -c .3 .3 .4 -"}) {
         SCOPED_TRACE(args);
         const std::string cmd = std::string("cat m.txt | rmtxop ") + args;
         const CommandResult held = RunCommand(cmd, tmp.path() / "held"),

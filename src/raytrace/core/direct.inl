@@ -29,7 +29,10 @@ void ShadowRay(IN(Item) it, int i, IN(PackedSource) s, real3 dir, real3 coef) {
     if (Max3(coef) <= 0. || Bright(coef * XYZ(s.colour)) <= 0.) return;
     if (ShadowRaysAskBlockers(s) && Blocked(it.point, dir, it.r.from, i)) return;
     int at = PushSlot();
-    ChildRay(it.r, kShadow, coef, STACK(at).r);  // (direct() ignores rayorigin()'s verdict)
+    // direct(): rayorigin() without a coefficient (the parent's weight, times the extinction),
+    // its verdict ignored; the coefficient set afterwards
+    ChildRay(it.r, kShadow, real3(1), STACK(at).r);
+    STACK(at).r.coef = it.r.coef * coef;
     STACK(at).r.aimed = i;
     STACK(at).r.org = it.point;
     STACK(at).r.dir = dir;
