@@ -20,26 +20,13 @@
 namespace dayflux {
 namespace {
 
-// RADIANCE's getheader(): the header's lines (as fgets() reads them, at most 2047 bytes each)
-// up to the empty line that ends it, each handed to on_line; false where the input does not
-// start with a printable character or ends before the empty line.
+// The header's lines, each to on_line (RADIANCE's getheader(): matrix/header.h).
 template <class OnLine>
 bool ReadHeader(std::FILE *fp, OnLine on_line) {
-    constexpr int kMaxLine = 2048;
-    const int first = std::fgetc(fp);
-    if (first == EOF || !std::isprint(first)) return false;
-    std::ungetc(first, fp);
-    char buf[kMaxLine];
-    for (;;) {
-        buf[kMaxLine - 2] = '\n';
-        if (!std::fgets(buf, kMaxLine, fp)) return false;
-        if (buf[buf[0] == '\r' ? 1 : 0] == '\n') return true;
-        if (buf[kMaxLine - 2] != '\n') {  // a line cut short: its last byte read again
-            std::ungetc(buf[kMaxLine - 2], fp);
-            buf[kMaxLine - 2] = '\0';
-        }
-        on_line(buf);
-    }
+    return ReadHeaderLines(fp, [&](const char *line) {
+        on_line(line);
+        return true;
+    });
 }
 
 // A header line as getinfo lists a file's: a tab after each line that ends.

@@ -115,6 +115,24 @@ void ReadResolution(InputSource &in, int *xres, int *yres) {
     *yres = y;
 }
 
+bool ReadHeaderLines(std::FILE *fp, const std::function<bool(const char *)> &on_line) {
+    constexpr int kMaxLine = 2048;  // RADIANCE's MAXLINE
+    const int first = std::fgetc(fp);
+    if (first == EOF || !std::isprint(first)) return false;
+    std::ungetc(first, fp);
+    char buf[kMaxLine];
+    for (;;) {
+        buf[kMaxLine - 2] = '\n';
+        if (!std::fgets(buf, kMaxLine, fp)) return false;
+        if (buf[buf[0] == '\r' ? 1 : 0] == '\n') return true;
+        if (buf[kMaxLine - 2] != '\n') {  // a line cut short: its last byte read again
+            std::ungetc(buf[kMaxLine - 2], fp);
+            buf[kMaxLine - 2] = '\0';
+        }
+        if (!on_line(buf)) return false;
+    }
+}
+
 std::string HeaderStart(int argc, char **argv) {
     std::string s = "#?RADIANCE\n";
     for (int i = 0; i < argc; ++i) {

@@ -2,6 +2,8 @@
 // and writing headers the way RADIANCE's programs do.
 #pragma once
 
+#include <cstdio>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,6 +33,13 @@ bool NextIsResolution(InputSource &in);
 
 // "#?RADIANCE\n" followed by the command line quoted as RADIANCE's printargs() quotes it.
 std::string HeaderStart(int argc, char **argv);
+
+// RADIANCE's getheader() on a stdio stream, for the small programs that copy its bytes as they
+// are (getinfo, rcollate): the header's lines as fgets() reads them (at most 2047 bytes each, a
+// longer line in parts), each handed to on_line, up to the empty line (or "\r\n") that ends it,
+// which is consumed. False where the stream does not start with a printable character, ends
+// before that line, or on_line returns false.
+bool ReadHeaderLines(std::FILE *fp, const std::function<bool(const char *)> &on_line);
 // The CAPDATE= and GMT= lines RADIANCE's fputnow() writes.
 std::string DateLines();
 // NROWS/NCOLS/NCOMP, BigEndian (binary only) and FORMAT lines, then the blank line.

@@ -326,7 +326,8 @@ TEST_P(RadiancePrograms, OutputsEqualRadianceByteForByte) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Matrix, RadiancePrograms,
-                         ::testing::Values(std::pair{"getinfo", 15}, std::pair{"total", 31}),
+                         ::testing::Values(std::pair{"getinfo", 15}, std::pair{"total", 31},
+                                           std::pair{"rcollate", 33}),
                          [](const auto &info) { return std::string(info.param.first); });
 
 }  // namespace dayflux::test
