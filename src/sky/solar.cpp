@@ -45,6 +45,41 @@ double SolarAzimuth(const Site &site, double sd, double st) {
                            std::sin(site.latitude) * std::cos(sd) * std::cos(st * (M_PI / 12.)));
 }
 
+namespace {
+// An angle brought into [0, period).
+double Circle(double r, double period) {
+    while (r < 0) r += period;
+    while (r >= period) r -= period;
+    return r;
+}
+}  // namespace
+
+double AlmanacDate(const Site &site, int year, int month, int day, double hour) {
+    int jd = DayOfYear(month, day);
+    jd += (month > 2) & !(year & 3);
+    jd += (year - 1949) * 365 + (year - 1949) / 4;
+    hour += site.meridian * (12. / M_PI);
+    return jd + hour * (1. / 24.) + (2432916.5 - 2451545.);
+}
+
+double AlmanacDeclination(const Site &site, double mjd, double *solar_time) {
+    constexpr double kDeg = M_PI / 180.;
+    const double mean_longitude = Circle(280.460 * kDeg + 0.9856474 * kDeg * mjd, 2. * M_PI);
+    const double anomaly = Circle(357.528 * kDeg + 0.9856003 * kDeg * mjd, 2. * M_PI);
+    const double ecliptic =
+        mean_longitude + 1.915 * kDeg * std::sin(anomaly) + 0.020 * kDeg * std::sin(2. * anomaly);
+    const double obliquity = 23.439 * kDeg - 4e-7 * kDeg * mjd;
+    const double sin_l = std::sin(ecliptic);
+    if (solar_time) {
+        const double ra = std::atan2(sin_l * std::cos(obliquity), std::cos(ecliptic));
+        const double utime = 24. * (mjd - std::floor(mjd)) + 12.;
+        const double gmst = 6.697375 + 0.0657098242 * mjd + utime;
+        const double lmst = gmst - site.longitude * (12. / M_PI);
+        *solar_time = Circle(lmst - ra * (12. / M_PI) + 12., 24.);
+    }
+    return std::asin(std::sin(obliquity) * sin_l);
+}
+
 double TableCos(double x) {
     constexpr int kEntries = 1024;
     static const std::array<double, kEntries + 1> table = [] {

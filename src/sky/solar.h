@@ -23,6 +23,12 @@ double SolarAltitude(const Site &site, double declination, double solar_time);
 // Azimuth (radians) measured from south, west positive, as RADIANCE's sazi().
 double SolarAzimuth(const Site &site, double declination, double solar_time);
 
+// Michalsky's algorithm (RADIANCE's mjdate() and msdec(), for gensky and gendaylit with a year):
+// the Almanac's Julian date from noon UT on 2000-01-01 (fractional days) of a local standard time,
+// and the solar declination (radians) then, with the solar time in *solar_time where asked.
+double AlmanacDate(const Site &site, int year, int month, int day, double hour);
+double AlmanacDeclination(const Site &site, double date, double *solar_time);
+
 // The full angle of the solar disc, degrees (gendaymtx's and gensky's).
 constexpr double kSunAngleDeg = 0.533;
 

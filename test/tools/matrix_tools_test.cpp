@@ -327,7 +327,7 @@ TEST_P(RadiancePrograms, OutputsEqualRadianceByteForByte) {
 
 INSTANTIATE_TEST_SUITE_P(Matrix, RadiancePrograms,
                          ::testing::Values(std::pair{"getinfo", 15}, std::pair{"total", 31},
-                                           std::pair{"rcollate", 33}),
+                                           std::pair{"rcollate", 33}, std::pair{"gensky", 32}),
                          [](const auto &info) { return std::string(info.param.first); });
 
 }  // namespace dayflux::test
