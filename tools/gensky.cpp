@@ -12,13 +12,12 @@
 #include "matrix/header.h"
 #include "sky/solar.h"
 #include "util/errors.h"
+#include "util/photometry.h"
 
 namespace dayflux {
 namespace {
 
 enum SkyType { kClear = 1, kOvercast = 2, kUniform = 3, kIntermediate = 4 };
-constexpr double kSkyEfficacy = 203.;  // RADIANCE's SKYEFFICACY (D65), lm/W
-constexpr double kSunEfficacy = 208.;  // SUNEFFICACY (illuminant B)
 
 struct Sky {
     Site site{0.66, 2.13, 120. * M_PI / 180.};  // RADIANCE's default site (sun.c)
@@ -282,8 +281,7 @@ int Main(int argc, char **argv) {
     if (s.month && !s.solar_time && std::fabs(s.site.meridian - s.site.longitude) > 45 * M_PI / 180)
         std::fprintf(stderr, "%s: warning - %.1f hours btwn. standard meridian and longitude\n",
                      prog, (s.site.longitude - s.site.meridian) * 12 / M_PI);
-    std::string args = HeaderStart(argc, argv);  // "#?RADIANCE\n" and the command line
-    std::printf("# %s", args.c_str() + args.find('\n') + 1);
+    std::printf("# %s", CommandLine(argc, argv).c_str());
     Compute(prog, s);
     Print(s);
     return 0;

@@ -16,18 +16,10 @@
 
 #include "matrix/header.h"
 #include "util/errors.h"
+#include "util/files.h"
 
 namespace dayflux {
 namespace {
-
-// The header's lines, each to on_line (RADIANCE's getheader(): matrix/header.h).
-template <class OnLine>
-bool ReadHeader(std::FILE *fp, OnLine on_line) {
-    return ReadHeaderLines(fp, [&](const char *line) {
-        on_line(line);
-        return true;
-    });
-}
 
 // A header line as getinfo lists a file's: a tab after each line that ends.
 void PutIndented(const char *line) {
@@ -61,15 +53,6 @@ void PutDimensions(std::FILE *fp) {
         default:
             std::fputs("unknown file type\n", stdout);
     }
-}
-
-// The rest of the standard input, as it is.
-void CopyRest() {
-    std::fflush(stdout);
-    char buf[1 << 16];
-    for (size_t n; (n = std::fread(buf, 1, sizeof buf, stdin)) > 0;)
-        if (std::fwrite(buf, 1, n, stdout) != n) break;
-    std::fflush(stdout);
 }
 
 int BadHeader() {
@@ -109,11 +92,19 @@ int Main(int argc, char **argv) {
         dim = argv[1][0] == '-' ? -1 : 1;
         --argc, ++argv;
     }
-    const auto copy_line = [](const char *line) { std::fputs(line, stdout); };
+    const auto copy_line = [](const char *line) {
+        std::fputs(line, stdout);
+        return true;
+    };
+    const auto skip_line = [](const char *) { return true; };
+    const auto indent_line = [](const char *line) {
+        PutIndented(line);
+        return true;
+    };
     if (argc > 2 && std::strcmp(argv[1], "-c") == 0) {
         std::setvbuf(stdin, nullptr, _IONBF, 0);  // the command reads what is left
-        if (!ReadHeader(stdin, copy_line)) return BadHeader();
-        std::fputs(HeaderStart(argc - 2, argv + 2).c_str() + std::strlen("#?RADIANCE\n"), stdout);
+        if (!ReadHeaderLines(stdin, copy_line)) return BadHeader();
+        std::fputs(CommandLine(argc - 2, argv + 2).c_str(), stdout);
         std::putchar('\n');
         if (dim != 0 && !PassResolution(dim > 0)) return 1;
         std::fflush(stdout);
@@ -122,7 +113,7 @@ int Main(int argc, char **argv) {
         return 1;
     }
     if (argc > 2 && std::strcmp(argv[1], "-a") == 0) {
-        if (!ReadHeader(stdin, copy_line)) return BadHeader();
+        if (!ReadHeaderLines(stdin, copy_line)) return BadHeader();
         for (int i = 2; i < argc; ++i) {
             const size_t n = std::strlen(argv[i]);
             if (n == 0) continue;
@@ -130,13 +121,13 @@ int Main(int argc, char **argv) {
             if (argv[i][n - 1] != '\n') std::putchar('\n');
         }
         std::putchar('\n');
-        CopyRest();
+        CopyStream(stdin, stdout);
         return 0;
     }
     if (argc == 2 && std::strcmp(argv[1], "-") == 0) {
-        if (!ReadHeader(stdin, [](const char *) {})) return BadHeader();
+        if (!ReadHeaderLines(stdin, skip_line)) return BadHeader();
         if (dim < 0 && !PassResolution(false)) return 1;
-        CopyRest();
+        CopyStream(stdin, stdout);
         return 0;
     }
     for (int i = 1; i < argc; ++i) {
@@ -147,7 +138,7 @@ int Main(int argc, char **argv) {
             continue;
         }
         if (dim < 0) {
-            if (!ReadHeader(fp, [](const char *) {})) {
+            if (!ReadHeaderLines(fp, skip_line)) {
                 std::fputs("bad header!\n", stdout);  // (after the name, as RADIANCE has it)
                 std::fclose(fp);
                 continue;
@@ -156,7 +147,7 @@ int Main(int argc, char **argv) {
             PutDimensions(fp);
         } else {
             PutIndented(":\n");
-            if (!ReadHeader(fp, PutIndented)) {
+            if (!ReadHeaderLines(fp, indent_line)) {
                 std::fflush(stdout);
                 std::fprintf(stderr, "%s: bad header!\n", argv[i]);
                 return 1;
@@ -171,10 +162,10 @@ int Main(int argc, char **argv) {
     }
     if (argc == 1) {
         if (dim < 0) {
-            if (!ReadHeader(stdin, [](const char *) {})) return BadHeader();
+            if (!ReadHeaderLines(stdin, skip_line)) return BadHeader();
             PutDimensions(stdin);
         } else {
-            if (!ReadHeader(stdin, copy_line)) return BadHeader();
+            if (!ReadHeaderLines(stdin, copy_line)) return BadHeader();
             std::putchar('\n');
             if (dim > 0) PutDimensions(stdin);
         }

@@ -11,6 +11,7 @@
 
 #include "matrix/header.h"
 #include "util/errors.h"
+#include "util/files.h"
 
 namespace dayflux {
 namespace {
@@ -268,16 +269,6 @@ bool Reorder(Settings &s, const std::string &data) {
     return true;
 }
 
-// The rest of the standard input, as it is.
-bool CopyRest() {
-    std::fflush(stdout);
-    char buf[1 << 16];
-    for (size_t n; (n = std::fread(buf, 1, sizeof buf, stdin)) > 0;)
-        if (std::fwrite(buf, 1, n, stdout) != n) return false;
-    std::fflush(stdout);
-    return !std::ferror(stdin);
-}
-
 // The next word of the standard input (at most 255 bytes), leaving it at the line's end or the
 // next word; false at the end.
 bool NextWord(std::string *word) {
@@ -303,7 +294,7 @@ bool Reshape(const Settings &s) {
         std::putchar('\n');
     }
     if (s.comp_size != 0 || (!s.check && s.out_cols == s.in_cols && s.out_rows == s.in_rows))
-        return CopyRest();
+        return CopyStream(stdin, stdout);
     if (s.out_cols <= 0) {
         std::fputs("Missing -oc specification\n", stderr);
         return false;
@@ -437,15 +428,14 @@ int Main(int argc, char **argv) {
     if (!s.transpose && !s.check && s.levels <= 1 && s.in_header == s.out_header &&
         s.out_cols == s.in_cols && s.out_rows == s.in_rows) {
         if (s.warnings) std::fprintf(stderr, "%s: no-op -- copying input verbatim\n", argv[0]);
-        return CopyRest() ? 0 : 1;
+        return CopyStream(stdin, stdout) ? 0 : 1;
     }
     if (s.in_header &&
         !ReadHeaderLines(stdin, [&](const char *line) { return TakeHeaderLine(s, line); }))
         return 1;
     if (!CheckSizes(s)) return 1;
     if (s.out_header) {
-        std::string start = HeaderStart(a, argv);  // "#?RADIANCE\n" and the command line
-        if (s.in_header) start.erase(0, start.find('\n') + 1);
+        const std::string start = s.in_header ? CommandLine(a, argv) : HeaderStart(a, argv);
         std::printf("%sNCOMP=%d\nFORMAT=%s\n", start.c_str(), s.n_comp, s.format.c_str());
     }
     if (s.transpose || s.check || s.levels > 1 || (s.out_header && s.out_rows <= 0)) {

@@ -133,8 +133,10 @@ bool ReadHeaderLines(std::FILE *fp, const std::function<bool(const char *)> &on_
     }
 }
 
-std::string HeaderStart(int argc, char **argv) {
-    std::string s = "#?RADIANCE\n";
+std::string HeaderStart(int argc, char **argv) { return "#?RADIANCE\n" + CommandLine(argc, argv); }
+
+std::string CommandLine(int argc, char **argv) {
+    std::string s;
     for (int i = 0; i < argc; ++i) {
         std::string_view w = argv[i];
         bool space = false;

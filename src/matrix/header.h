@@ -33,6 +33,8 @@ bool NextIsResolution(InputSource &in);
 
 // "#?RADIANCE\n" followed by the command line quoted as RADIANCE's printargs() quotes it.
 std::string HeaderStart(int argc, char **argv);
+// That command line alone, ending in '\n' (RADIANCE's printargs()).
+std::string CommandLine(int argc, char **argv);
 
 // RADIANCE's getheader() on a stdio stream, for the small programs that copy its bytes as they
 // are (getinfo, rcollate): the header's lines as fgets() reads them (at most 2047 bytes each, a

@@ -39,6 +39,14 @@ bool commands_in_data_files = true;
 }  // namespace
 
 void AllowCommandsInDataFiles(bool allow) { commands_in_data_files = allow; }
+
+bool CopyStream(std::FILE *in, std::FILE *out) {
+    std::fflush(out);
+    char buf[1 << 16];
+    for (size_t n; (n = std::fread(buf, 1, sizeof buf, in)) > 0;)
+        if (std::fwrite(buf, 1, n, out) != n) return false;
+    return std::fflush(out) == 0 && !std::ferror(in);
+}
 bool CommandsInDataFilesAllowed() { return commands_in_data_files; }
 
 std::unique_ptr<InputSource> InputSource::OpenNamedIn(const std::string &spec, const FileLoc &loc) {

@@ -20,6 +20,10 @@ namespace dayflux {
 // The name RADIANCE uses for the standard input in messages.
 inline constexpr const char *kStdinName = "<stdin>";
 
+// What is left of in, copied to out as it is (out flushed before and after, so that it follows
+// what was written to it through stdio); false where either fails.
+bool CopyStream(std::FILE *in, std::FILE *out);
+
 // A buffered byte source with line counting for text and raw reads for binary data.
 // Whether "!command" inputs named inside data files (scene lines, octrees' file lists, rfluxmtx's
 // sender and receiver files) run, as in RADIANCE: yes unless a program's -no_commands turned it
