@@ -8,16 +8,7 @@
 #        RADIANCE (unset: ours only)
 # writes bench/results/small_programs.csv
 set -euo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-root=$(dirname "$here")
-bin=$root/${BUILD:-build}/bin
-runs=${RUNS:-3}
-out=${OUT:-/tmp/dayflux-example-products}
-csv=$here/results/small_programs.csv
-make -s --no-print-directory -C "$root/examples/reference-office" BIN="$bin" OUT="$out" \
-    "$out/dc.mtx" "$out/sky.smx" > /dev/null
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+source "$(dirname "$0")/example_common.sh" small_programs
 "$bin/dctimestep" -of "$out/dc.mtx" "$out/sky.smx" | "$bin/rmtxop" -ff -c 47.4 119.9 11.6 - \
     > "$tmp/year.fmx"
 "$bin/getinfo" - < "$tmp/year.fmx" > "$tmp/year.raw"                 # headerless floats
