@@ -112,4 +112,28 @@ long RadianceBinaryInput::Objects(int objsize, Scene *scene) {
     return static_cast<long>(scene->objects.size() - first);
 }
 
+void RadianceBinaryOutput::Int(long value, int nbytes) {
+    for (int shift = 8 * (nbytes - 1); shift >= 0; shift -= 8)
+        Byte(static_cast<int>(value >> shift) & 0xff);
+}
+
+void RadianceBinaryOutput::String(const std::string &s) {
+    bytes_ += s;
+    Byte(0);
+}
+
+void RadianceBinaryOutput::Real(double value) {
+    int e;
+    long m = static_cast<long>(std::frexp(value, &e) * 0x7fffffff);
+    if (e > 127) {
+        m = m > 0 ? 0x7fffffffL : -0x7fffffffL;
+        e = 127;
+    } else if (e < -128) {
+        m = 0;
+        e = 0;
+    }
+    Int(m, 4);
+    Int(e, 1);
+}
+
 }  // namespace dayflux

@@ -32,4 +32,18 @@ class RadianceBinaryInput {
     std::string what_;
 };
 
+// The writing side (common/portio.c), into bytes the caller writes out whole.
+class RadianceBinaryOutput {
+  public:
+    void Byte(int c) { bytes_.push_back(static_cast<char>(c)); }
+    void Int(long value, int nbytes);
+    void String(const std::string &s);
+    // frexp's mantissa in 31 bits and its exponent in one byte (putflt()).
+    void Real(double value);
+    const std::string &Bytes() const { return bytes_; }
+
+  private:
+    std::string bytes_;
+};
+
 }  // namespace dayflux

@@ -18,20 +18,35 @@ struct Patch {
     std::vector<std::array<uint32_t, 3>> xyz;
 };
 
+// The header, format number and cube; returns sizeof(OBJECT) of the writer.
+int ReadCube(RadianceBinaryInput &m, MeshCube *cube) {
+    m.Header("Radiance_tmesh");
+    const long objsize = m.Int(2) - kMeshMagic;
+    if (objsize <= 0 || objsize > 8) m.Fail("incompatible mesh format");
+    for (double &o : cube->origin) o = std::atof(m.String().c_str());
+    cube->size = std::atof(m.String().c_str());
+    for (double x : {cube->origin[0], cube->origin[1], cube->origin[2], cube->size})
+        if (!std::isfinite(x) || std::fabs(x) > 1e12) m.Fail("bad mesh bounds");
+    if (!(cube->size > 0)) m.Fail("bad mesh bounds");
+    return static_cast<int>(objsize);
+}
+
 }  // namespace
+
+MeshCube ReadMeshBounds(const std::string &path) {
+    auto in = InputSource::Open(path);
+    RadianceBinaryInput m(*in, "mesh file");
+    MeshCube cube;
+    ReadCube(m, &cube);
+    return cube;
+}
 
 std::vector<MeshTriangle> ReadMesh(const std::string &path, Scene *scene) {
     auto in = InputSource::Open(path);
     RadianceBinaryInput m(*in, "mesh file");
-    m.Header("Radiance_tmesh");
-    const long objsize = m.Int(2) - kMeshMagic;
-    if (objsize <= 0 || objsize > 8) m.Fail("incompatible mesh format");
-    double origin[3], size;
-    for (double &o : origin) o = std::atof(m.String().c_str());
-    size = std::atof(m.String().c_str());
-    for (double x : {origin[0], origin[1], origin[2], size})
-        if (!std::isfinite(x) || std::fabs(x) > 1e12) m.Fail("bad mesh bounds");
-    if (!(size > 0)) m.Fail("bad mesh bounds");
+    MeshCube cube;
+    const long objsize = ReadCube(m, &cube);
+    const double *origin = cube.origin, size = cube.size;
     for (int i = 0; i < 4; ++i) m.Real();  // (u,v) limits
     m.SkipTree(static_cast<int>(objsize));
     // The mesh's materials, stored as a frozen octree stores objects.

@@ -20,4 +20,11 @@ struct MeshTriangle {
 // Reads a .rtm file, appending its materials to scene and returning its triangles.
 std::vector<MeshTriangle> ReadMesh(const std::string &path, Scene *scene);
 
+// The mesh's bounding cube (RADIANCE's IO_BOUNDS), as oconv needs for a mesh instance.
+struct MeshCube {
+    double origin[3];
+    double size;
+};
+MeshCube ReadMeshBounds(const std::string &path);
+
 }  // namespace dayflux

@@ -31,6 +31,13 @@ constexpr PrimitiveType kTypes[] = {
 };
 }  // namespace
 
+std::span<const PrimitiveType> PrimitiveTypes() { return kTypes; }
+
+int PrimitiveTypeIndex(const PrimitiveType *type) {
+    CHECK(type >= std::begin(kTypes) && type < std::end(kTypes));
+    return static_cast<int>(type - std::begin(kTypes));
+}
+
 const PrimitiveType *FindPrimitiveType(const std::string &name) {
     for (const PrimitiveType &t : kTypes)
         if (name == t.name) return &t;
@@ -38,17 +45,18 @@ const PrimitiveType *FindPrimitiveType(const std::string &name) {
 }
 
 Transform Transform::Then(const Transform &n) const {
-    if (identity) return n;
-    if (n.identity) return *this;
-    Transform r;
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 4; ++j) {
-            double s = 0;
-            for (int k = 0; k < 4; ++k) s += m[4 * i + k] * n.m[4 * k + j];
-            r.m[4 * i + j] = s;
-        }
-    r.scale = scale * n.scale;
-    r.identity = false;
+    Transform r = identity ? n : *this;
+    if (!identity && !n.identity) {
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j) {
+                double s = 0;
+                for (int k = 0; k < 4; ++k) s += m[4 * i + k] * n.m[4 * k + j];
+                r.m[4 * i + j] = s;
+            }
+        r.scale = scale * n.scale;
+    }
+    r.words = words;
+    r.words.insert(r.words.end(), n.words.begin(), n.words.end());
     return r;
 }
 
@@ -93,6 +101,16 @@ bool ApplyTransformOption(const std::vector<std::string> &args, size_t *i, const
     };
     Transform t;
     t.identity = false;
+    const size_t first = *i;
+    if (a == "-i") {
+        // xform's iteration count: "-i 1" only closes a group (xform writes it before the
+        // options it adds to an instance); more repetitions are arrays, not supported here.
+        if (*i + 1 >= args.size() || args[*i + 1] != "1")
+            ErrorExit(&loc, who + ": -i with a count other than 1 (arrays) is not supported");
+        ++*i;
+        xf->words.insert(xf->words.end(), {"-i", "1"});
+        return true;
+    }
     if (a == "-t") {
         for (int k = 0; k < 3; ++k) t.m[12 + k] = number();
     } else if (a == "-rx" || a == "-ry" || a == "-rz") {
@@ -109,6 +127,8 @@ bool ApplyTransformOption(const std::vector<std::string> &args, size_t *i, const
     } else {
         return false;
     }
+    t.words.assign(args.begin() + static_cast<long>(first),
+                   args.begin() + static_cast<long>(*i) + 1);
     *xf = xf->Then(t);
     return true;
 }

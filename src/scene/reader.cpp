@@ -33,6 +33,14 @@ bool Word(InputSource &in, std::string *w) {
 
 }  // namespace
 
+SceneReader::SceneReader(Scene *scene) : scene_(scene) {
+    for (size_t i = 0; i < scene->objects.size(); ++i) {
+        const PrimitiveKind kind = scene->objects[i].info->kind;
+        if (kind != PrimitiveKind::kSurface && kind != PrimitiveKind::kVolume)
+            modifiers_[scene->objects[i].name] = static_cast<int>(i);
+    }
+}
+
 void SceneReader::ReadFile(const std::string &path) {
     auto in = InputSource::Open(path);
     Read(*in, Context{});
@@ -90,9 +98,9 @@ void SceneReader::ReadPrimitive(InputSource &in, const Context &cx) {
         ErrorExit(&p.loc,
                   "unknown type '" + p.type + "' (after modifier '" + p.modifier_name + "')");
     if (!Word(in, &p.name)) ErrorExit(&p.loc, "missing identifier for " + p.type);
-    p.name = cx.name_prefix + p.name;
     const bool surface =
         p.info->kind == PrimitiveKind::kSurface || p.info->kind == PrimitiveKind::kVolume;
+    if (surface) p.name = cx.name_prefix + p.name;  // xform -n leaves modifiers' names alone
     if (surface && !cx.modifier_override.empty()) p.modifier_name = cx.modifier_override;
     if (p.info->kind == PrimitiveKind::kAlias) {
         std::string ref;
@@ -149,6 +157,7 @@ void SceneReader::ReadPrimitive(InputSource &in, const Context &cx) {
                                   p.name + "'");
     }
     p.xf = cx.xf;
+    p.xforms = cx.xforms;
     CheckArguments(p);
     const int index = static_cast<int>(scene_->objects.size());
     if (!surface) modifiers_[p.name] = index;
@@ -239,6 +248,9 @@ bool ParseXformCommand(const std::string &command, const FileLoc &loc, XformComm
         }
     }
     if (out->files.empty()) out->files.push_back("-");
+    // xform opens the options it adds to functions and instances with "-i 1" (resetarr).
+    auto &words = out->xf.words;
+    if (!words.empty() && words[0] != "-i") words.insert(words.begin(), {"-i", "1"});
     return true;
 }
 
@@ -247,6 +259,10 @@ void SceneReader::Xform(const XformCommand &xform, const Context &cx) {
     if (!xform.modifier.empty()) inner.modifier_override = xform.modifier;
     inner.name_prefix = cx.name_prefix + xform.name_prefix;
     inner.xf = xform.xf.Then(cx.xf);
+    inner.xf.words.clear();  // each level keeps its own, in xforms
+    auto levels = std::make_shared<std::vector<Transform>>(1, xform.xf);
+    if (cx.xforms) levels->insert(levels->end(), cx.xforms->begin(), cx.xforms->end());
+    inner.xforms = std::move(levels);
     inner.depth = cx.depth + 1;
     for (const std::string &f : xform.files) {
         auto in = InputSource::Open(f);

@@ -25,7 +25,8 @@ bool ParseXformCommand(const std::string &command, const FileLoc &loc, XformComm
 
 class SceneReader {
   public:
-    explicit SceneReader(Scene *scene) : scene_(scene) {}
+    // Objects already in scene (an octree added to) are modifiers the new text may use.
+    explicit SceneReader(Scene *scene);
     // Accept modifiers that are never defined (as xform does when it only rewrites text).
     void AllowUndefinedModifiers(bool allow) { allow_undefined_ = allow; }
     // path "-" reads stdin.
@@ -36,8 +37,9 @@ class SceneReader {
   private:
     struct Context {
         Transform xf;
-        std::string modifier_override;  // xform -m
-        std::string name_prefix;        // xform -n
+        std::string modifier_override;                         // xform -m
+        std::string name_prefix;                               // xform -n
+        std::shared_ptr<const std::vector<Transform>> xforms;  // the "!xform"s, innermost first
         int depth = 0;
     };
     void Read(InputSource &in, const Context &cx);

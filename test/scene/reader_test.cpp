@@ -112,6 +112,8 @@ TEST(SceneReader, ModifiersResolveToTheLatestDefinition) {
 TEST(SceneReader, CommandsAndXformTransforms) {
     test::TempDir tmp;
     test::WriteFile(tmp.path() / "tri.rad", "m polygon t 0 0 9 1 0 0 0 1 0 0 0 1\n");
+    test::WriteFile(tmp.path() / "lamp.rad",
+                    "void light bulb 0 0 3 1 1 1\nbulb sphere s 0 0 4 0 0 0 1\n");
     Scene s;
     const fs::path cwd = fs::current_path();
     fs::current_path(tmp.path());
@@ -119,10 +121,10 @@ TEST(SceneReader, CommandsAndXformTransforms) {
     r.ReadText(
         "void plastic m 0 0 5 .5 .5 .5 0 0\nvoid plastic black 0 0 5 0 0 0 0 0\n"
         "!xform -s 2 -rz 90 -t 1 0 0 tri.rad\n!xform -m black -n w tri.rad\n"
-        "!printf 'void glow g 0 0 4 1 1 1 0\\n'\n",
+        "!printf 'void glow g 0 0 4 1 1 1 0\\n'\n!xform -n lamp lamp.rad\n",
         "t.rad");
     fs::current_path(cwd);
-    ASSERT_EQ(s.objects.size(), 5u);
+    ASSERT_EQ(s.objects.size(), 7u);
     // (1,0,0) scaled by 2 -> (2,0,0), turned 90 deg about z -> (0,2,0), moved -> (1,2,0).
     double p[3] = {1, 0, 0}, q[3];
     s.objects[2].xf.Apply(p, q);
@@ -134,6 +136,15 @@ TEST(SceneReader, CommandsAndXformTransforms) {
     EXPECT_EQ(s.objects[3].modifier, 1);
     EXPECT_EQ(s.objects[3].name, "w.t");
     EXPECT_EQ(s.objects[4].type, "glow");
+    // -n names surfaces, not modifiers (as xform does); each xform is kept for oconv's numbers.
+    EXPECT_EQ(s.objects[5].name, "bulb");
+    EXPECT_EQ(s.objects[6].name, "lamp.s");
+    EXPECT_EQ(s.objects[6].modifier, 5);
+    ASSERT_TRUE(s.objects[2].xforms && s.objects[6].xforms);
+    EXPECT_EQ(s.objects[2].xforms->size(), 1u);
+    EXPECT_EQ(s.objects[2].xforms->front().words,
+              (std::vector<std::string>{"-i", "1", "-s", "2", "-rz", "90", "-t", "1", "0", "0"}));
+    EXPECT_FALSE(s.objects[4].xforms);
 }
 
 std::string ErrorOf(const std::string &text) {

@@ -327,7 +327,34 @@ TEST_P(RadiancePrograms, OutputsEqualRadianceByteForByte) {
 
 INSTANTIATE_TEST_SUITE_P(Matrix, RadiancePrograms,
                          ::testing::Values(std::pair{"getinfo", 15}, std::pair{"total", 31},
-                                           std::pair{"rcollate", 33}, std::pair{"gensky", 32}),
+                                           std::pair{"rcollate", 33}, std::pair{"gensky", 32},
+                                           std::pair{"oconv", 25}),
                          [](const auto &info) { return std::string(info.param.first); });
+
+// Where RADIANCE's oconv dies after writing its header (a bad scene, a cube too small), ours
+// writes nothing, so no partial octree is left to be taken for one; the message names the file
+// and line where there is one.
+TEST(Oconv, BadInputLeavesNoOctree) {
+    const fs::path dir = DataDir() / "oconv";
+    const struct {
+        const char *args, *message;
+    } cases[] = {
+        {"added.rad", "added.rad:1: undefined modifier 'wall' for sphere 'ball2'"},
+        {"-b 0 0 0 1 room.rad", "boundary does not encompass scene"},
+        {"-i inst.oct xforms.rad", "boundary does not encompass scene"},
+        {"-b 0 0 0 100 -i inst.oct added.rad", "only one of '-b' or '-i'"},
+        {"missing.rad", "missing.rad"},
+        {"-n", "option -n needs a positive whole number"},  // RADIANCE's crashes
+        {"-r 0 room.rad", "'0' is not a positive whole number"},
+        {"-i room.rad added.rad", "room.rad: not a RADIANCE octree"},
+    };
+    for (const auto &c : cases) {
+        SCOPED_TRACE(c.args);
+        const CommandResult r = RunCommand(std::string("oconv ") + c.args, dir);
+        EXPECT_EQ(r.status, 1);
+        EXPECT_EQ(r.out, "");
+        EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+    }
+}
 
 }  // namespace dayflux::test
