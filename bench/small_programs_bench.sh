@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # getinfo, total, rcollate and gensky on the flagship example's year of illuminance (1425 sensors
-# x 8760 hours, float, 50 MB; dctimestep | rmtxop as step 4 makes it), beside RADIANCE's programs
+# x 8760 hours, float, 50 MB; dctimestep | rmtxop as step 4 makes it), and oconv on its model and
+# on frads' LBNL office (12 k polygons; and that at a finer resolution), beside RADIANCE's programs
 # in the same run where RADIANCE names a folder holding them (built outside this repository):
 # each the fastest of RUNS, and whether its output is the same bytes as RADIANCE's.
 # usage: bench/small_programs_bench.sh   environment: BUILD (build), RUNS (3),
 #        OUT (/tmp/dayflux-example-products: the example's output folder, made if missing),
-#        RADIANCE (unset: ours only)
+#        RADIANCE (unset: ours only), LBNL (../shared/data/models/frads_lbnl_office/Objects)
 # writes bench/results/small_programs.csv
 set -euo pipefail
 source "$(dirname "$0")/example_common.sh" small_programs
@@ -14,6 +15,9 @@ source "$(dirname "$0")/example_common.sh" small_programs
 "$bin/getinfo" - < "$tmp/year.fmx" > "$tmp/year.raw"                 # headerless floats
 # (the first 200 rows as ascii: head ends the pipe early, which pipefail would take for a failure)
 { "$bin/rmtxop" -fa "$tmp/year.fmx" | "$bin/getinfo" - | head -n 200 > "$tmp/year.txt"; } || true
+model="$out/model/materials.rad $out/model/office.rad $out/model/window.rad $out/model/glass.rad"
+lbnl=${LBNL:-$(realpath -m "$root/../shared/data/models/frads_lbnl_office/Objects")}
+lbnl=$(echo "$lbnl"/materials.mat "$lbnl"/*.rad)
 # name|command (run in $tmp, the program's folder as $P)
 cases=(
     "getinfo|\$P/getinfo year.fmx"
@@ -23,6 +27,9 @@ cases=(
     "total -if1425 -m (binary means)|\$P/total -if1425 -m year.raw"
     "total -m (ascii means of 200 rows)|\$P/total -m year.txt"
     "gensky x 1000|for h in \$(seq 1000); do \$P/gensky 6 21 12 -a 40.78 -o 73.96 -m 75; done"
+    "oconv -f (the example's office)|\$P/oconv -f $model"
+    "oconv -f (LBNL office)|\$P/oconv -f $lbnl"
+    "oconv -f -n 2 -r 65536 (LBNL office finer)|\$P/oconv -f -n 2 -r 65536 $lbnl"
 )
 timed() {  # folder command: the fastest wall time of $runs, and the output in $tmp/last
     local best="" t

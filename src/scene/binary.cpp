@@ -113,8 +113,9 @@ long RadianceBinaryInput::Objects(int objsize, Scene *scene) {
 }
 
 void RadianceBinaryOutput::Int(long value, int nbytes) {
-    for (int shift = 8 * (nbytes - 1); shift >= 0; shift -= 8)
-        Byte(static_cast<int>(value >> shift) & 0xff);
+    char big_endian[8];
+    for (int i = nbytes; i-- > 0; value >>= 8) big_endian[i] = static_cast<char>(value & 0xff);
+    bytes_.append(big_endian, static_cast<size_t>(nbytes));
 }
 
 void RadianceBinaryOutput::String(const std::string &s) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <map>
+#include <span>
 
 #include "scene/binary.h"
 #include "scene/meshes.h"
@@ -161,14 +162,12 @@ Transform InverseOf(const std::vector<std::string> &words, size_t first) {
 // getcone() and o_sphere() change them, and what its cube test needs.
 struct Object {
     enum Shape { kNone, kFace, kSphere, kCone, kOctreeInstance, kMeshInstance };
-    Primitive p;
     Shape shape = kNone;
-    int modifier = -1;  // omod: an alias of the same modifier points at the object it copies
-    // polygon (getface())
-    int nv = 0;
+    // polygon (getface()), first: the tests read these most
+    int nv = 0, ax = 0;
+    const double *va = nullptr;  // p.fargs
     V3 norm{};
     double offset = 0, area = 0;
-    int ax = 0;
     // cone, cup, cylinder, tube, ring (getcone()): argument indices of ends and radii
     bool cone_ok = false;
     int p0 = 0, p1 = 0, r0 = 0, r1 = 0;
@@ -177,8 +176,55 @@ struct Object {
     V3 cube_org{};
     double cube_size = 0;
     Transform forward, backward;
+    int modifier = -1;  // omod: an alias of the same modifier points at the object it copies
+    Primitive p;
 
-    const double *Vertex(int i) const { return &p.fargs[3 * i]; }
+    const double *Vertex(int i) const { return va + 3 * i; }
+};
+
+// fullnode()'s table: each distinct object set stored once (its count, then its objects, in one
+// pool), so that equal leaves are the same node.
+class SetTable {
+  public:
+    int Intern(std::span<const int> set) {
+        if (2 * (start_.size() + 1) > slots_.size()) Grow();
+        const size_t mask = slots_.size() - 1;
+        for (size_t i = Hash(set) & mask;; i = (i + 1) & mask) {
+            if (slots_[i] < 0) {
+                slots_[i] = static_cast<int>(start_.size());
+                start_.push_back(pool_.size());
+                pool_.push_back(static_cast<int>(set.size()));
+                pool_.insert(pool_.end(), set.begin(), set.end());
+                return slots_[i];
+            }
+            const std::span<const int> old = Get(slots_[i]);
+            if (std::equal(old.begin(), old.end(), set.begin(), set.end())) return slots_[i];
+        }
+    }
+    std::span<const int> Get(int id) const {
+        const size_t at = start_[id];
+        return {pool_.data() + at + 1, static_cast<size_t>(pool_[at])};
+    }
+
+  private:
+    static size_t Hash(std::span<const int> set) {
+        uint64_t h = set.size();
+        for (int o : set) h = (h ^ static_cast<uint32_t>(o)) * 0x9e3779b97f4a7c15ull;
+        return static_cast<size_t>(h ^ h >> 29);
+    }
+    void Grow() {
+        slots_.assign(slots_.size() * 2, -1);
+        const size_t mask = slots_.size() - 1;
+        for (size_t id = 0; id < start_.size(); ++id) {
+            size_t i = Hash(Get(static_cast<int>(id))) & mask;
+            while (slots_[i] >= 0) i = (i + 1) & mask;
+            slots_[i] = static_cast<int>(id);
+        }
+    }
+
+    std::vector<int> pool_;
+    std::vector<size_t> start_;
+    std::vector<int> slots_ = std::vector<int>(1024, -1);
 };
 
 class OctreeMaker {
@@ -209,7 +255,7 @@ class OctreeMaker {
 
     void AddObject(Cube *cu, int obj);
     void AddToFull(Cube *cu, int obj, int inc);
-    int FullNode(const std::vector<int> &set);
+    int FullNode(std::span<const int> set) { return -sets_.Intern(set) - 2; }
     int Combine(int node);
     void WriteTree(int node, RadianceBinaryOutput *out) const;
     void WriteObjects(RadianceBinaryOutput *out) const;
@@ -219,7 +265,7 @@ class OctreeMaker {
     Cube scene_;
     double min_cube_size_ = 0;
     OctreeNodes nodes_;
-    std::map<std::vector<int>, int> interned_;
+    SetTable sets_;
     std::map<std::string, int> modifiers_;  // RADIANCE's modifier table (modobject.c)
 };
 
@@ -238,7 +284,7 @@ std::string OctreeMaker::Make(const std::vector<std::string> &files,
         for (int i = 0; i < 3; ++i) scene_.org[i] = in.cube_origin[i];
         scene_.size = in.cube_size;
         scene_.tree = nodes_.root;
-        for (const auto &set : nodes_.sets) interned_.emplace(set, interned_.size());
+        for (const auto &set : nodes_.sets) sets_.Intern(set);  // the same ids, in order
     } else if (options_.bounded) {
         for (int i = 0; i < 3; ++i) scene_.org[i] = options_.bounds_origin[i] - kMargin;
         scene_.size = options_.bounds_size + 2 * kMargin;
@@ -408,6 +454,7 @@ void OctreeMaker::ResolveModifiers(int first_by_name) {
 // getface(): vertex count (a closing vertex repeated is dropped), normal, area, plane offset and
 // the dominant axis.
 void OctreeMaker::PrepareFace(Object *o) const {
+    o->va = o->p.fargs.data();
     o->nv = static_cast<int>(o->p.fargs.size() / 3);
     if (o->nv > 3 && Dist2(o->Vertex(0), o->Vertex(o->nv - 1)) <= kFtiny * kFtiny) --o->nv;
     V3 v1, v2, v3;
@@ -758,13 +805,6 @@ int OctreeMaker::TestCube(const Object &o, const Cube &cu) const {
     return kMiss;
 }
 
-// fullnode(): each set is one node, so equal leaves compare equal in Combine().
-int OctreeMaker::FullNode(const std::vector<int> &set) {
-    auto [it, added] = interned_.emplace(set, static_cast<int>(nodes_.sets.size()));
-    if (added) nodes_.sets.push_back(set);
-    return -it->second - 2;
-}
-
 // oconv's addobject()
 void OctreeMaker::AddObject(Cube *cu, int obj) {
     const int inc = Test(objects_[obj], *cu);
@@ -781,7 +821,7 @@ void OctreeMaker::AddObject(Cube *cu, int obj) {
         return;
     }
     if (cu->tree == -1) {
-        cu->tree = FullNode({obj});
+        cu->tree = FullNode({&obj, 1});
         return;
     }
     AddToFull(cu, obj, inc);
@@ -791,19 +831,23 @@ void OctreeMaker::AddObject(Cube *cu, int obj) {
 // or the object fills the cube); then the cube splits, its objects re-added to the children in
 // RADIANCE's order: surfaces, the new object, volumes partly in, volumes wholly in.
 void OctreeMaker::AddToFull(Cube *cu, int obj, int inc) {
-    std::vector<int> set = nodes_.sets[-cu->tree - 2];
-    const int n = static_cast<int>(set.size());
+    std::array<int, kMaxSet + 1> set;  // a copy: the table grows as the children are filled
+    const std::span<const int> old = sets_.Get(-cu->tree - 2);
+    const int n = static_cast<int>(old.size());
+    std::copy(old.begin(), old.end(), set.begin());
     const double kid_size = cu->size * 0.5;
     if (inc == kIn || n < options_.set_limit ||
         kid_size < (n < kMaxSet ? min_cube_size_ : min_cube_size_ / 256.0)) {
         if (n >= kMaxSet)
             ErrorExit(&objects_[obj].p.loc, "set overflow in addobject (" + objects_[obj].p.name +
                                                 "): too many objects in one place");
-        set.insert(std::upper_bound(set.begin(), set.end(), obj), obj);
-        cu->tree = FullNode(set);
+        int *end = set.begin() + n, *at = std::upper_bound(set.begin(), end, obj);
+        std::copy_backward(at, end, end + 1);
+        *at = obj;
+        cu->tree = FullNode({set.data(), static_cast<size_t>(n + 1)});
         return;
     }
-    std::vector<char> volume(n), inside(n);
+    std::array<bool, kMaxSet> volume, inside{};
     for (int j = 0; j < n; ++j) {
         const Object &o = objects_[set[j]];
         volume[j] = o.shape == Object::kOctreeInstance || o.shape == Object::kMeshInstance;
@@ -842,7 +886,7 @@ void OctreeMaker::WriteTree(int node, RadianceBinaryOutput *out) const {
         for (int kid : nodes_.branches[node]) WriteTree(kid, out);
     } else if (node < -1) {
         out->Byte(1);
-        const std::vector<int> &set = nodes_.sets[-node - 2];
+        const std::span<const int> set = sets_.Get(-node - 2);
         out->Int(static_cast<long>(set.size()), kObjectSize);
         for (int o : set) out->Int(o, kObjectSize);
     } else {
