@@ -292,7 +292,10 @@ std::string OctreeMaker::Make(const std::vector<std::string> &files,
     const int first_new = static_cast<int>(scene.objects.size());
     SceneReader reader(&scene);
     for (const std::string &f : files) {
+        const size_t before = scene.objects.size();
         reader.ReadFile(f);
+        if (scene.objects.size() == before && options_.warnings)
+            Warning("(" + (f == "-" ? std::string("standard input") : f) + "): empty file");
         if (f == "-")
             frozen = true;
         else
