@@ -2,10 +2,12 @@
 // table of type names) and unfrozen ones (a list of scene files, read again), then flattened as
 // the ray tracers take them. ReadOctree takes a path, so each input is written to a scratch
 // file. Unfrozen octrees may list only fuzz_util.h's part file: any other name would be opened
-// (or run, "!command") as a scene.
+// (or run, "!command") as a scene. oconv -i then reads each one's tree and adds the part file's
+// objects to it.
 #include "fuzz_util.h"
 #include "scene/binary.h"
 #include "scene/flatten.h"
+#include "scene/oconv.h"
 #include "scene/octree.h"
 
 namespace {
@@ -42,7 +44,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         dayflux::IsOctreeFile(path);
         dayflux::Scene scene;
         dayflux::ReadOctree(path, &scene);
-        if (!dayflux::fuzz::NamesFiles(scene)) dayflux::Flatten(std::move(scene));
+        if (dayflux::fuzz::NamesFiles(scene)) return;
+        dayflux::Flatten(std::move(scene));
+        dayflux::OconvOptions o;
+        o.warnings = false;
+        o.input_octree = path;
+        dayflux::MakeOctree({dayflux::fuzz::kPartFile}, o, "oconv -i fuzz.oct\n");
     });
     return 0;
 }

@@ -36,60 +36,28 @@ constexpr const char *kPlaceholderModifier = "rtrace_dc-light-sources";
               " [rtrace options] -N n [-Dm|-Dd] [-L lum] [-U n u1 .. un] -oc octree < rays");
 }
 
-bool Flag(const std::string &a, bool current) {
-    const char last = a.back();
-    if (last == '+') return true;
-    if (last == '-') return false;
-    return !current;
-}
-
-class Parser : public OptionCursor {
+class Parser : public RtraceLikeParser {
   public:
     Parser(std::vector<std::string> args, RtraceDcOptions *o)
-        : OptionCursor(std::move(args)), o_(*o) {}
+        : RtraceLikeParser(std::move(args)), o_(*o) {}
 
-    // The options rtrace_dc reads itself; the rest (rendering and ours) for rcontrib's parser,
-    // after rtrace's defaults where they differ from rcontrib's.
     std::vector<std::string> Run() {
-        const std::string prog = args_.empty() ? "rtrace_dc-gpu" : args_[0];
-        std::vector<std::string> pass = {prog,  "-dj", "0",   "-dr",  "2",   "-st",  "0.15",
-                                         "-ab", "0",   "-ad", "1024", "-lw", "2e-3", "-lr",
-                                         "-10", "-ds", "0.2", "-ss",  "1"};
-        for (i_ = 1; i_ < args_.size(); ++i_) {
-            const std::string a = args_[i_];
-            if (a.size() < 2 || a[0] != '-') break;
-            if (Daysim(a) || Rtrace(a)) continue;
-            // Rendering options and ours, for rcontrib's parser (which checks their values);
-            // nothing else, so that no value is taken for a scene file.
-            static const std::set<std::string> with_value = {
-                "-ab",      "-ad",        "-lw",          "-lr",
-                "-st",      "-ss",        "-dj",          "-ds",
-                "-dr",      "-n",         "-asub",        "-seed",
-                "-backend", "-gpu_accum", "-gpu_scratch", "-gpu_traversal",
-                "-device"};
-            const bool flag = a.rfind("-i", 0) == 0 || a.rfind("-u", 0) == 0 ||
-                              a.rfind("-bv", 0) == 0 || a.rfind("-ld", 0) == 0 ||
-                              a.rfind("-w", 0) == 0 || a.rfind("-progress", 0) == 0 ||
-                              a == "-no_commands";
-            if (a == "-sj") {  // DAYSIM's Windows gen_dc passes the specular jitter so
-                pass.insert(pass.end(), {"-ss", Value(a)});
-            } else if (with_value.count(a)) {
-                pass.push_back(a);
-                pass.push_back(Value(a));
-            } else if (flag && a.size() <= 10) {
-                pass.push_back(a);
-            } else {
-                ErrorExit("unknown option '" + a + "'");
-            }
-        }
-        pass.insert(pass.end(), {"-V+", "-m", kPlaceholderModifier});
-        if (i_ >= args_.size()) Usage(prog);
-        for (; i_ < args_.size(); ++i_) pass.push_back(args_[i_]);
+        std::vector<std::string> pass = RtraceLikeParser::Run();
         if (o_.coefficients < 1) ErrorExit("-N: the number of daylight coefficients is missing");
         return pass;
     }
 
   private:
+    void Usage() const override { dayflux::Usage(Program()); }
+
+    bool Own(const std::string &a) override {
+        if (a == "-sj") {  // DAYSIM's Windows gen_dc passes the specular jitter so
+            Pass("-ss", Value(a));
+            return true;
+        }
+        return Daysim(a) || Rtrace(a);
+    }
+
     // DAYSIM's options: -N -Dm -Dd -L -U.
     bool Daysim(const std::string &a) {
         if (a == "-N") {
@@ -115,43 +83,21 @@ class Parser : public OptionCursor {
         return true;
     }
 
-    // rtrace's own options (not rcontrib's), and those with no effect here.
+    // rtrace's own options as rtrace_dc takes them.
     bool Rtrace(const std::string &a) {
         if (a.rfind("-o", 0) == 0) {
             if (a != "-oc") ErrorExit(a + ": rtrace_dc writes daylight coefficients only (-oc)");
         } else if (a.rfind("-h", 0) == 0) {
-            o_.header = Flag(a, o_.header);
+            o_.header = RtraceFlag(a, o_.header);
         } else if (a.rfind("-f", 0) == 0 && a.size() >= 3 && a.size() <= 4) {
             Formats(a);
         } else if (a.rfind("-I", 0) == 0) {
-            o_.trace.contrib.irradiance = Flag(a, o_.trace.contrib.irradiance);
+            o_.trace.contrib.irradiance = RtraceFlag(a, o_.trace.contrib.irradiance);
         } else if (a == "-cache_report") {
             o_.report_cache = true;
-        } else if (a == "-aa") {
-            o_.ambient_accuracy = Number(a);
-        } else if (a == "-ar") {
-            o_.ambient_resolution = Integer(a);
-        } else if (a == "-as") {
-            o_.ambient_supersamples = Integer(a);
-        } else if (a == "-x" || a == "-y" || a == "-dt" || a == "-dc" || a == "-dp" || a == "-aw") {
-            // -x/-y shape pictures, which rtrace_dc does not write; every source is tested for
-            // shadow (as -dt 0, which -dc then does not affect); virtual sources need no pretest.
-            Number(a);
-        } else if (a.rfind("-dv", 0) == 0) {
-            if (!Flag(a, true)) ErrorExit(a + ": invisible light sources are not supported");
-        } else if (a == "-av") {
-            const double r = Number(a), g = Number(a), b = Number(a);
-            if (r != 0 || g != 0 || b != 0)
-                Warning("-av: an ambient value belongs to no daylight coefficient (ignored)");
-        } else if (a == "-me" || a == "-ma") {
-            const double r = Number(a), g = Number(a), b = Number(a);
-            if (r != 0 || g != 0 || b != 0)
-                ErrorExit(a + ": participating media are not supported");
-        } else if (a == "-mg" || a == "-ms") {
-            if (Number(a) != 0 && a == "-mg")
-                ErrorExit(a + ": participating media are not supported");
-        } else if (a == "-ae" || a == "-ai" || a == "-aE" || a == "-aI" || a == "-af" ||
-                   a == "-e" || a == "-ap" || a.rfind("-P", 0) == 0 || a.rfind("-t", 0) == 0) {
+        } else if (a == "-x" || a == "-y") {
+            Number(a);  // they shape pictures, which rtrace_dc does not write
+        } else if (a == "-e") {
             ErrorExit(a + ": not supported by rtrace_dc-gpu");
         } else {
             return false;
@@ -171,18 +117,6 @@ class Parser : public OptionCursor {
 
     RtraceDcOptions &o_;
 };
-
-// The scene's light sources (light, glow, illum, spotlight materials), by name.
-std::vector<std::string> LightSources(const FlatScene &flat) {
-    std::vector<std::string> names;
-    std::set<std::string> seen;
-    for (const Primitive &p : flat.scene.objects) {
-        if (p.type != "light" && p.type != "glow" && p.type != "illum" && p.type != "spotlight")
-            continue;
-        if (seen.insert(p.name).second) names.push_back(p.name);
-    }
-    return names;
-}
 
 // -Dm: a source named solarK gives coefficient K-1 (DAYSIM reads the number after the name's
 // first five characters, whatever they are).
@@ -227,48 +161,6 @@ std::string Header(const RtraceDcOptions &o, const std::vector<std::string> &arg
     return h + "\n";
 }
 
-// The engines a run needs: one with -I+ and one without, as the sensors' units ask.
-class Engines {
-  public:
-    Engines(const RtraceDcOptions &o, const FlatScene &flat,
-            const std::vector<TrackedModifier> &tracked)
-        : o_(o), flat_(flat), tracked_(tracked) {}
-
-    // With -aa above 0, irradiance sensors go through the sensor cache
-    // (raytrace/sensor_cache.h), rtrace's ambient cache at the sensors.
-    ContribEngine *For(bool irradiance) {
-        std::unique_ptr<ContribEngine> &e = engines_[irradiance];
-        if (!e) {
-            e = Create(irradiance, false);
-            if (irradiance && o_.ambient_accuracy > 0 && o_.trace.contrib.ambient_bounces > 0) {
-                SensorCacheOptions c;
-                c.accuracy = o_.ambient_accuracy;
-                c.resolution = o_.ambient_resolution;
-                c.seed = o_.trace.contrib.seed;
-                e = WithSensorCache(std::move(e), Create(true, true), flat_, c, o_.report_cache);
-            }
-        }
-        return e.get();
-    }
-
-  private:
-    // direct_only: -ab 0 (the sensor cache's direct light).
-    std::unique_ptr<ContribEngine> Create(bool irradiance, bool direct_only) const {
-        ContribOptions c = o_.trace.contrib;
-        c.irradiance = irradiance;
-        c.contributions = true;
-        if (direct_only) c.ambient_bounces = 0;
-        return CreateContribEngine(
-            flat_, c, tracked_, [this](int) { return MakeCalContext(o_.trace, ""); },
-            o_.trace.engine);
-    }
-
-    const RtraceDcOptions &o_;
-    const FlatScene &flat_;
-    const std::vector<TrackedModifier> &tracked_;
-    std::unique_ptr<ContribEngine> engines_[2];
-};
-
 // Whether sensor `index` is an irradiance sensor (-U, else -I).
 bool Irradiance(const RtraceDcOptions &o, uint64_t index) {
     if (o.sensor_units.empty()) return o.trace.contrib.irradiance;
@@ -311,35 +203,6 @@ class Writer {
     std::vector<double> values_;
 };
 
-// Traces rays (6 doubles each; sensor numbers from first) into records, in runs of sensors of
-// one unit and at most the engine's batch, in parallel.
-void TraceChunk(const RtraceDcOptions &o, Engines &engines, const std::vector<double> &rays,
-                uint64_t first, int columns, std::vector<double> *records) {
-    const size_t n = rays.size() / 6, width = 3 * static_cast<size_t>(columns);
-    records->assign(n * width, 0.0);
-    struct Run {
-        size_t begin, end;
-        ContribEngine *engine;
-    };
-    std::vector<Run> runs;
-    for (size_t i = 0; i < n; ++i) {
-        const bool zero = rays[6 * i + 3] == 0 && rays[6 * i + 4] == 0 && rays[6 * i + 5] == 0;
-        if (zero) continue;  // rtrace's bogus ray: a line of zeros
-        const bool irradiance = Irradiance(o, first + i);
-        ContribEngine *e = engines.For(irradiance);
-        if (!runs.empty() && runs.back().engine == e && runs.back().end == i &&
-            runs.back().end - runs.back().begin < e->BatchRays())
-            ++runs.back().end;
-        else
-            runs.push_back({i, i + 1, e});
-    }
-    tbb::parallel_for(size_t(0), runs.size(), [&](size_t r) {
-        const Run &run = runs[r];
-        run.engine->Trace(&rays[6 * run.begin], run.end - run.begin, first + run.begin, 0,
-                          records->data() + run.begin * width);
-    });
-}
-
 }  // namespace
 
 RtraceDcOptions ParseRtraceDcOptions(const std::vector<std::string> &args,
@@ -349,21 +212,14 @@ RtraceDcOptions ParseRtraceDcOptions(const std::vector<std::string> &args,
     expanded.insert(expanded.begin(), args.empty() ? "rtrace_dc-gpu" : args[0]);
     Parser parser(expanded, &o);
     const std::vector<std::string> pass = parser.Run();
+    o.cache = parser.Cache();
     const bool irradiance = o.trace.contrib.irradiance;
     std::vector<std::string> unused;
     o.trace = ParseRcontribOptions(pass, &unused);
     o.trace.contrib.irradiance = irradiance;
-    // With the ambient cache (-aa > 0) rtrace weighs an ambient sample by the surface's
-    // reflectance alone, so -lw cuts only deep, dim paths; rcontrib's estimator, which traces
-    // here, also divides a sample's weight by the sample count, and -lw would cut every ambient
-    // ray (with a positive -lr: rtrace_dc -aa 0 -lr 6 -lw 0.004 -ad 1000 finds no sky, as
-    // DAYSIM's does) or play roulette with them. So -lw is taken per sample (-lw / -ad) and a
-    // positive -lr becomes Russian roulette to that depth (docs/compat.md).
-    if (o.ambient_accuracy > 0) {
-        ContribOptions &c = o.trace.contrib;
-        c.limit_weight /= std::max(1, c.ambient_divisions);
-        if (c.limit_reflections > 0) c.limit_reflections = -c.limit_reflections;
-    }
+    // (with a positive -lr, rtrace_dc -aa 0 -lr 6 -lw 0.004 -ad 1000 finds no sky, as DAYSIM's
+    // does)
+    if (o.cache.accuracy > 0) WeighAsWithCache(&o.trace.contrib);
     o.trace.modifiers.clear();
     o.trace.cal.push_back(CalCommand{false, kDaysimPatchCal});
     *header_args = expanded;
@@ -376,7 +232,7 @@ size_t RunRtraceDc(const RtraceDcOptions &o, const std::vector<std::string> &hea
     std::string octree_header;
     const FlatScene flat = ReadRcontribScene(o.trace.scene, &octree_header);
     const std::vector<TrackedModifier> tracked = Tracked(o, flat);
-    Engines engines(o, flat, tracked);
+    LightEngines engines(o.trace, o.cache, o.report_cache, flat, tracked);
     int columns = 0;
     for (const TrackedModifier &t : tracked) columns = std::max(columns, t.first_column + t.nbins);
 
@@ -407,7 +263,8 @@ size_t RunRtraceDc(const RtraceDcOptions &o, const std::vector<std::string> &hea
         }
         if (rays.empty()) break;
         if (StopOnSignals::Requested()) throw Interrupted(StopOnSignals::Requested(), "stopped");
-        if (!tracked.empty()) TraceChunk(o, engines, rays, first, columns, &records);
+        engines.Trace(
+            rays, first, columns, [&o](uint64_t k) { return Irradiance(o, k); }, &records);
         const size_t n = rays.size() / 6;
         records.resize(n * 3 * static_cast<size_t>(std::max(columns, 1)), 0.0);
         for (size_t i = 0; i < n; ++i) writer.Put(&records[i * 3 * std::max(columns, 1)], columns);

@@ -10,6 +10,7 @@
 
 #include "matrix/formats.h"
 #include "rcontrib/options.h"
+#include "rcontrib/rtrace_like.h"
 #include "util/files.h"
 
 namespace dayflux {
@@ -24,9 +25,7 @@ struct RtraceDcOptions {
     bool header = true;                                          // -h
     DataFormat in = DataFormat::Ascii, out = DataFormat::Ascii;  // -f
     // -aa -ar -as: the ambient cache's accuracy, resolution and super-samples (-aa 0: no cache).
-    double ambient_accuracy = 0.1;
-    int ambient_resolution = 256;
-    int ambient_supersamples = 512;
+    AmbientCacheOptions cache;
     bool report_cache = false;  // -cache_report (ours): the sensor cache's records on stderr
 };
 

@@ -43,6 +43,38 @@ void CheckInputRay(double ray[6], uint64_t number) {
 
 namespace {
 
+// -ff or -fd on rays written as text (the points file of a recipe, say) reads garbage that
+// RADIANCE traces without a word: the first ray's bytes all being characters of numbers and
+// blanks is a sure sign.
+void WarnIfText(InputSource &in, DataFormat format) {
+    const size_t bytes = 6 * (format == DataFormat::Float ? 4 : 8);
+    const std::string_view first = in.PeekBytes(bytes);
+    if (first.size() < bytes) return;
+    for (char c : first)
+        if (!std::isdigit(static_cast<unsigned char>(c)) &&
+            std::string_view(" \t\r\n.+-eE").find(c) == std::string_view::npos)
+            return;
+    Warning(std::string("the input rays look like text, but -f") +
+            (format == DataFormat::Float ? "f" : "d") +
+            " reads them as binary numbers (-fa reads text)");
+}
+
+}  // namespace
+
+RaySource StandardInputRays(DataFormat format) {
+    std::unique_ptr<InputSource> source = InputSource::Open("-");
+    if (format == DataFormat::Float || format == DataFormat::Double) WarnIfText(*source, format);
+    ReadSpec rs;
+    rs.header = false;
+    rs.format = format;
+    rs.ncols = 1;
+    rs.ncomp = 6;
+    auto in = std::make_shared<MatrixReader>(std::move(source), rs);
+    return [in](double ray[6]) { return in->ReadRow(ray); };
+}
+
+namespace {
+
 // A block of input rays traced together. It holds the pieces (segments) of the records it
 // touches, so -c 0 or -c 10000 still keeps every thread busy.
 struct Segment {
@@ -65,12 +97,7 @@ class RayReader {
   public:
     RayReader(const RcontribOptions &o, size_t block_rays, RaySource rays)
         : o_(o), block_rays_(block_rays), rays_(std::move(rays)) {
-        if (!rays_) {
-            std::unique_ptr<InputSource> source = InputSource::Open("-");
-            if (o.in == DataFormat::Float || o.in == DataFormat::Double) WarnIfText(*source, o.in);
-            auto in = std::make_shared<MatrixReader>(std::move(source), Spec(o.in));
-            rays_ = [in](double ray[6]) { return in->ReadRow(ray); };
-        }
+        if (!rays_) rays_ = StandardInputRays(o.in);
         wanted_ = o.yres > 0 ? static_cast<long>(o.yres) * std::max(o.xres, 1) : -1;
         ray_base_ = static_cast<uint64_t>(std::max(o.first_record, 0L)) *
                     static_cast<uint64_t>(std::max(o.accumulate, 1));
@@ -133,29 +160,6 @@ class RayReader {
     }
 
   private:
-    // -ff or -fd on rays written as text (the points file of a recipe, say) reads garbage that
-    // RADIANCE traces without a word: the first ray's bytes all being characters of numbers
-    // and blanks is a sure sign.
-    static void WarnIfText(InputSource &in, DataFormat format) {
-        const size_t bytes = 6 * (format == DataFormat::Float ? 4 : 8);
-        const std::string_view first = in.PeekBytes(bytes);
-        if (first.size() < bytes) return;
-        for (char c : first)
-            if (!std::isdigit(static_cast<unsigned char>(c)) &&
-                std::string_view(" \t\r\n.+-eE").find(c) == std::string_view::npos)
-                return;
-        Warning(std::string("the input rays look like text, but -f") +
-                (format == DataFormat::Float ? "f" : "d") +
-                " reads them as binary numbers (-fa reads text)");
-    }
-    static ReadSpec Spec(DataFormat format) {
-        ReadSpec rs;
-        rs.header = false;
-        rs.format = format;
-        rs.ncols = 1;
-        rs.ncomp = 6;
-        return rs;
-    }
     void AddRay(Block *b, const double *ray) {
         const size_t n = b->rays.size() / 6;
         b->rays.insert(b->rays.end(), ray, ray + 6);

@@ -20,6 +20,10 @@ namespace dayflux {
 // input); by default the standard input in the -f format.
 using RaySource = std::function<bool(double ray[6])>;
 
+// The standard input's rays in format (6 numbers each, no header), with a warning where -ff or
+// -fd reads what looks like text.
+RaySource StandardInputRays(DataFormat format);
+
 // Errors (naming input ray `number`, from 1) on NaN, infinity or a coordinate beyond 1e12; a
 // direction too short for the engines' float is made unit length, or zero (a flush) where its
 // squared length underflows, as RADIANCE's normalize() finds it zero.
