@@ -51,6 +51,17 @@ struct CommandResult {
 // Runs a shell command in folder dir with the built programs first on PATH.
 CommandResult RunCommand(const std::string &command, const std::filesystem::path &dir);
 
+// dayflux's folder of RADIANCE's program names (lib/dayflux/radiance/bin).
+inline std::filesystem::path RadianceNames() {
+    return BinDir() / ".." / "lib" / "dayflux" / "radiance" / "bin";
+}
+// Runs a command with dayflux alone under RADIANCE's names on PATH: that folder, /usr/bin and
+// /bin (no RADIANCE anywhere, as on a machine with dayflux alone installed).
+inline CommandResult RunWithDayfluxAlone(const std::string &command,
+                                         const std::filesystem::path &dir) {
+    return RunCommand("PATH='" + RadianceNames().string() + "':/usr/bin:/bin; " + command, dir);
+}
+
 std::string ReadFile(const std::filesystem::path &p);
 void WriteFile(const std::filesystem::path &p, const std::string &data);
 // Header and data of a RADIANCE file without the lines that change from run to run

@@ -289,6 +289,35 @@ TEST_F(VulkanContrib, RtraceDcAsEmbree) {
     ExpectOneStream(gpu, cpu, other, 10u * 148, 1.0);
 }
 
+// rtrace-gpu: sensors' irradiance (-I) and view rays' radiance with what they meet (-ovL), the
+// same random stream on both backends.
+TEST_F(VulkanContrib, RtraceAsEmbree) {
+    const fs::path room = DataDir() / "scene" / "models" / "room";
+    for (const std::string mode : {"-I -ov", "-ovL"}) {
+        SCOPED_TRACE(mode);
+        const std::string rays =
+            (DataDir() / (mode[1] == 'I' ? "rcontrib/points.txt" : "rtrace/sphere_rays.txt"))
+                .string();
+        const std::string args = "-h " + mode +
+                                 " -ab 2 -ad 256 -lw 1e-3 materials.rad room.rad "
+                                 "objects/Glazing.rad skyDomes/skyglow.rad < '" +
+                                 rays + "'";
+        const auto run = [&](const std::string &how) {
+            const CommandResult r = RunCommand(kDevice + "rtrace-gpu " + how + " " + args, room);
+            EXPECT_EQ(r.status, 0) << r.err;
+            EXPECT_EQ(r.err.find("using Embree"), std::string::npos) << r.err;
+            std::vector<double> v;
+            std::istringstream in(r.out);
+            for (double x; in >> x;) v.push_back(x);
+            return v;
+        };
+        const std::vector<double> gpu = run("-backend vulkan -seed 1"),
+                                  cpu = run("-backend embree -seed 1"),
+                                  other = run("-backend embree -seed 2");
+        ExpectOneStream(gpu, cpu, other, mode[1] == 'I' ? 100u * 3 : 400u * 4, 1.0);
+    }
+}
+
 // -asub 2: each first-level cell sampled by 2 x 2 rays, one carrying its diffuse paths with 4
 // times its coefficient, the same on both backends (a wrong scale would move every entry lit
 // after a bounce).

@@ -22,8 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path RadianceNames() { return BinDir() / ".." / "lib" / "dayflux" / "radiance" / "bin"; }
-
 // Runs a command with RADIANCE's names first on PATH.
 CommandResult RunAsRadiance(const std::string &command, const fs::path &dir) {
     return RunCommand("PATH='" + RadianceNames().string() + "':\"$PATH\"; " + command, dir);
@@ -208,8 +206,7 @@ TEST(Recipes, AnnualIlluminanceAgreesWithRadianceWithinItsNoise) {
         "skyVectors/NYC.smx | rmtxop -fa -t -c 47.4 119.9 11.6 - > ref_3ph.ill"};
     fs::copy(DataDir() / "recipes", room / "ref", fs::copy_options::recursive);
     for (const char *step : steps) {
-        const CommandResult r =
-            RunCommand("PATH='" + RadianceNames().string() + "':/usr/bin:/bin; " + step, room);
+        const CommandResult r = RunWithDayfluxAlone(step, room);
         ASSERT_EQ(r.status, 0) << step << "\n" << r.err;
     }
     const Matrix dc = LoadMatrix((room / "results/dc/annualR.ill").string());
