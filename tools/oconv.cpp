@@ -66,10 +66,11 @@ int Main(int argc, char **argv) {
         }
     }
     const std::vector<std::string> files(argv + i, argv + argc);
-    const std::string octree = MakeOctree(files, o, CommandLine(argc, argv));
-    if (std::fwrite(octree.data(), 1, octree.size(), stdout) != octree.size() ||
-        std::fflush(stdout) != 0)
-        ErrorExit("write error on standard output");
+    MakeOctree(files, o, CommandLine(argc, argv), [](std::string_view bytes) {
+        if (std::fwrite(bytes.data(), 1, bytes.size(), stdout) != bytes.size())
+            ErrorExit("write error on standard output");
+    });
+    if (std::fflush(stdout) != 0) ErrorExit("write error on standard output");
     return 0;
 }
 

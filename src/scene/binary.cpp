@@ -116,11 +116,12 @@ void RadianceBinaryOutput::Int(long value, int nbytes) {
     char big_endian[8];
     for (int i = nbytes; i-- > 0; value >>= 8) big_endian[i] = static_cast<char>(value & 0xff);
     bytes_.append(big_endian, static_cast<size_t>(nbytes));
+    if (sink_ && bytes_.size() >= kChunk) Flush();
 }
 
 void RadianceBinaryOutput::String(const std::string &s) {
     bytes_ += s;
-    Byte(0);
+    Byte(0);  // (flushes)
 }
 
 void RadianceBinaryOutput::Real(double value) {

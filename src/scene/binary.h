@@ -3,7 +3,9 @@
 // and objects stored after a table of type names.
 #pragma once
 
+#include <functional>
 #include <string>
+#include <string_view>
 
 #include "scene/primitives.h"
 #include "util/files.h"
@@ -32,17 +34,29 @@ class RadianceBinaryInput {
     std::string what_;
 };
 
-// The writing side (common/portio.c), into bytes the caller writes out whole.
+// The writing side (common/portio.c): bytes handed to sink a megabyte at a time (and the rest
+// by Flush()), or, without a sink, kept for Bytes().
 class RadianceBinaryOutput {
   public:
-    void Byte(int c) { bytes_.push_back(static_cast<char>(c)); }
+    using Sink = std::function<void(std::string_view)>;
+    explicit RadianceBinaryOutput(Sink sink = nullptr) : sink_(std::move(sink)) {}
+    void Byte(int c) {
+        bytes_.push_back(static_cast<char>(c));
+        if (sink_ && bytes_.size() >= kChunk) Flush();
+    }
     void Int(long value, int nbytes);
     void String(const std::string &s);
     // frexp's mantissa in 31 bits and its exponent in one byte (putflt()).
     void Real(double value);
     const std::string &Bytes() const { return bytes_; }
+    void Flush() {
+        if (sink_ && !bytes_.empty()) sink_(bytes_);
+        bytes_.clear();
+    }
 
   private:
+    static constexpr size_t kChunk = 1 << 20;
+    Sink sink_;
     std::string bytes_;
 };
 

@@ -231,7 +231,8 @@ class OctreeMaker {
   public:
     explicit OctreeMaker(const OconvOptions &o) : options_(o) {}
 
-    std::string Make(const std::vector<std::string> &files, const std::string &command_line);
+    void Make(const std::vector<std::string> &files, const std::string &command_line,
+              const RadianceBinaryOutput::Sink &write);
 
   private:
     void Warn(const Primitive &p, const std::string &message) const {
@@ -269,8 +270,8 @@ class OctreeMaker {
     std::map<std::string, int> modifiers_;  // RADIANCE's modifier table (modobject.c)
 };
 
-std::string OctreeMaker::Make(const std::vector<std::string> &files,
-                              const std::string &command_line) {
+void OctreeMaker::Make(const std::vector<std::string> &files, const std::string &command_line,
+                       const RadianceBinaryOutput::Sink &write) {
     Scene scene;
     std::string header = "#?RADIANCE\n";
     std::vector<std::string> names;
@@ -320,7 +321,8 @@ std::string OctreeMaker::Make(const std::vector<std::string> &files,
     for (size_t i = first_new; i < objects_.size(); ++i) AddObject(&scene_, static_cast<int>(i));
     scene_.tree = Combine(scene_.tree);
 
-    RadianceBinaryOutput out;
+    write(header + command_line + "FORMAT=Radiance_octree\n\n");
+    RadianceBinaryOutput out(write);
     out.Int(kOctreeMagic + kObjectSize, 2);
     char number[64];
     for (int i = 0; i < 3; ++i) {
@@ -335,7 +337,7 @@ std::string OctreeMaker::Make(const std::vector<std::string> &files,
     out.Int(static_cast<long>(objects_.size()), kObjectSize);
     WriteTree(scene_.tree, &out);
     if (frozen) WriteObjects(&out);
-    return header + command_line + "FORMAT=Radiance_octree\n\n" + out.Bytes();
+    out.Flush();
 }
 
 void OctreeMaker::FitCube(const V3 &min, const V3 &max) {
@@ -915,9 +917,17 @@ void OctreeMaker::WriteObjects(RadianceBinaryOutput *out) const {
 
 }  // namespace
 
+void MakeOctree(const std::vector<std::string> &files, const OconvOptions &options,
+                const std::string &command_line,
+                const std::function<void(std::string_view)> &write) {
+    OctreeMaker(options).Make(files, command_line, write);
+}
+
 std::string MakeOctree(const std::vector<std::string> &files, const OconvOptions &options,
                        const std::string &command_line) {
-    return OctreeMaker(options).Make(files, command_line);
+    std::string octree;
+    MakeOctree(files, options, command_line, [&](std::string_view s) { octree += s; });
+    return octree;
 }
 
 }  // namespace dayflux

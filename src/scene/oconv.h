@@ -3,7 +3,9 @@
 // and the bytes are those RADIANCE's oconv writes for the same scene.
 #pragma once
 
+#include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace dayflux {
@@ -22,6 +24,12 @@ struct OconvOptions {
 // The octree of the scene files (paths, "!command"s, "-" for stdin, which freezes it), as oconv
 // writes it: the header (the input octree's lines, then command_line, which ends in a newline,
 // and the format), the cube, the file list or the objects, and the tree.
+// The octree goes to write in pieces as it is made (after every check that can fail: nothing is
+// written for bad input).
+void MakeOctree(const std::vector<std::string> &files, const OconvOptions &options,
+                const std::string &command_line,
+                const std::function<void(std::string_view)> &write);
+// The same, returned whole.
 std::string MakeOctree(const std::vector<std::string> &files, const OconvOptions &options,
                        const std::string &command_line);
 
