@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# getinfo, total, rcollate and gensky on the flagship example's year of illuminance (1425 sensors
+# getinfo, total, rcollate, rcalc and gensky on the flagship example's year of illuminance (1425 sensors
 # x 8760 hours, float, 50 MB; dctimestep | rmtxop as step 4 makes it), and oconv on its model and
 # on frads' LBNL office (12 k polygons; and that at a finer resolution), beside RADIANCE's programs
 # in the same run where RADIANCE names a folder holding them (built outside this repository):
@@ -15,6 +15,8 @@ source "$(dirname "$0")/example_common.sh" small_programs
 "$bin/getinfo" - < "$tmp/year.fmx" > "$tmp/year.raw"                 # headerless floats
 # (the first 200 rows as ascii: head ends the pipe early, which pipefail would take for a failure)
 { "$bin/rmtxop" -fa "$tmp/year.fmx" | "$bin/getinfo" - | head -n 200 > "$tmp/year.txt"; } || true
+"$bin/rmtxop" -fa -t "$tmp/year.fmx" | "$bin/getinfo" - | head -n 2 | tr '\t' '\n' \
+    | paste - - > "$tmp/col.txt" || true  # (two sensors' years as two columns)
 model="$out/model/materials.rad $out/model/office.rad $out/model/window.rad $out/model/glass.rad"
 lbnl=${LBNL:-$(realpath -m "$root/../shared/data/models/frads_lbnl_office/Objects")}
 lbnl=$(echo "$lbnl"/materials.mat "$lbnl"/*.rad)
@@ -26,6 +28,7 @@ cases=(
     "rcollate -ho -oc 730 (reshape)|\$P/rcollate -ho -oc 730 -fa1 year.txt"
     "total -if1425 -m (binary means)|\$P/total -if1425 -m year.raw"
     "total -m (ascii means of 200 rows)|\$P/total -m year.txt"
+    "rcalc (two columns of 8760 rows x 100)|for k in \$(seq 100); do cat col.txt; done | \$P/rcalc -e '\$1=179*\$1;\$2=\$2/2'"
     "gensky x 1000|for h in \$(seq 1000); do \$P/gensky 6 21 12 -a 40.78 -o 73.96 -m 75; done"
     "oconv -f (the example's office)|\$P/oconv -f $model"
     "oconv -f (LBNL office)|\$P/oconv -f $lbnl"

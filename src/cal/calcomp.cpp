@@ -1,5 +1,6 @@
 #include "cal/calcomp.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cmath>
@@ -282,10 +283,23 @@ class Parser {
             Next();
             return;
         }
-        if (!(std::isalpha(Peek()) || Peek() == '`')) Syntax("illegal variable name");
         auto def = std::make_unique<Context::Definition>();
-        def->name = Name();
-        def->loc = Here();
+        if (Peek() == '$' && cx_.output_channels) {
+            // rcalc's "$N = e;": output channel N, kept under the name "$N", which no
+            // expression can name.
+            Next();
+            int n = 0;
+            while (std::isdigit(Peek()) && n <= kMaxChannel) n = n * 10 + (Next() - '0');
+            if (n < 1 || n > kMaxChannel)
+                Syntax("output channel beyond $1..$" + std::to_string(kMaxChannel));
+            def->name = "$" + std::to_string(n);
+            def->loc = Here();
+            if (Peek() != '=') Syntax("'=' expected");
+        } else {
+            if (!(std::isalpha(Peek()) || Peek() == '`')) Syntax("illegal variable name");
+            def->name = Name();
+            def->loc = Here();
+        }
         if (Peek() == '(') {
             do {
                 Next();
@@ -587,6 +601,28 @@ Context::~Context() = default;
 void Context::Load(std::string_view text, const FileLoc &loc) {
     Parser p(*impl_, text, loc);
     while (!p.AtEnd()) p.Statement();
+}
+
+void Context::AllowOutputChannels(bool allow) { impl_->output_channels = allow; }
+
+std::vector<std::pair<int, Expression>> Context::OutputChannels() const {
+    std::vector<std::pair<int, Expression>> out;
+    for (size_t sym = 0; sym < impl_->names.size(); ++sym) {
+        const std::string &name = impl_->names[sym];
+        if (name.empty() || name[0] != '$' || !impl_->defs[sym]) continue;
+        Expression e;  // the channel's variable itself: its definition, evaluated per record
+        e.root_ = std::make_unique<Node>();
+        e.root_->kind = Node::kVar;
+        e.root_->index = static_cast<int>(sym);
+        e.text_ = name;
+        e.fast_ = SpecialisedExpression::Make(*impl_, e.root_.get(), e.loc_);
+        e.fast_context_ = impl_.get();
+        e.fast_generation_ = impl_->generation;
+        out.emplace_back(std::stoi(name.substr(1)), std::move(e));
+    }
+    std::sort(out.begin(), out.end(),
+              [](const auto &a, const auto &b) { return a.first < b.first; });
+    return out;
 }
 
 void Context::DefineRayVariables() {

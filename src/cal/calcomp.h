@@ -11,6 +11,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "util/errors.h"
@@ -122,6 +123,10 @@ class Context {
     // lib/*.cal files use its helpers), then the rayinit.cal RAYPATH finds if that is another
     // one (a RADIANCE installation's, say), whose definitions win.
     void LoadRayInit();
+    // rcalc's output channels: "$N = e;" definitions allowed in what is loaded after this, and
+    // those defined, by N ascending, each as an expression evaluating its definition.
+    void AllowOutputChannels(bool allow);
+    std::vector<std::pair<int, Expression>> OutputChannels() const;
     // Sets or replaces a variable (as "name = value;" or with constant, "name : value;").
     void Set(const std::string &name, double value, bool constant = false);
     // Parses an expression (for example a -b bin expression).

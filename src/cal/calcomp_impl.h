@@ -112,6 +112,7 @@ struct Context::Impl {
     mutable std::vector<uint64_t> variable_epoch;
     mutable std::vector<double> variable_value;
     mutable uint64_t epoch = 1;
+    bool output_channels = false;  // "$N = e;" definitions allowed (rcalc)
 
     int Intern(const std::string &raw) {
         std::string name = raw;
