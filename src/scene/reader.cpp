@@ -1,9 +1,11 @@
 #include "scene/reader.h"
 
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 #include "scene/octree.h"
+#include "util/raypath.h"
 #include "util/strings.h"
 
 namespace dayflux {
@@ -265,10 +267,37 @@ void SceneReader::Xform(const XformCommand &xform, const Context &cx) {
     inner.xforms = std::move(levels);
     inner.depth = cx.depth + 1;
     for (const std::string &f : xform.files) {
-        auto in = InputSource::Open(f);
+        if (f == "-") {
+            auto in = InputSource::Open(f);
+            Read(*in, inner);
+            continue;
+        }
+        // xform reads a file from the folder it works in, else along RAYPATH, and works in the
+        // file's folder while it does (openmain()): the files and commands the file names are
+        // relative to it.
+        const std::filesystem::path here =
+            cx.dir.empty() ? std::filesystem::path(f) : std::filesystem::path(cx.dir) / f;
+        const std::string path =
+            std::filesystem::path(f).is_absolute() || std::filesystem::exists(here)
+                ? here.string()
+                : FindOnRaypath(f);
+        inner.dir = std::filesystem::path(path).parent_path().string();
+        auto in = InputSource::Open(path);
         Read(*in, inner);
     }
 }
+
+namespace {
+
+// A command run from folder dir ("" for the working folder), as /bin/sh takes it.
+std::string InFolder(const std::string &dir, const std::string &command) {
+    if (dir.empty()) return command;
+    std::string quoted = "'";
+    for (char c : dir) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return "cd " + quoted + "' && " + command;
+}
+
+}  // namespace
 
 void SceneReader::RunCommand(const std::string &command, const FileLoc &loc, const Context &cx) {
     if (cx.depth >= kMaxCommandDepth)
@@ -282,7 +311,7 @@ void SceneReader::RunCommand(const std::string &command, const FileLoc &loc, con
             ErrorExit(&loc, std::string("in '!") + command + "': " + e.what());
         }
     }
-    auto in = InputSource::OpenNamedIn("!" + command, loc);
+    auto in = InputSource::OpenNamedIn("!" + InFolder(cx.dir, command), loc);
     Context inner = cx;
     inner.depth = cx.depth + 1;
     try {

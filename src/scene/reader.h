@@ -40,6 +40,7 @@ class SceneReader {
         std::string modifier_override;                         // xform -m
         std::string name_prefix;                               // xform -n
         std::shared_ptr<const std::vector<Transform>> xforms;  // the "!xform"s, innermost first
+        std::string dir;  // the folder "!xform" works in (its file's), "" for the working one
         int depth = 0;
     };
     void Read(InputSource &in, const Context &cx);

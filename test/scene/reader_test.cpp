@@ -174,7 +174,7 @@ TEST(SceneReader, BadInputNamesFileLineAndProblem) {
     EXPECT_EQ(ErrorOf("void plastic m 0 0 5 1 1 1 0 0\nm polygon p 0 0 8 0 0 0 1 0 0 0 1\n"),
               "bad.rad:2: polygon 'p' needs 3n reals with n >= 3 (has 0 strings, 8 reals)");
     EXPECT_NE(ErrorOf("!xform nosuch.rad\n")
-                  .find("bad.rad:1: in '!xform nosuch.rad': cannot open file 'nosuch.rad'"),
+                  .find("bad.rad:1: in '!xform nosuch.rad': cannot find 'nosuch.rad' on RAYPATH"),
               std::string::npos);
     EXPECT_EQ(ErrorOf("!false\n"), "bad.rad:1: command '!false' failed");
     // Transforms that would make the geometry vanish or fill space (RADIANCE's xform takes them).
