@@ -135,28 +135,26 @@ bool ReadHeaderLines(std::FILE *fp, const std::function<bool(const char *)> &on_
 
 std::string HeaderStart(int argc, char **argv) { return "#?RADIANCE\n" + CommandLine(argc, argv); }
 
+std::string QuotedWord(std::string_view w) {
+    bool space = false;
+    char quote = 0;
+    for (size_t k = 0; k < w.size(); ++k) {
+        if (std::isspace(static_cast<unsigned char>(w[k])))
+            space = true;
+        else if (k > 0 && w[k] == '"' && k + 1 < w.size())
+            quote = '\'';
+        else if (k > 0 && w[k] == '\'' && k + 1 < w.size())
+            quote = '"';
+    }
+    if (!space && !quote) return std::string(w);
+    if (!quote) quote = '"';
+    return quote + std::string(w) + quote;
+}
+
 std::string CommandLine(int argc, char **argv) {
     std::string s;
     for (int i = 0; i < argc; ++i) {
-        std::string_view w = argv[i];
-        bool space = false;
-        char quote = 0;
-        for (size_t k = 0; k < w.size(); ++k) {
-            if (std::isspace(static_cast<unsigned char>(w[k])))
-                space = true;
-            else if (k > 0 && w[k] == '"' && k + 1 < w.size())
-                quote = '\'';
-            else if (k > 0 && w[k] == '\'' && k + 1 < w.size())
-                quote = '"';
-        }
-        if (space || quote) {
-            if (!quote) quote = '"';
-            s += quote;
-            s += w;
-            s += quote;
-        } else {
-            s += w;
-        }
+        s += QuotedWord(argv[i]);
         s += i + 1 < argc ? ' ' : '\n';
     }
     return s;

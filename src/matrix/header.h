@@ -35,6 +35,8 @@ bool NextIsResolution(InputSource &in);
 std::string HeaderStart(int argc, char **argv);
 // That command line alone, ending in '\n' (RADIANCE's printargs()).
 std::string CommandLine(int argc, char **argv);
+// A word as RADIANCE's fputword() writes it: in quotes where it holds a blank or a quote.
+std::string QuotedWord(std::string_view word);
 
 // RADIANCE's getheader() on a stdio stream, for the small programs that copy its bytes as they
 // are (getinfo, rcollate): the header's lines as fgets() reads them (at most 2047 bytes each, a

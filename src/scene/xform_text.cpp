@@ -21,15 +21,19 @@ bool OneOf(const std::string &t, std::initializer_list<const char *> names) {
     return std::any_of(names.begin(), names.end(), [&](const char *n) { return t == n; });
 }
 
+}  // namespace
+
 // Types whose string arguments take the transform (otypes.h's hasfunc: functions, data, pictures),
 // and instances and meshes (addxform()).
-bool TakesTransformWords(const std::string &t) {
+bool XformAddsTransform(const std::string &t) {
     return OneOf(t, {"texfunc",    "plastic2",   "metal2",    "trans2",    "plasfunc",  "metfunc",
                      "brightfunc", "brightdata", "colorpict", "transfunc", "BRTDfunc",  "BSDF",
                      "aBSDF",      "plasdata",   "metdata",   "transdata", "colorfunc", "colordata",
                      "texdata",    "mixfunc",    "mixdata",   "mixpict",   "prism1",    "prism2",
                      "ashik2",     "instance",   "mesh"});
 }
+
+namespace {
 
 // One xform command's rewriting.
 class XformPrinter {
@@ -83,7 +87,7 @@ class XformPrinter {
             return;
         }
         for (double &x : f) x = Printed(x, 12);
-        if (TakesTransformWords(t))
+        if (XformAddsTransform(t))
             p->sargs.insert(p->sargs.end(), xf_.words.begin(), xf_.words.end());
     }
 

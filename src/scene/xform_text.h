@@ -8,6 +8,10 @@
 
 namespace dayflux {
 
+// Whether xform writes its transform's options into objects of this type (addxform(): functions,
+// data and pictures, instances and meshes).
+bool XformAddsTransform(const std::string &type);
+
 // p with its transforms applied as each xform in turn writes it (p.xf left as it was, for the
 // engine); p itself where it did not come through "!xform".
 Primitive AsXformPrints(const Primitive &p);
