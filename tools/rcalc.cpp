@@ -271,7 +271,7 @@ class Calculator {
             const bool adjacent_next =
                 o_.blanks_equal && i + 1 < template_.size() &&
                 !(template_[i + 1].kind == Field::kLiteral && template_[i + 1].text[0] == ' ');
-            char buf[64], fmt[32], type[16];
+            char fmt[32], type[16];
             switch (f.kind) {
                 case Field::kLiteral:
                     out_ += f.text;
@@ -306,8 +306,12 @@ class Calculator {
                         std::snprintf(fmt, sizeof fmt, "%%-%d%s", n, type);
                     else
                         std::snprintf(fmt, sizeof fmt, "%%%d%s", n, type);
-                    std::snprintf(buf, sizeof buf, fmt, dv);
-                    out_ += buf;
+                    // (a field may be wider than any buffer: ${x} padded to 80 characters)
+                    const int size = std::snprintf(nullptr, 0, fmt, dv);
+                    std::string number(static_cast<size_t>(std::max(size, 0)) + 1, '\0');
+                    std::snprintf(number.data(), number.size(), fmt, dv);
+                    number.pop_back();
+                    out_ += number;
                     adjacent_last = true;
                     break;
                 }

@@ -255,8 +255,8 @@ int Xform::Array(const std::vector<std::string> &av, size_t ai) {
     int err = 0;
     for (int i = 0; i < n; ++i) {
         std::vector<std::string> a = args;
-        const std::string newid = oldid.empty() ? "a" + std::to_string(i)
-                                                : oldid + "." + std::to_string(i);
+        const std::string newid =
+            oldid.empty() ? "a" + std::to_string(i) : oldid + "." + std::to_string(i);
         a[ai] = "-i";
         a[ai + 1] = std::to_string(i);
         if (oldid.empty())
@@ -387,8 +387,7 @@ void Xform::OpenMain(const std::string *name) {
     }
     main_ = std::fopen(open_path.c_str(), "r");
     if (!main_) {
-        std::fprintf(stderr, "%s: cannot open file \"%s\"\n", xav_[0].c_str(),
-                     main_name_.c_str());
+        std::fprintf(stderr, "%s: cannot open file \"%s\"\n", xav_[0].c_str(), main_name_.c_str());
         std::exit(1);
     }
 }
@@ -432,8 +431,8 @@ void Xform::Command(const std::string &name, std::FILE *in) {
         std::fflush(stdout);
         std::FILE *pin = popen(buf.c_str() + 1, "r");
         if (!pin) {
-            std::fprintf(stderr, "%s: (%s): cannot execute \"%s\"\n", xav_[0].c_str(),
-                         name.c_str(), buf.c_str());
+            std::fprintf(stderr, "%s: (%s): cannot execute \"%s\"\n", xav_[0].c_str(), name.c_str(),
+                         buf.c_str());
             std::exit(1);
         }
         Transform(buf, pin);

@@ -28,8 +28,6 @@ namespace {
 
 // DAYSIM keeps at most this many coefficients (148 diffuse, or the direct run's suns).
 constexpr int kMaxCoefficients = 2306;
-// Placeholder for the modifiers, which are the scene's light sources, known once it is read.
-constexpr const char *kPlaceholderModifier = "rtrace_dc-light-sources";
 
 [[noreturn]] void Usage(const std::string &prog) {
     ErrorExit("usage: " + prog +
@@ -99,6 +97,10 @@ class Parser : public RtraceLikeParser {
             Number(a);  // they shape pictures, which rtrace_dc does not write
         } else if (a == "-e") {
             ErrorExit(a + ": not supported by rtrace_dc-gpu");
+        } else if (a == "-av") {
+            const double r = Number(a), g = Number(a), b = Number(a);
+            if (r != 0 || g != 0 || b != 0)
+                Warning("-av: an ambient value belongs to no daylight coefficient (ignored)");
         } else {
             return false;
         }

@@ -11,6 +11,7 @@
 #include <set>
 #include <tuple>
 
+#include "rcontrib/rtrace_like.h"
 #include "util/errors.h"
 #include "util/files.h"
 #include "util/options.h"
@@ -225,7 +226,8 @@ class Parser : public OptionCursor {
         } else if (a.rfind("-ld", 0) == 0) {
             // vwrays -d gives -ld- unless the view clips behind (-va): rays as long as their
             // direction vectors, which the engines do not limit yet (docs/compat.md).
-            if (Flag(a, false)) ErrorExit(a + ": rays limited to their length are not supported");
+            if (RtraceFlag(a, false))  // (-ld alone toggles: on)
+                ErrorExit(a + ": rays limited to their length are not supported");
         } else if (a.rfind("-u", 0) == 0 || a.rfind("-bv", 0) == 0) {
             // random/back-face flags: our sampling is always repeatable for a given -seed
         } else if (a == "-ar") {

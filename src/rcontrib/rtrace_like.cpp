@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <set>
 
 #include "raytrace/sensor_cache.h"
@@ -24,6 +25,10 @@ bool RtraceFlag(const std::string &a, bool current) {
 std::vector<std::string> RtraceDefaults(const std::string &program) {
     return {program, "-dj", "0",    "-dr", "2",   "-st", "0.15", "-ab", "0", "-ad",
             "1024",  "-lw", "2e-3", "-lr", "-10", "-ds", "0.2",  "-ss", "1"};
+}
+
+std::string RtraceLikeParser::Program() const {
+    return std::filesystem::path(args_[0]).filename().string();
 }
 
 std::vector<std::string> RtraceLikeParser::Run() {
@@ -48,6 +53,13 @@ std::vector<std::string> RtraceLikeParser::Run() {
         if (with_value.count(a)) {
             pass.push_back(a);
             pass.push_back(Value(a));
+        } else if (a.size() <= 4 && (a[1] == 'I' || a[1] == 'i' || a.rfind("-ld", 0) == 0)) {
+            // rtrace's booleans (-I -I+ -IT -I0 ...), passed as rcontrib's parser reads them
+            const std::string name = a.substr(0, a[1] == 'l' ? 3 : 2);
+            if (a.size() > name.size() + 1) ErrorExit("unknown option '" + a + "'");
+            bool &value = flags_[name];
+            value = RtraceFlag(a, value);
+            pass.push_back(name + (value ? "+" : "-"));
         } else if (flag && a.size() <= 10) {
             pass.push_back(a);
         } else {

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -47,7 +48,8 @@ class RtraceLikeParser : public OptionCursor {
   protected:
     virtual bool Own(const std::string &a) = 0;
     virtual void Usage() const = 0;
-    const std::string &Program() const { return args_[0]; }
+    // The program's name, for messages.
+    std::string Program() const;
     // Adds an option (with its value) for rcontrib's parser.
     void Pass(const std::string &option, const std::string &value) {
         pass_.insert(pass_.end(), {option, value});
@@ -57,6 +59,7 @@ class RtraceLikeParser : public OptionCursor {
     bool Ignored(const std::string &a);
     AmbientCacheOptions cache_;
     std::vector<std::string> pass_;
+    std::map<std::string, bool> flags_;  // -I -i -ld as given so far
 };
 
 // The placeholder Run() passes as -m: RcontribOptions::modifiers holds it until replaced.

@@ -344,7 +344,7 @@ class FluxReader {
                 return Read("!" + c, depth + 1, outer);
             }
             xform.xf = xform.xf.Then(outer.xf);
-            if (xform.modifier.empty()) xform.modifier = outer.modifier;
+            if (!outer.modifier.empty()) xform.modifier = outer.modifier;  // the outer -m wins
             xform.name_prefix = outer.name_prefix + xform.name_prefix;
             for (const std::string &f : xform.files) Read(f, depth + 1, xform);
         };

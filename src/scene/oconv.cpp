@@ -292,6 +292,7 @@ void OctreeMaker::Make(const std::vector<std::string> &files, const std::string 
     }
     const int first_new = static_cast<int>(scene.objects.size());
     SceneReader reader(&scene);
+    reader.KnowExistingModifiers();
     for (const std::string &f : files) {
         const size_t before = scene.objects.size();
         reader.ReadFile(f);

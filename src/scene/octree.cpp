@@ -31,6 +31,9 @@ int ReadBounds(RadianceBinaryInput &oct, OctreeInfo *info) {
     if (objsize <= 0 || objsize > 8) oct.Fail("incompatible octree format");
     for (int i = 0; i < 3; ++i) info->cube_origin[i] = std::atof(oct.String().c_str());
     info->cube_size = std::atof(oct.String().c_str());
+    for (double x : {info->cube_origin[0], info->cube_origin[1], info->cube_origin[2]})
+        if (!std::isfinite(x) || std::fabs(x) > 1e12) oct.Fail("bad octree bounds");
+    if (!(info->cube_size >= 0 && info->cube_size <= 1e12)) oct.Fail("bad octree bounds");
     for (std::string f; !(f = oct.String()).empty();) info->files.push_back(f);
     return static_cast<int>(objsize);
 }

@@ -35,11 +35,11 @@ bool Word(InputSource &in, std::string *w) {
 
 }  // namespace
 
-SceneReader::SceneReader(Scene *scene) : scene_(scene) {
-    for (size_t i = 0; i < scene->objects.size(); ++i) {
-        const PrimitiveKind kind = scene->objects[i].info->kind;
+void SceneReader::KnowExistingModifiers() {
+    for (size_t i = 0; i < scene_->objects.size(); ++i) {
+        const PrimitiveKind kind = scene_->objects[i].info->kind;
         if (kind != PrimitiveKind::kSurface && kind != PrimitiveKind::kVolume)
-            modifiers_[scene->objects[i].name] = static_cast<int>(i);
+            modifiers_[scene_->objects[i].name] = static_cast<int>(i);
     }
 }
 
@@ -158,6 +158,19 @@ void SceneReader::ReadPrimitive(InputSource &in, const Context &cx) {
             ErrorExit(&p.loc, "undefined modifier '" + p.modifier_name + "' for " + p.type + " '" +
                                   p.name + "'");
     }
+    if (p.type == "mist" && !cx.name_prefix.empty()) {
+        // xform -n prefixes the sources a mist names (each of "a>b"), as it did their names.
+        for (std::string &s : p.sargs) {
+            std::string named;
+            for (size_t at = 0; at < s.size();) {
+                const size_t gt = s.find('>', at);
+                const size_t end = gt == std::string::npos ? s.size() : gt + 1;
+                named += cx.name_prefix + s.substr(at, end - at);
+                at = end;
+            }
+            s = named;
+        }
+    }
     p.xf = cx.xf;
     p.xforms = cx.xforms;
     CheckArguments(p);
@@ -233,21 +246,28 @@ bool ParseXformCommand(const std::string &command, const FileLoc &loc, XformComm
         command.find_first_of("|;&<>$`'\"*?") != std::string::npos)
         return false;
     *out = XformCommand{};
-    for (size_t i = 1; i < args.size(); ++i) {
+    // As xform reads them: its own options, then the transform, then the files. Anything else
+    // (-I, arrays, -i with a count, an option out of its place) goes to the real xform, which
+    // does it or says what is wrong.
+    size_t i = 1;
+    for (; i < args.size(); ++i) {
         const std::string &a = args[i];
-        if (ApplyTransformOption(args, &i, loc, "xform", &out->xf)) {
-            continue;
-        } else if (a == "-m" && i + 1 < args.size()) {
-            out->modifier = args[++i];
+        if (a == "-m" && i + 1 < args.size()) {
+            ++i;
+            if (out->modifier.empty()) out->modifier = args[i];  // the first -m counts
         } else if (a == "-n" && i + 1 < args.size()) {
-            out->name_prefix = args[++i] + ".";
-        } else if (a == "-e" || a == "-c") {
-            // expand or keep commands: the same scene either way
-        } else if (!a.empty() && a[0] == '-' && a.size() > 1) {
-            return false;  // arrays, -i, ...: let the real xform do it
-        } else {
-            out->files.push_back(a);
+            out->name_prefix += args[++i] + ".";  // -n a -n b: "a.b."
+        } else if (a != "-e" && a != "-c") {      // expand or keep commands: the same scene
+            break;
         }
+    }
+    for (; i < args.size(); ++i) {
+        if (args[i] == "-i" && (i + 1 >= args.size() || args[i + 1] != "1")) return false;
+        if (!ApplyTransformOption(args, &i, loc, "xform", &out->xf)) break;
+    }
+    for (; i < args.size(); ++i) {
+        if (args[i].size() > 1 && args[i][0] == '-') return false;
+        out->files.push_back(args[i]);
     }
     if (out->files.empty()) out->files.push_back("-");
     // xform opens the options it adds to functions and instances with "-i 1" (resetarr).
@@ -258,7 +278,9 @@ bool ParseXformCommand(const std::string &command, const FileLoc &loc, XformComm
 
 void SceneReader::Xform(const XformCommand &xform, const Context &cx) {
     Context inner = cx;
-    if (!xform.modifier.empty()) inner.modifier_override = xform.modifier;
+    // An outer xform's -m replaces what an inner one set.
+    if (!xform.modifier.empty() && cx.modifier_override.empty())
+        inner.modifier_override = xform.modifier;
     inner.name_prefix = cx.name_prefix + xform.name_prefix;
     inner.xf = xform.xf.Then(cx.xf);
     inner.xf.words.clear();  // each level keeps its own, in xforms

@@ -25,8 +25,10 @@ bool ParseXformCommand(const std::string &command, const FileLoc &loc, XformComm
 
 class SceneReader {
   public:
-    // Objects already in scene (an octree added to) are modifiers the new text may use.
-    explicit SceneReader(Scene *scene);
+    explicit SceneReader(Scene *scene) : scene_(scene) {}
+    // The modifiers already in the scene (an octree added to, oconv -i) become ones the new
+    // text may use.
+    void KnowExistingModifiers();
     // Accept modifiers that are never defined (as xform does when it only rewrites text).
     void AllowUndefinedModifiers(bool allow) { allow_undefined_ = allow; }
     // path "-" reads stdin.

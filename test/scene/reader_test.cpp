@@ -188,3 +188,27 @@ TEST(SceneReader, BadInputNamesFileLineAndProblem) {
 
 }  // namespace
 }  // namespace dayflux
+
+namespace dayflux {
+namespace {
+
+// "!xform" lines done in-process are read as xform reads its command line (options, transform,
+// files); the rest goes to the real xform: -I, arrays, -i with a count, an option out of place.
+TEST(SceneReader, XformCommandsAsXformReadsThem) {
+    const FileLoc loc{"t.rad", 1};
+    XformCommand x;
+    ASSERT_TRUE(ParseXformCommand("xform -n a -n b -m m1 -m m2 -e -rz 90 -i 1 -t 1 0 0 f.rad g.rad",
+                                  loc, &x));
+    EXPECT_EQ(x.name_prefix, "a.b.");
+    EXPECT_EQ(x.modifier, "m1");
+    EXPECT_EQ(x.files, (std::vector<std::string>{"f.rad", "g.rad"}));
+    EXPECT_EQ(x.xf.words,
+              (std::vector<std::string>{"-i", "1", "-rz", "90", "-i", "1", "-t", "1", "0", "0"}));
+    for (const char *real :
+         {"xform -I f.rad", "xform -a 3 -t 1 0 0 f.rad", "xform -i 2 -t 1 0 0 f.rad",
+          "xform -s 2 -n late f.rad", "xform f.rad | cat"})
+        EXPECT_FALSE(ParseXformCommand(real, loc, &x)) << real;
+}
+
+}  // namespace
+}  // namespace dayflux

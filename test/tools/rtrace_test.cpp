@@ -5,10 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "matrix/rgbe.h"
 #include "test_util.h"
 
 namespace dayflux::test {
@@ -145,10 +147,44 @@ TEST_F(Rtrace, HeaderAndFormats) {
     EXPECT_NE(r.out.find("NCOMP=4\n"), std::string::npos);
     EXPECT_NE(r.out.find("FORMAT=float\n\n"), std::string::npos);
     EXPECT_EQ(r.out.size() - r.out.find("\n\n") - 2, 4u * 4 * sizeof(float));
-    r = RunWithDayfluxAlone("head -n 6 points.txt | rtrace -h -x 3 -y 2 -ab 0 -ffc df.oct", room_);
+    // -fc: the values of -fa (the same rays and seed) as RGBE pixels after the resolution.
+    const std::string six = "head -n 6 points.txt | rtrace -h -I -ab 1 -ad 64 -x 3 -y 2 ";
+    r = RunWithDayfluxAlone(six + "-fac df.oct", room_);
     ASSERT_EQ(r.status, 0) << r.err;
-    EXPECT_EQ(r.out.size(), std::string("-Y 2 +X 3\n").size() + 6 * 4);
-    EXPECT_EQ(r.out.rfind("-Y 2 +X 3\n", 0), 0u);
+    const std::string resolution = "-Y 2 +X 3\n";
+    ASSERT_EQ(r.out.size(), resolution.size() + 6 * 4);
+    EXPECT_EQ(r.out.rfind(resolution, 0), 0u);
+    const CommandResult text = RunWithDayfluxAlone(six + "-faa df.oct", room_);
+    ASSERT_EQ(text.status, 0) << text.err;
+    std::istringstream values(text.out.substr(text.out.find('\n') + 1));  // after -Y 2 +X 3
+    for (int i = 0; i < 6; ++i) {
+        Colr c;
+        std::memcpy(c.data(), r.out.data() + resolution.size() + 4 * i, 4);
+        float rgb[3];
+        FromColr(c, rgb);
+        for (float decoded : rgb) {
+            double v;
+            ASSERT_TRUE(values >> v);
+            EXPECT_GT(v, 0.1);
+            EXPECT_NEAR(decoded, v, v / 128) << "pixel " << i;  // an 8-bit mantissa
+        }
+    }
+}
+
+// rtrace's booleans as RADIANCE reads them: -I, -I+, -IT and -Iy set, -I0 and -In clear, and a
+// bare -I toggles.
+TEST_F(Rtrace, BooleansAsRtraceReadsThem) {
+    const auto run = [&](const std::string &flags) {
+        const CommandResult r = RunWithDayfluxAlone(
+            "head -n 1 points.txt | rtrace -h -ab 1 -ad 64 " + flags + " df.oct", room_);
+        EXPECT_EQ(r.status, 0) << r.err;
+        return r.out;
+    };
+    const std::string irradiance = run("-I"), radiance = run("");
+    EXPECT_NE(irradiance, radiance);
+    for (const char *on : {"-I+", "-IT", "-Iy", "-I0 -I", "-I -I -I"})
+        EXPECT_EQ(run(on), irradiance) << on;
+    for (const char *off : {"-I-", "-In", "-I -I", "-IT -I0"}) EXPECT_EQ(run(off), radiance) << off;
 }
 
 // Bad options get a message and no output: outputs rtrace-gpu does not write, a picture of more
