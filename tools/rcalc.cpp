@@ -1,8 +1,8 @@
 // rcalc: RADIANCE's record calculator on our calcomp (src/cal): each input record's columns are
 // $1, $2, ...; "$N = e;" definitions (-e, -f) make the output columns, or an output template
 // (-o) with ${expression} and $(string) fields does; cond, recno and outno as in RADIANCE;
-// ascii, float and double input and output. Output byte for byte as RADIANCE 5.4a's.
-// Not yet: input templates (-i format) and the in() function.
+// ascii, float and double input and output; input templates (-i) read records as RADIANCE's do.
+// Output byte for byte as RADIANCE 5.4a's. Not yet: the in() function.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -37,6 +37,8 @@ struct Options {
     int binary_columns = 0;  // -id N, -if N
     bool unbuffered = false;
     std::string out_format;                      // -o
+    std::string in_format;                       // -i
+    bool passive = false;                        // -p: input no template matches is copied out
     std::map<std::string, std::string> strings;  // -s name=value
 };
 
@@ -58,7 +60,7 @@ class RecordChannels : public cal::Channels {
     }
     void SetBinary(std::vector<double> values) { binary_ = std::move(values); }
     double Value(int n) const override {
-        if (o_.no_input) ErrorExit("no column input");
+        if (o_.no_input || !o_.in_format.empty()) ErrorExit("no column input");
         if (n < 1) ErrorExit("illegal channel number");
         if (o_.binary_columns) return n <= static_cast<int>(binary_.size()) ? binary_[n - 1] : 0;
         if (n <= kCachedColumns && (flags_ >> (n - 1) & 1)) return cached_[n - 1];
@@ -100,7 +102,9 @@ struct Field {
     cal::Expression expression;
 };
 
-std::vector<Field> ReadTemplate(const std::string &spec, bool ignore_eol, const cal::Context &cx) {
+// readfmt(): a template's fields, an output one's expressions compiled (cx), an input one's
+// variables named.
+std::vector<Field> ReadTemplate(const std::string &spec, bool ignore_eol, const cal::Context *cx) {
     std::string text = spec;
     if (spec.find('$') == std::string::npos) {  // a file holding the template
         std::ifstream f(spec, std::ios::binary);
@@ -154,7 +158,7 @@ std::vector<Field> ReadTemplate(const std::string &spec, bool ignore_eol, const 
     while (true) {
         std::optional<Field> f = read_field(rest, &p);
         if (!f) break;
-        if (f->kind == Field::kNumber) f->expression = cx.Compile(f->text, FileLoc{"-o", 0});
+        if (f->kind == Field::kNumber && cx) f->expression = cx->Compile(f->text, FileLoc{"-o", 0});
         fields.push_back(std::move(*f));
         // A template not ending in a newline gets one (unless -l).
         if (!ignore_eol && !added_newline && p >= rest.size() && rest.back() != '\n') {
@@ -166,11 +170,185 @@ std::vector<Field> ReadTemplate(const std::string &spec, bool ignore_eol, const 
     return fields;
 }
 
+// String variables ($(name) in templates): their values, reset to -s's presets at each record.
+struct StringVariable {
+    std::optional<std::string> value, preset;
+};
+using StringVariables = std::map<std::string, StringVariable>;
+
+bool IsNumberChar(int c) {
+    return std::isdigit(c) || c == '-' || c == '.' || c == '+' || c == 'e' || c == 'E';
+}
+
+// getrec(): records matched against an input template, read through RADIANCE's circular
+// lookahead buffer (a record that does not match is retried from the next character; -p copies
+// the characters skipped so).
+class TemplateInput {
+  public:
+    TemplateInput(const Options &o, std::vector<Field> fields, cal::Context &cx,
+                  StringVariables *strings)
+        : o_(o), fields_(std::move(fields)), cx_(cx), strings_(*strings), buf_(kRecordBytes) {
+        // nbsynch(): blanks that begin the template match nothing
+        if (o.blanks_equal && !fields_.empty() && fields_[0].kind == Field::kLiteral) {
+            std::string &t = fields_[0].text;
+            t.erase(0,
+                    std::min(t.find_first_not_of(o.ignore_eol ? " \t\n\r\f\v" : " \t"), t.size()));
+            if (t.empty()) fields_.erase(fields_.begin());
+        }
+    }
+
+    void Start(std::FILE *f) {  // initinp()
+        fin_ = f;
+        beg_ = end_ = 0;
+        pos_ = -1;
+        chr_ = '\0';
+        Scan();
+    }
+
+    bool Next() {
+        while (chr_ != EOF) {
+            if (o_.blanks_equal) {
+                while (Blank(chr_)) Reset();
+                if (chr_ == EOF) return false;
+            }
+            const bool eat_line = !o_.ignore_eol && chr_ != '\n';
+            Clear();
+            size_t k = 0;
+            while (k < fields_.size() && Match(k)) ++k;
+            if (k == fields_.size()) {
+                beg_ = pos_;  // advinp()
+                return true;
+            }
+            Reset();
+            if (eat_line) {
+                while (chr_ != '\n') {
+                    if (chr_ == EOF) return false;
+                    Reset();
+                }
+                Reset();
+            }
+        }
+        return false;
+    }
+
+  private:
+    bool Blank(int c) const { return o_.ignore_eol ? std::isspace(c) != 0 : c == ' ' || c == '\t'; }
+    void Scan() {  // scaninp()
+        if (chr_ == EOF) return;
+        if (++pos_ >= static_cast<long>(buf_.size())) pos_ = 0;
+        if (pos_ == end_) {
+            if ((chr_ = std::getc(fin_)) != EOF) {
+                buf_[end_] = static_cast<char>(chr_);
+                if (++end_ >= static_cast<long>(buf_.size())) end_ = 0;
+                if (end_ == beg_) beg_ = -1;
+            }
+        } else {
+            chr_ = static_cast<unsigned char>(buf_[pos_]);
+        }
+    }
+    void Reset() {  // resetinp()
+        if (beg_ < 0) beg_ = end_;
+        pos_ = beg_;
+        chr_ = static_cast<unsigned char>(buf_[pos_]);
+        if (o_.passive) std::putchar(chr_);
+        if (++beg_ >= static_cast<long>(buf_.size())) beg_ = 0;
+        Scan();
+    }
+    void Clear() {  // clearrec()
+        numbers_.clear();
+        for (const Field &f : fields_)
+            if (f.kind == Field::kString) {
+                StringVariable &v = strings_[f.text];
+                v.value = v.preset;
+            }
+    }
+    int Delimiter(size_t k) const {
+        return k + 1 < fields_.size() && fields_[k + 1].kind == Field::kLiteral
+                   ? static_cast<unsigned char>(fields_[k + 1].text[0])
+                   : EOF;
+    }
+    bool InWord(int delim, size_t length, const Field &f) const {
+        if (o_.blanks_equal && delim != EOF) return Blank(delim) ? !Blank(chr_) : chr_ != delim;
+        return static_cast<int>(length) < f.width;
+    }
+    bool Match(size_t k) {  // getfield()
+        const Field &f = fields_[k];
+        constexpr size_t kMaxWord = 4095;  // RMAXWORD
+        std::string word;
+        if (f.kind == Field::kLiteral) {
+            for (size_t c = 0; c < f.text.size();) {
+                if (o_.blanks_equal && Blank(static_cast<unsigned char>(f.text[c]))) {
+                    if (!Blank(chr_)) return false;
+                    while (c < f.text.size() && Blank(static_cast<unsigned char>(f.text[c]))) ++c;
+                    do Scan();
+                    while (Blank(chr_));
+                } else if (static_cast<unsigned char>(f.text[c]) == chr_) {
+                    ++c;
+                    Scan();
+                } else {
+                    return false;
+                }
+            }
+            return true;
+        }
+        const int delim = Delimiter(k);
+        if (f.kind == Field::kString) {
+            bool in = true;
+            while (in && word.size() < kMaxWord) {
+                in = chr_ != EOF && chr_ != '\n' && InWord(delim, word.size(), f);
+                if (in) {
+                    word.push_back(static_cast<char>(chr_));
+                    Scan();
+                }
+            }
+            StringVariable &v = strings_[f.text];
+            if (!v.value) {
+                v.value = word;
+                return true;
+            }
+            return *v.value == word;
+        }
+        long number_at = -1;
+        bool in = true;
+        while (in && word.size() < kMaxWord) {
+            in = ((number_at < 0 && Blank(chr_)) || IsNumberChar(chr_)) &&
+                 InWord(delim, word.size(), f);
+            if (in) {
+                if (number_at < 0 && !Blank(chr_)) number_at = static_cast<long>(word.size());
+                word.push_back(static_cast<char>(chr_));
+                Scan();
+            }
+        }
+        double d = number_at < 0 ? 0. : std::atof(word.c_str() + number_at);
+        const auto it = numbers_.find(f.text);
+        if (it == numbers_.end()) {
+            numbers_[f.text] = d;
+            cx_.Set(f.text, d);
+            return true;
+        }
+        d = (it->second - d) / (d == 0. ? 1. : d);
+        return !(d > .001 || d < -.001);
+    }
+
+    const Options &o_;
+    std::vector<Field> fields_;
+    cal::Context &cx_;
+    StringVariables &strings_;
+    std::map<std::string, double> numbers_;  // the record's variables set so far
+    std::vector<char> buf_;
+    long beg_ = 0, pos_ = -1, end_ = 0;
+    int chr_ = 0;
+    std::FILE *fin_ = nullptr;
+};
+
 class Calculator {
   public:
     Calculator(const Options &o, cal::Context &cx)
         : o_(o), cx_(cx), channels_(o), outputs_(cx.OutputChannels()) {
-        if (!o.out_format.empty()) template_ = ReadTemplate(o.out_format, o.ignore_eol, cx);
+        for (const auto &[name, value] : o.strings) strings_[name] = {value, value};
+        if (!o.out_format.empty()) template_ = ReadTemplate(o.out_format, o.ignore_eol, &cx);
+        if (!o.in_format.empty())
+            input_.emplace(o, ReadTemplate(o.in_format, o.ignore_eol, nullptr), cx, &strings_);
         const int cond = cx.SymbolIndex("cond");
         conditional_ = cond >= 0 && cx.Find(cond);
         if (conditional_) cond_ = cx.Compile("cond", FileLoc{"cond", 0});
@@ -182,6 +360,7 @@ class Calculator {
 
     void Process(std::FILE *in) {
         long records = 0, outputs = 0;
+        if (input_) input_->Start(in);
         std::string line;
         while (Next(in, &line)) {
             ++records;
@@ -198,6 +377,7 @@ class Calculator {
 
   private:
     bool Next(std::FILE *in, std::string *line) {
+        if (input_) return input_->Next();
         if (o_.in_type != 'a') {
             const bool dbl = o_.in_type == 'd' || o_.in_type == 'D';
             const size_t size = dbl ? 8 : 4, n = static_cast<size_t>(o_.binary_columns);
@@ -278,13 +458,15 @@ class Calculator {
                     adjacent_last = f.text.back() != ' ';
                     break;
                 case Field::kString: {
-                    const auto it = o_.strings.find(f.text);
-                    if (it == o_.strings.end()) ErrorExit(f.text + ": undefined string");
-                    int n = f.width - static_cast<int>(it->second.size());
-                    if (adjacent_last) out_ += it->second;
+                    const auto it = strings_.find(f.text);
+                    if (it == strings_.end() || !it->second.value)
+                        ErrorExit(f.text + ": undefined string");
+                    const std::string &v = *it->second.value;
+                    int n = f.width - static_cast<int>(v.size());
+                    if (adjacent_last) out_ += v;
                     if (!(adjacent_last && adjacent_next))
                         while (n-- > 0) out_ += ' ';
-                    if (!adjacent_last) out_ += it->second;
+                    if (!adjacent_last) out_ += v;
                     adjacent_last = true;
                     break;
                 }
@@ -324,6 +506,8 @@ class Calculator {
     RecordChannels channels_;
     std::vector<std::pair<int, cal::Expression>> outputs_;
     std::vector<Field> template_;
+    StringVariables strings_;
+    std::optional<TemplateInput> input_;
     bool conditional_ = false, set_recno_ = false, set_outno_ = false;
     cal::Expression cond_;
     int column_ = 0;
@@ -357,7 +541,8 @@ int Main(int argc, char **argv) {
                 o.ignore_eol = !o.ignore_eol;
                 break;
             case 'p':
-                break;  // passive: for input templates, which we do not read
+                o.passive = !o.passive;
+                break;
             case 't':
                 o.separator = a[2];
                 break;
@@ -382,8 +567,9 @@ int Main(int argc, char **argv) {
             case 'i':
                 switch (a[2]) {
                     case '\0':
-                        ErrorExit("-i " + std::string(i + 1 < argc ? argv[i + 1] : "") +
-                                  ": input templates are not supported by dayflux's rcalc");
+                        o.in_type = 'a', o.binary_columns = 0;
+                        o.in_format = value();
+                        break;
                     case 'n':
                         o.in_count = std::atol(value().c_str());
                         break;

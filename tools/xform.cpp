@@ -2,7 +2,7 @@
 // type as xform writes it (surfaces' points moved, sizes scaled, functions and instances given the
 // transform's options); -m -n -c -e -I, arrays (-a) and the transform options with -i; commands
 // in the input run from the input file's folder and their output is transformed. Output byte for
-// byte as RADIANCE 5.4a's xform. Not yet: argument files (-f).
+// byte as RADIANCE 5.4a's xform, argument files (-f) included.
 #include <unistd.h>
 
 #include <algorithm>
@@ -216,10 +216,13 @@ bool ReadArgs(std::FILE *in, Args *a) {
 class Xform {
   public:
     // main(): one run over the arguments (an array's element, too); returns its status.
-    int Run(const std::vector<std::string> &av);
-    int Array(const std::vector<std::string> &av, size_t ai);
+    int Main(const std::vector<std::string> &av);
 
   private:
+    int Run(const std::vector<std::string> &av);
+    int Array(const std::vector<std::string> &av, size_t ai);
+    int ArgumentFile(const std::vector<std::string> &av, size_t fi);
+
     void Transform(const std::string &name, std::FILE *in);
     void Command(const std::string &name, std::FILE *in);
     void Object(const std::string &name, std::FILE *in);
@@ -615,14 +618,105 @@ bool Xform::Arguments(const std::string &t, std::FILE *in) {
     return true;
 }
 
+// main(): an argument file, an array, or one transform.
+int Xform::Main(const std::vector<std::string> &av) {
+    for (size_t a = 1; a < av.size(); ++a)
+        if (av[a] == "-f") return ArgumentFile(av, a);
+    for (size_t a = 1; a < av.size(); ++a)
+        if (av[a] == "-a") return Array(av, a);
+    return Run(av);
+}
+
+// fgetline(): a line without its newline (a backslash before one continues it); false at the end.
+bool GetLine(std::FILE *f, std::string *line) {
+    line->clear();
+    int c = EOF;
+    while ((c = std::getc(f)) != EOF) {
+        if (c == '\r' && (c = std::getc(f)) != '\n') {
+            std::ungetc(c, f);
+            c = '\n';
+        }
+        if (c == '\n' && (line->empty() || line->back() != '\\')) break;
+        line->push_back(static_cast<char>(c));
+    }
+    return !(line->empty() && c == EOF);
+}
+
+// doargf(): one transform per line of the file (or of the standard input, "-"), each line's
+// words in place of "-f file", each named i0, i1, ... (or after -n's name).
+int Xform::ArgumentFile(const std::vector<std::string> &av, size_t fi) {
+    if (fi + 1 >= av.size() || (av[fi + 1][0] == '-' && av[fi + 1].size() > 1)) {
+        std::fprintf(stderr, "%s: missing file for -f option\n", av[0].c_str());
+        std::exit(1);
+    }
+    std::FILE *f;
+    int n = 0;
+    std::string line;
+    if (av[fi + 1] == "-") {
+        f = stdin;
+        n = 100;  // (as RADIANCE: the count is not known)
+    } else {
+        f = std::fopen(av[fi + 1].c_str(), "r");
+        if (!f) {
+            std::fprintf(stderr, "%s: cannot open argument file \"%s\"\n", av[0].c_str(),
+                         av[fi + 1].c_str());
+            std::exit(1);
+        }
+        while (GetLine(f, &line)) n += !line.empty() && line[0] != '#';
+        if (!n) {
+            std::fprintf(stderr, "%s: empty argument file \"%s\"\n", av[0].c_str(),
+                         av[fi + 1].c_str());
+            std::exit(1);
+        }
+        std::rewind(f);
+    }
+    nrept_ *= n;
+    int err = 0, k = 0;
+    while (GetLine(f, &line)) {
+        if (line.empty() || line[0] == '#') {
+            std::printf("%s\n", line.c_str());
+            continue;
+        }
+        std::vector<std::string> args(av.begin(), av.begin() + static_cast<long>(fi));
+        size_t at = line[0] == '!' ? 1 : 0;
+        if (line.compare(at, 6, "xform ") == 0) at += 6;
+        while (true) {  // the line's words: blanks between, quotes kept together
+            while (at < line.size() && std::isspace(static_cast<unsigned char>(line[at]))) ++at;
+            char quote = 0;
+            if (at < line.size() && (line[at] == '"' || line[at] == '\'')) quote = line[at++];
+            if (at >= line.size()) break;
+            if (line[at] == '\\' && at + 1 < line.size() && line[++at] == '\n') continue;
+            size_t end = at + 1;
+            if (quote) {
+                while (end < line.size() && line[end] != quote) ++end;
+                args.push_back(line.substr(at, end - at));
+                at = end + 1;
+            } else {
+                while (end < line.size() && !std::isspace(static_cast<unsigned char>(line[end])))
+                    ++end;
+                args.push_back(line.substr(at, end - at));
+                at = end;
+            }
+        }
+        args.insert(args.end(), av.begin() + static_cast<long>(fi) + 2, av.end());
+        bool named = false;
+        for (size_t i = 2; i < args.size(); ++i)
+            if (args[i - 1] == "-n") {
+                args[i] += "." + std::to_string(k);
+                named = true;
+                break;
+            }
+        if (!named) args.insert(args.begin() + 1, {"-n", "i" + std::to_string(k)});
+        err |= Main(args);
+        ++k;
+    }
+    if (f != stdin) std::fclose(f);
+    return err;
+}
+
 int Main(int argc, char **argv) {
-    const std::vector<std::string> av(argv, argv + argc);
-    for (int a = 1; a < argc; ++a)
-        if (av[a] == "-f") ErrorExit("-f: argument files are not supported by dayflux's xform yet");
     Xform x;
-    for (int a = 1; a < argc; ++a)
-        if (av[a] == "-a") return x.Array(av, static_cast<size_t>(a));
-    return x.Run(av);
+    return x.Main(std::vector<std::string>(argv, argv + argc));
 }
 
 }  // namespace
