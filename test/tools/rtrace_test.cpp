@@ -187,6 +187,35 @@ TEST_F(Rtrace, BooleansAsRtraceReadsThem) {
     for (const char *off : {"-I-", "-In", "-I -I", "-IT -I0"}) EXPECT_EQ(run(off), radiance) << off;
 }
 
+// gendaylit's skies, in colour (-C, our perezlum_c.cal) and not (perezlum.cal), seen along 50
+// rays: RADIANCE's radiance to float rounding.
+TEST_F(Rtrace, GendaylitSkiesAsRadiance) {
+    fs::copy_file(DataDir() / "rtrace" / "sky_rays.txt", room_ / "sky_rays.txt");
+    std::vector<double> ours;
+    for (const char *colour : {"-C", ""}) {
+        const CommandResult r = RunWithDayfluxAlone(
+            std::string("gendaylit 6 21 12 -a 40 -o 80 -m 75 -W 800 80 ") + colour +
+                " > sky.rad && printf 'skyfunc glow sky_glow 0 0 4 1 1 1 0\\nsky_glow source "
+                "sky 0 0 4 0 0 1 180\\n' >> sky.rad && oconv sky.rad > sky.oct && "
+                "rtrace -h -ab 0 -ov sky.oct < sky_rays.txt",
+            room_);
+        ASSERT_EQ(r.status, 0) << r.err;
+        std::istringstream in(r.out);
+        for (double x; in >> x;) ours.push_back(x);
+    }
+    std::istringstream in(ReadFile(DataDir() / "rtrace" / "sky_values.txt"));
+    std::vector<double> theirs;
+    for (double x; in >> x;) theirs.push_back(x);
+    ASSERT_EQ(theirs.size(), 2u * 50 * 3);
+    ASSERT_EQ(ours.size(), theirs.size());
+    bool coloured = false;
+    for (size_t i = 0; i < ours.size(); ++i) {
+        EXPECT_NEAR(ours[i], theirs[i], 1e-5 * theirs[i]) << i;
+        if (i < 150 && i % 3 == 2) coloured |= theirs[i] > 1.5 * theirs[i - 2];  // bluer
+    }
+    EXPECT_TRUE(coloured);
+}
+
 // Bad options get a message and no output: outputs rtrace-gpu does not write, a picture of more
 // than -ov, an ambient value, no octree.
 TEST_F(Rtrace, BadOptionsAreRefused) {
