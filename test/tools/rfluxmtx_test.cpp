@@ -89,7 +89,7 @@ INSTANTIATE_TEST_SUITE_P(
     testing::Values(XformedSender{"MovedAndTurned", "-rz 90 -t 5 -3 2 -s 2", true},
                     XformedSender{"MirroredAcross", "-mx -t 1 0 0", true},
                     XformedSender{"TurnedOver", "-mz", false},
-                    XformedSender{"NestedAndTwoFiles", "-t 1 1 0 -n outer turned.rad", true}),
+                    XformedSender{"NestedAndTwoFiles", "-n outer -t 1 1 0 turned.rad", true}),
     [](const testing::TestParamInfo<XformedSender> &info) { return std::string(info.param.name); });
 
 // h=u: the sender's rays are cosine-weighted, so a sky patch between altitudes a0 and a1 with n
