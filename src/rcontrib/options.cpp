@@ -258,6 +258,17 @@ class Parser : public OptionCursor {
             o_.sensor_cache = Number(a);
             if (!(o_.sensor_cache >= 0 && o_.sensor_cache < 10))
                 ErrorExit("-sensor_cache: an accuracy (as -aa) of 0 or more");
+        } else if (a == "-target_error") {
+            o_.target_error = Number(a);
+            if (!(o_.target_error > 0 && o_.target_error < 1))
+                ErrorExit("-target_error: a relative error between 0 and 1 (0.02 for 2 %)");
+        } else if (a == "-max_samples") {
+            o_.max_samples = Integer(a);
+            if (o_.max_samples < 8) ErrorExit("-max_samples: at least 8");
+        } else if (a == "-target_sky") {
+            o_.target_sky = Value(a);
+        } else if (a == "-target_report") {
+            o_.target_report = Value(a);
         } else if (a == "-seed") {
             const std::string w = Value(a);
             const auto [end, ec] = std::from_chars(w.data(), w.data() + w.size(), o_.contrib.seed);
@@ -339,6 +350,12 @@ RcontribOptions ParseRcontribOptions(const std::vector<std::string> &args,
         ErrorExit(
             "-sensor_cache with -first_record or -r: shards would share records otherwise "
             "than the whole run");
+    if (o.target_error > 0 && (o.sensor_cache > 0 || !o.stderr_file.empty()))
+        ErrorExit("-target_error with -sensor_cache or -se: not yet");
+    if (o.target_error <= 0 && (o.max_samples || !o.target_sky.empty() || !o.target_report.empty()))
+        ErrorExit("-max_samples, -target_sky and -target_report go with -target_error");
+    if (o.target_error > 0 && !o.max_samples)
+        o.max_samples = std::max(8, o.contrib.ambient_divisions);
     if (o.first_record >= 0 && o.accumulate == 0)
         ErrorExit("-first_record with -c 0: one record of every ray cannot be split into shards");
     int64_t col = 0;

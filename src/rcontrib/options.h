@@ -47,7 +47,15 @@ struct RcontribOptions {
     // cache at the sensors with -aa ACC and -ar (raytrace/sensor_cache.h); 0: none (rcontrib's).
     double sensor_cache = 0;
     int ambient_resolution = 256;  // -ar, used by -sensor_cache only
-    EngineOptions engine;       // -backend, -device, -gpu_traversal, -gpu_accum
+    // -target_error E (ours): each sensor traced in passes until the estimated relative standard
+    // error of its illuminance under the reference sky is below E, or its samples reach
+    // -max_samples (ours; -ad by default); -target_sky: a sky vector of the columns' weights
+    // (uniform by default); -target_report: each sensor's samples and error
+    // (raytrace/target_error.h).
+    double target_error = 0;
+    int max_samples = 0;
+    std::string target_sky, target_report;
+    EngineOptions engine;  // -backend, -device, -gpu_traversal, -gpu_accum
     std::vector<std::string> scene;
 };
 

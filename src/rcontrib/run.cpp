@@ -2,15 +2,19 @@
 
 #include <tbb/global_control.h>
 
+#include <cstdio>
 #include <memory>
 
+#include "matrix/matrices.h"
 #include "raytrace/engine.h"
 #include "raytrace/sensor_cache.h"
+#include "raytrace/target_error.h"
 #include "rcontrib/outputs.h"
 #include "scene/flatten.h"
 #include "scene/octree.h"
 #include "scene/reader.h"
 #include "util/signals.h"
+#include "util/strings.h"
 
 namespace dayflux {
 
@@ -52,6 +56,37 @@ void TraceToOutputs(const RcontribOptions &o, ContribEngine &engine, RcontribOut
     }
 }
 
+namespace {
+
+// -target_sky: a sky vector (one value of three components per column, as gendaymtx -A writes
+// it, in any of RADIANCE's matrix formats) as each column's luminance.
+std::vector<double> SkyWeights(const std::string &file) {
+    const Matrix sky = LoadMatrix(file);
+    std::vector<double> w;
+    for (int r = 0; r < sky.rows; ++r)
+        for (int c = 0; c < sky.cols; ++c) {
+            const double red = sky.at(r, c, 0), green = sky.ncomp > 1 ? sky.at(r, c, 1) : red,
+                         blue = sky.ncomp > 2 ? sky.at(r, c, 2) : red;
+            w.push_back(0.265 * red + 0.670 * green + 0.065 * blue);
+        }
+    return w;
+}
+
+// -target_report: a line per sensor, its samples and estimated relative standard error.
+void WriteTargetReport(const std::string &path, const TargetErrorReport &report) {
+    OutputFile out(path);
+    out.Write("# sensor samples relative_standard_error (rcontrib-gpu -target_error)\n");
+    char line[96];
+    for (const TargetErrorReport::Ray &r : report.Rays()) {
+        std::snprintf(line, sizeof line, "%llu %d %.6g\n", static_cast<unsigned long long>(r.index),
+                      r.samples, r.error);
+        out.Write(line);
+    }
+    out.Commit();
+}
+
+}  // namespace
+
 std::unique_ptr<tbb::global_control> LimitThreads(int threads) {
     if (threads <= 0) return nullptr;
     return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -69,7 +104,24 @@ void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &heade
             flat, c, TrackedModifiers(o),
             [&o](int k) { return MakeCalContext(o, o.modifiers[k].params); }, o.engine);
     };
-    std::unique_ptr<ContribEngine> engine = create(o.contrib);
+    std::unique_ptr<ContribEngine> engine;
+    std::shared_ptr<TargetErrorReport> report;
+    TargetErrorOptions target;
+    if (o.target_error > 0) {
+        target.target = o.target_error;
+        target.max_samples = o.max_samples;
+        if (!o.target_sky.empty()) target.weights = SkyWeights(o.target_sky);
+        report = std::make_shared<TargetErrorReport>();
+        engine = WithTargetError(
+            [&](int divisions) {
+                ContribOptions c = o.contrib;
+                c.ambient_divisions = divisions;
+                return create(c);
+            },
+            target, report);
+    } else {
+        engine = create(o.contrib);
+    }
     if (o.sensor_cache > 0 && o.contrib.ambient_bounces > 0) {
         ContribOptions direct = o.contrib;
         direct.ambient_bounces = 0;
@@ -79,8 +131,13 @@ void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &heade
         c.seed = o.contrib.seed;
         engine = WithSensorCache(std::move(engine), create(direct), flat, c, o.progress);
     }
+    if (report) header += "TARGET_ERROR=" + FormatNumber(o.target_error) + "\n";
     RcontribOutputs outputs(o, engine->Columns(), header_args, header, engine->Label());
     TraceToOutputs(o, *engine, outputs, std::move(rays));
+    if (report) {
+        std::fprintf(stderr, "%s: %s\n", ProgramName().c_str(), report->Summary(target).c_str());
+        if (!o.target_report.empty()) WriteTargetReport(o.target_report, *report);
+    }
 }
 
 }  // namespace dayflux

@@ -1,0 +1,108 @@
+// rcontrib-gpu -target_error: sensors traced until their estimated error reaches the target (or
+// the cap), with estimates that are honest against a converged answer, and the same bytes for any
+// thread count and any sharding.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "test_util.h"
+
+namespace dayflux::test {
+namespace {
+namespace fs = std::filesystem;
+
+const std::string kRoom =
+    "-m skyglow materials.rad room.rad objects/Glazing.rad skyDomes/skyglow.rad";
+
+fs::path Room() { return DataDir() / "scene" / "models" / "room"; }
+std::string Points() { return (DataDir() / "rcontrib" / "points.txt").string(); }
+
+// Each line's luminance (three numbers).
+std::vector<double> Luminances(const std::string &text) {
+    std::vector<double> v;
+    std::istringstream in(text);
+    for (double r, g, b; in >> r >> g >> b;) v.push_back(0.265 * r + 0.670 * g + 0.065 * b);
+    return v;
+}
+
+struct Sensor {
+    int samples;
+    double error;
+};
+std::vector<Sensor> Report(const fs::path &file) {
+    std::vector<Sensor> s;
+    std::istringstream in(ReadFile(file));
+    std::string line;
+    std::getline(in, line);  // its comment
+    for (long index; in >> index;) {
+        Sensor x;
+        in >> x.samples >> x.error;
+        s.push_back(x);
+    }
+    return s;
+}
+
+// Every sensor stops at the target or at the cap, and its estimated error is honest: measured
+// against the converged answer, at least 90 % of the 100 sensors are within twice their estimate.
+TEST(TargetError, SensorsStopAtTheTargetWithHonestErrors) {
+    TempDir tmp;
+    const fs::path report = tmp.path() / "report.txt";
+    const CommandResult r = RunCommand(
+        "rcontrib-gpu -h -I+ -ab 2 -ad 4096 -lw 1e-5 "
+        "-target_error 0.03 -target_report '" +
+            report.string() + "' " + kRoom + " < '" + Points() + "'",
+        Room());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("-target_error 0.03: "), std::string::npos) << r.err;
+    const std::vector<double> ours = Luminances(r.out),
+                              answer = Luminances(
+                                  ReadFile(DataDir() / "target_error" / "room_converged.txt"));
+    const std::vector<Sensor> sensors = Report(report);
+    ASSERT_EQ(ours.size(), 100u);
+    ASSERT_EQ(answer.size(), 100u);
+    ASSERT_EQ(sensors.size(), 100u);
+    int honest = 0, at_target = 0;
+    for (size_t i = 0; i < ours.size(); ++i) {
+        const Sensor &s = sensors[i];
+        EXPECT_TRUE(s.error <= 0.03 || s.samples == 4096) << i;
+        EXPECT_LE(s.samples, 4096);
+        at_target += s.error <= 0.03;
+        honest += std::fabs(ours[i] / answer[i] - 1) <= 2 * s.error;
+    }
+    EXPECT_GE(honest, 90);
+    EXPECT_GT(at_target, 20);  // the target was reached, and saved samples, where it could be
+}
+
+// The same bytes on one thread and two, and when the sensors are traced as two shards.
+TEST(TargetError, SameBytesForAnyThreadsAndShards) {
+    const std::string run = "rcontrib-gpu -h -I+ -ab 2 -ad 1024 -lw 1e-4 -target_error 0.05 ";
+    const auto trace = [&](const std::string &how, const std::string &input) {
+        const CommandResult r = RunCommand(input + " | " + run + how + " " + kRoom, Room());
+        EXPECT_EQ(r.status, 0) << r.err;
+        return r.out;
+    };
+    const std::string points = "'" + Points() + "'";
+    const std::string one = trace("-n 1", "cat " + points), two = trace("-n 2", "cat " + points);
+    EXPECT_EQ(one, two);
+    const std::string first = trace("-n 2", "head -n 37 " + points),
+                      second = trace("-n 2 -first_record 37", "tail -n +38 " + points);
+    EXPECT_EQ(first + second, one);
+    EXPECT_EQ(Luminances(one).size(), 100u);
+}
+
+TEST(TargetError, OptionsThatDoNotGoTogetherAreRefused) {
+    for (const char *bad :
+         {"-target_error 0 ", "-target_error 2 ", "-max_samples 100 ",
+          "-target_error 0.05 -se se.mtx ", "-target_error 0.05 -max_samples 4 "}) {
+        const CommandResult r =
+            RunCommand(std::string("rcontrib-gpu -I+ ") + bad + kRoom + " < /dev/null", Room());
+        EXPECT_EQ(r.status, 1) << bad;
+        EXPECT_EQ(r.out, "") << bad;
+    }
+}
+
+}  // namespace
+}  // namespace dayflux::test
