@@ -17,10 +17,11 @@ namespace dayflux {
 namespace {
 
 [[noreturn]] void Usage(const char *prog) {
-    ErrorExit(std::string("Usage: ") + prog +
-              " -i sensors.pts [-c column][-t title][-u unit][-min v][-s max][-w white_at]"
-              "[-px pixels][-o plan.png][-hdr plan.hdr][-exr plan.exr] {values.mtx | "
-              "metrics.csv}");
+    ErrorExit(
+        std::string("Usage: ") + prog +
+        " -i sensors.pts [-c column][-t title][-u unit][-min v][-s max][-w white_at][-b boundary]"
+        "[-px pixels][-o plan.png][-hdr plan.hdr][-exr plan.exr] {values.mtx | "
+        "metrics.csv}");
 }
 
 struct Options {
@@ -52,6 +53,8 @@ Options ParseOptions(int argc, char **argv) {
             o.scale_given = true;
         } else if (a == "-w") {
             o.style.white_at = Number(argc, argv, &i);
+        } else if (a == "-b") {
+            o.style.boundary = Number(argc, argv, &i);
         } else if (a == "-px") {
             const double px = Number(argc, argv, &i);
             if (!(px >= 1 && px <= 256)) ErrorExit("-px: pixels per cell must be 1 to 256");

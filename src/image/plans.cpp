@@ -148,6 +148,41 @@ void CheckCairo(cairo_status_t s, const std::string &what) {
 
 }  // namespace
 
+namespace {
+
+// A white line (drawn over a dark edge, readable on any colour) along every edge between two
+// sensors' cells that lie on either side of value.
+void DrawBoundary(cairo_t *cr, const PlanRaster &plan, double value, double left, double top,
+                  double ppc) {
+    const auto above = [&](int col, int row) { return plan.At(col, row) >= value; };
+    for (const double width : {4.0, 2.0}) {
+        if (width > 3)
+            cairo_set_source_rgb(cr, 0, 0, 0);
+        else
+            cairo_set_source_rgb(cr, 1, 1, 1);
+        cairo_set_line_width(cr, width);
+        cairo_set_line_cap(cr, CAIRO_LINE_CAP_SQUARE);
+        for (int row = 0; row < plan.height; ++row)
+            for (int col = 0; col < plan.width; ++col) {
+                if (!plan.Filled(col, row)) continue;
+                const double x = left + (col + 1) * ppc, y = top + (row + 1) * ppc;
+                if (col + 1 < plan.width && plan.Filled(col + 1, row) &&
+                    above(col, row) != above(col + 1, row)) {
+                    cairo_move_to(cr, x, y - ppc);
+                    cairo_line_to(cr, x, y);
+                }
+                if (row + 1 < plan.height && plan.Filled(col, row + 1) &&
+                    above(col, row) != above(col, row + 1)) {
+                    cairo_move_to(cr, x - ppc, y);
+                    cairo_line_to(cr, x, y);
+                }
+            }
+        cairo_stroke(cr);
+    }
+}
+
+}  // namespace
+
 void WritePlanPng(const std::string &path, const PlanRaster &plan, const PlanStyle &style) {
     const int ppc = std::max(1, style.pixels_per_cell);
     const int plan_w = plan.width * ppc, plan_h = plan.height * ppc;
@@ -197,6 +232,7 @@ void WritePlanPng(const std::string &path, const PlanRaster &plan, const PlanSty
             cairo_fill(cr);
         }
     }
+    if (style.boundary >= 0) DrawBoundary(cr, plan, style.boundary, margin, top, ppc);
     // An outline, so white cells (LM-83 maps) stand out from the page.
     cairo_set_source_rgb(cr, 0, 0, 0);
     cairo_set_line_width(cr, 1);
@@ -234,6 +270,16 @@ void WritePlanPng(const std::string &path, const PlanRaster &plan, const PlanSty
         const std::string text = Label(style.min + span * k / 5.);
         cairo_move_to(cr, bx + bw + 8, y + 4);
         cairo_show_text(cr, text.c_str());
+    }
+    if (style.boundary >= 0 && span > 0) {  // the boundary's mark across the scale
+        const double y = top + bar_h * (1. - std::clamp(scaled(style.boundary), 0., 1.));
+        cairo_set_source_rgb(cr, 1, 1, 1);
+        cairo_set_line_width(cr, 3);
+        cairo_move_to(cr, bx - 3, y);
+        cairo_line_to(cr, bx + bw + 3, y);
+        cairo_stroke(cr);
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        cairo_set_line_width(cr, 1);
     }
     if (style.white_at >= 0) {
         cairo_rectangle(cr, bx + 0.5, top + bar_h + 10.5, bw - 1, 11);

@@ -41,6 +41,9 @@ struct PlanStyle {
     double min = 0, max = 100;  // the scale's ends; values outside are clamped
     int pixels_per_cell = 16;
     double white_at = -1;  // >= 0: cells at or above this are drawn white (LM-83 maps)
+    // >= 0: a line between neighbouring cells on either side of this value (DA = 50 %), over
+    // the full colour scale, and the same mark on the scale (DIVA's and Ladybug's plans)
+    double boundary = -1;
 };
 
 // Writes a PNG of the plan with a title, a north arrow and a labelled colour scale. The file is

@@ -4,9 +4,11 @@
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
+#include <cairo.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "matrix/reader.h"
 #include "test_util.h"
@@ -105,6 +107,50 @@ TEST(Plans, PicturesReadBack) {
     in.setFrameBuffer(fb);
     in.readPixels(dw.min.y, dw.max.y);
     EXPECT_EQ(g, (std::vector<float>{0.5f, 5.5f, 10.5f, 0.f, 5.f, 10.f}));
+}
+
+// The pixels two PNGs differ in.
+int DifferentPixels(const std::string &a, const std::string &b) {
+    cairo_surface_t *x = cairo_image_surface_create_from_png(a.c_str()),
+                    *y = cairo_image_surface_create_from_png(b.c_str());
+    int n = -1;
+    if (cairo_surface_status(x) == CAIRO_STATUS_SUCCESS &&
+        cairo_surface_status(y) == CAIRO_STATUS_SUCCESS &&
+        cairo_image_surface_get_height(x) == cairo_image_surface_get_height(y)) {
+        cairo_surface_flush(x);
+        cairo_surface_flush(y);
+        const int h = cairo_image_surface_get_height(x), stride = cairo_image_surface_get_stride(x);
+        const unsigned char *p = cairo_image_surface_get_data(x),
+                            *q = cairo_image_surface_get_data(y);
+        n = 0;
+        for (int i = 0; i < h * stride; i += 4) n += std::memcmp(p + i, q + i, 4) != 0;
+    }
+    cairo_surface_destroy(x);
+    cairo_surface_destroy(y);
+    return n;
+}
+
+// -b: a line between the cells on either side of the value, over the full colour scale (values
+// 0 1 10 11 20 21: a line between the columns of 10s and 20s at 15), and a mark on the scale
+// alone where no cells straddle it (at 25).
+TEST(Plans, BoundaryBetweenCellsOnEitherSide) {
+    std::vector<SensorPoint> pts;
+    std::vector<double> v;
+    Grid(&pts, &v);
+    const PlanRaster r = RasterizePlan(pts, v);
+    TempDir tmp;
+    PlanStyle style;
+    style.max = 30;
+    const auto png = [&](double boundary) {
+        style.boundary = boundary;
+        const std::string path = (tmp.path() / ("b" + std::to_string(boundary) + ".png")).string();
+        WritePlanPng(path, r, style);
+        return path;
+    };
+    const std::string none = png(-1), between = png(15), above = png(25);
+    const int line = DifferentPixels(none, between), mark = DifferentPixels(none, above);
+    EXPECT_GT(mark, 0);
+    EXPECT_GT(line, mark + 2 * 16);  // two cells' edge (16 pixels a cell), with its width
 }
 
 TEST(Plans, SensorPointErrors) {
