@@ -1,8 +1,11 @@
 // dcmetrics: annual daylight metrics (DA, cDA, UDI, sDA, ASE) from the illuminance matrices of a
 // daylight-coefficient or multi-phase run, per sensor and per grid, as text, CSV and JSON.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -22,7 +25,7 @@ namespace {
 [[noreturn]] void Usage(const char *prog) {
     ErrorExit(std::string("Usage: ") + prog +
               " [-t][-w weather [-u]][-occ start end | -s schedule][-da lux][-udi low high]"
-              "[-sda percent][-ase lux hours][-a areas][-g name count ...][-o prefix] "
+              "[-sda percent][-ase lux hours][-a areas][-g name count ...][-e errors][-o prefix] "
               "illuminance [direct_sun_illuminance]");
 }
 
@@ -39,7 +42,14 @@ struct Options {
     MetricThresholds t;
     std::vector<Grid> grids;
     std::string total, direct;
+    // -e: each sensor's relative standard error (rcontrib-gpu -target_report's lines: sensor,
+    // samples, error), propagated to DA and sDA by resampling (docs/metrics.md)
+    std::string errors;
 };
+
+// Resamples of the illuminance within the sensors' errors: each sensor's whole year scaled by
+// 1 + error z (z normal, from a fixed seed: the same uncertainties every run).
+constexpr int kResamples = 50;
 
 double Number(int argc, char **argv, int *i) { return OptionNumber(argc, argv, i, Usage); }
 
@@ -84,6 +94,8 @@ Options ParseOptions(int argc, char **argv) {
             i += 2;
         } else if (a == "-o" && i + 1 < argc) {
             o.prefix = argv[++i];
+        } else if (a == "-e" && i + 1 < argc) {
+            o.errors = argv[++i];
         } else {
             Usage(argv[0]);
         }
@@ -197,9 +209,62 @@ class NegativeValues {
     int row_ = 0, col_ = 0;
 };
 
-// Streams a matrix into the metrics, as total or as direct-sun illuminance.
+// -e's file: each sensor's relative standard error, in sensor order.
+std::vector<double> ReadErrors(const std::string &path, int sensors) {
+    auto in = InputSource::Open(path);
+    std::vector<double> errors;
+    std::string line;
+    while (true) {
+        const FileLoc loc = in->Loc();
+        if (!in->ReadLine(&line)) break;
+        if (line.empty() || line[0] == '#') continue;
+        std::istringstream words(line);
+        std::string w[4];
+        words >> w[0] >> w[1] >> w[2] >> w[3];
+        int sensor = -1;
+        double samples = 0, error = -1;
+        if (!ParseInt(w[0], &sensor) || !ParseNumber(w[1], &samples) ||
+            !ParseNumber(w[2], &error) || !w[3].empty() ||
+            sensor != static_cast<int>(errors.size()) || !(error >= 0) || !std::isfinite(error))
+            ErrorExit(&loc, "expected sensor " + std::to_string(errors.size()) +
+                                ", its samples and a relative error of 0 or more");
+        errors.push_back(error);
+    }
+    if (static_cast<int>(errors.size()) != sensors)
+        ErrorExit(in->Name() + ": errors for " + std::to_string(errors.size()) + " sensors, not " +
+                  std::to_string(sensors));
+    return errors;
+}
+
+// The scale of each resample's sensors: factors[k][sensor] = max(0, 1 + error z).
+std::vector<std::vector<double>> ResampleFactors(const std::vector<double> &errors) {
+    std::mt19937_64 random(20261129);
+    std::normal_distribution<double> normal;
+    std::vector<std::vector<double>> f(kResamples, std::vector<double>(errors.size()));
+    for (auto &resample : f)
+        for (size_t i = 0; i < errors.size(); ++i)
+            resample[i] = std::max(0.0, 1 + errors[i] * normal(random));
+    return f;
+}
+
+double StandardDeviation(const std::vector<double> &v) {
+    double m = 0, q = 0;
+    for (double x : v) m += x;
+    m /= v.size();
+    for (double x : v) q += (x - m) * (x - m);
+    return v.size() > 1 ? std::sqrt(q / (v.size() - 1)) : 0;
+}
+
+// -e: the metrics of each resample.
+struct Resampled {
+    std::vector<std::vector<double>> factors;
+    std::vector<AnnualMetrics> metrics;
+};
+
+// Streams a matrix into the metrics, as total or as direct-sun illuminance (and the total into
+// each resample's).
 void Stream(MatrixReader &r, const Options &o, const Calendar &calendar, bool direct,
-            AnnualMetrics *metrics) {
+            AnnualMetrics *metrics, Resampled *resampled = nullptr) {
     const int nc = r.Comps();
     const std::vector<int> &col_step = calendar.step_of_column;
     std::vector<double> row(static_cast<size_t>(r.Cols()) * nc);
@@ -219,6 +284,10 @@ void Stream(MatrixReader &r, const Options &o, const Calendar &calendar, bool di
                 metrics->AddDirect(sensor, step, e);
             } else {
                 metrics->AddTotal(sensor, step, e);
+                if (resampled)
+                    for (int k = 0; k < kResamples; ++k)
+                        resampled->metrics[k].AddTotal(sensor, step,
+                                                       e * resampled->factors[k][sensor]);
             }
         }
     }
@@ -270,10 +339,12 @@ std::string Fixed(double v, int digits = 4) {
 
 std::string JsonNumber(double v) { return v < 0 ? "null" : Fixed(v); }
 
+// da_sd: each sensor's DA's standard deviation (-e), or empty.
 void WriteCsv(const std::string &path, const AnnualMetrics &m, const std::vector<Grid> &grids,
-              const std::vector<double> &areas, bool has_direct) {
+              const std::vector<double> &areas, bool has_direct, const std::vector<double> &da_sd) {
     OutputFile out(path);
-    out.Write("grid,sensor,area,DA,cDA,UDI_lower,UDI,UDI_upper,ASE_hours\n");
+    out.Write(std::string("grid,sensor,area,DA,cDA,UDI_lower,UDI,UDI_upper,ASE_hours") +
+              (da_sd.empty() ? "\n" : ",DA_sd\n"));
     int s = 0;
     for (const Grid &g : grids) {
         for (int k = 0; k < g.count; ++k, ++s) {
@@ -281,15 +352,21 @@ void WriteCsv(const std::string &path, const AnnualMetrics &m, const std::vector
             out.Write(g.name + "," + std::to_string(s) + "," +
                       Fixed(areas.empty() ? 1. : areas[s], 6) + "," + Fixed(x.da) + "," +
                       Fixed(x.cda) + "," + Fixed(x.udi_lower) + "," + Fixed(x.udi) + "," +
-                      Fixed(x.udi_upper) + "," + (has_direct ? Fixed(x.ase_hours, 2) : "") + "\n");
+                      Fixed(x.udi_upper) + "," + (has_direct ? Fixed(x.ase_hours, 2) : "") +
+                      (da_sd.empty() ? "" : "," + Fixed(da_sd[s])) + "\n");
         }
     }
     out.Commit();
 }
 
+// sda_sd: each grid's sDA's standard deviation (-e), then the whole's; da_sd: each sensor's DA's.
+// Both empty without -e.
 void WriteJson(const std::string &path, const Options &o, const AnnualMetrics &m,
-               const std::vector<GridMetrics> &gm, const GridMetrics &overall,
-               const Calendar &cal) {
+               const std::vector<GridMetrics> &gm, const GridMetrics &overall, const Calendar &cal,
+               const std::vector<double> &sda_sd, const std::vector<double> &da_sd) {
+    const auto sd = [&](size_t grid) {
+        return sda_sd.empty() ? std::string() : ", \"sDA_sd\": " + Fixed(sda_sd[grid]);
+    };
     OutputFile out(path);
     const MetricThresholds &t = o.t;
     std::string s = "{\n  \"program\": \"dcmetrics\",\n";
@@ -302,12 +379,12 @@ void WriteJson(const std::string &path, const Options &o, const AnnualMetrics &m
          ",\n  \"occupied_hours\": " + Fixed(m.OccupiedHours()) + ",\n";
     s += "  \"overall\": {\"sensors\": " + std::to_string(overall.count) +
          ", \"area\": " + Fixed(overall.area, 6) + ", \"sDA\": " + Fixed(overall.sda) +
-         ", \"ASE\": " + JsonNumber(overall.ase) + ", \"mean_DA\": " + Fixed(overall.mean_da) +
-         "},\n  \"grids\": [\n";
+         sd(gm.size()) + ", \"ASE\": " + JsonNumber(overall.ase) +
+         ", \"mean_DA\": " + Fixed(overall.mean_da) + "},\n  \"grids\": [\n";
     for (size_t gi = 0; gi < gm.size(); ++gi) {
         const GridMetrics &g = gm[gi];
         s += "    {\"name\": " + JsonString(g.name) + ", \"sensors\": " + std::to_string(g.count) +
-             ", \"area\": " + Fixed(g.area, 6) + ", \"sDA\": " + Fixed(g.sda) +
+             ", \"area\": " + Fixed(g.area, 6) + ", \"sDA\": " + Fixed(g.sda) + sd(gi) +
              ", \"ASE\": " + JsonNumber(g.ase) + ", \"mean_DA\": " + Fixed(g.mean_da) +
              ", \"mean_cDA\": " + Fixed(g.mean_cda) +
              ", \"mean_UDI_lower\": " + Fixed(g.mean_udi_lower) +
@@ -322,8 +399,14 @@ void WriteJson(const std::string &path, const Options &o, const AnnualMetrics &m
                 if (k) s += ", ";
                 s += f == 5 ? JsonNumber(v[f]) : Fixed(v[f]);
             }
-            s += f == 5 ? "]}" : "],\n";
+            s += f == 5 ? "]" : "],\n";
         }
+        if (!da_sd.empty()) {
+            s += ",\n     \"DA_sd\": [";
+            for (int k = 0; k < g.count; ++k) s += (k ? ", " : "") + Fixed(da_sd[g.first + k]);
+            s += "]";
+        }
+        s += "}";
         s += gi + 1 < gm.size() ? ",\n" : "\n";
     }
     s += "  ]\n}\n";
@@ -346,7 +429,7 @@ int Main(int argc, char **argv) {
                                         ? DailySchedule(cal.steps, o.occ_start, o.occ_end)
                                         : ReadSchedule(o.schedule, cal.steps.size());
     for (double &w : occupancy) w *= cal.hours_per_step;
-    AnnualMetrics metrics(shape.sensors, std::move(occupancy), o.t);
+    AnnualMetrics metrics(shape.sensors, occupancy, o.t);
     if (metrics.OccupiedHours() <= 0) ErrorExit("the schedule has no occupied hours");
 
     if (o.grids.empty()) o.grids.push_back(Grid{"grid", shape.sensors});
@@ -358,8 +441,29 @@ int Main(int argc, char **argv) {
     const std::vector<double> areas =
         o.areas.empty() ? std::vector<double>{} : ReadAreas(o.areas, shape.sensors);
 
-    Stream(total, o, cal, false, &metrics);
+    std::unique_ptr<Resampled> resampled;
+    if (!o.errors.empty()) {
+        resampled = std::make_unique<Resampled>();
+        resampled->factors = ResampleFactors(ReadErrors(o.errors, shape.sensors));
+        for (int k = 0; k < kResamples; ++k)
+            resampled->metrics.emplace_back(shape.sensors, occupancy, o.t);
+    }
+    Stream(total, o, cal, false, &metrics, resampled.get());
     if (direct) Stream(*direct, o, cal, true, &metrics);
+    // The spread of the resamples' sDA per grid and DA per sensor (-e).
+    const auto sda_sd_of = [&](int first, int count) {
+        std::vector<double> v;
+        for (const AnnualMetrics &m : resampled->metrics)
+            v.push_back(m.Grid("", first, count, areas).sda);
+        return StandardDeviation(v);
+    };
+    std::vector<double> da_sd;
+    if (resampled)
+        for (int i = 0; i < shape.sensors; ++i) {
+            std::vector<double> v;
+            for (const AnnualMetrics &m : resampled->metrics) v.push_back(m.Sensor(i).da);
+            da_sd.push_back(StandardDeviation(v));
+        }
 
     std::vector<GridMetrics> gm;
     int first = 0;
@@ -381,9 +485,19 @@ int Main(int argc, char **argv) {
     };
     for (const GridMetrics &g : gm) print(g);
     if (gm.size() > 1) print(overall);
+    std::vector<double> sda_sd;
+    if (resampled) {
+        for (const GridMetrics &g : gm) sda_sd.push_back(sda_sd_of(g.first, g.count));
+        sda_sd.push_back(sda_sd_of(0, shape.sensors));
+        for (size_t g = 0; g < gm.size(); ++g)
+            std::printf(
+                "# %s: sDA %.1f%% +- %.1f%% (one standard deviation, from the sensors' "
+                "errors: %d resamples)\n",
+                gm[g].name.c_str(), gm[g].sda, sda_sd[g], kResamples);
+    }
     if (!o.prefix.empty()) {
-        WriteCsv(o.prefix + ".csv", metrics, o.grids, areas, !o.direct.empty());
-        WriteJson(o.prefix + ".json", o, metrics, gm, overall, cal);
+        WriteCsv(o.prefix + ".csv", metrics, o.grids, areas, !o.direct.empty(), da_sd);
+        WriteJson(o.prefix + ".json", o, metrics, gm, overall, cal, sda_sd, da_sd);
     }
     return 0;
 }

@@ -198,6 +198,45 @@ TEST_F(DcmetricsTest, BadInput) {
     }
 }
 
+// -e: sensors' errors carried to DA and sDA by resampling. Sensor 0 (350 lux, 10 % error) falls
+// below 300 lux when scaled by less than 0.857 (z < -1.43: about 8 % of resamples), so its DA is
+// 100 or 0; sensor 1 (350 lux, no error) and sensor 2 (1000 lux, 10 %) never change.
+TEST_F(DcmetricsTest, SensorErrorsGiveTheUncertaintyOfDaAndSda) {
+    const auto lux = [](int s, int) { return s == 2 ? 1000. : 350.; };
+    WriteFile(tmp_.path() / "total.mtx", AsciiMatrix(3, 8760, 1, false, lux));
+    WriteFile(tmp_.path() / "errors.txt",
+              "# sensor samples error\n0 4096 0.1\n1 4096 0\n2 512 0.1\n");
+    const CommandResult r = Run("dcmetrics -e errors.txt -o m total.mtx");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("# grid: sDA 100.0% +- "), std::string::npos) << r.out;
+    std::istringstream csv(ReadFile(tmp_.path() / "m.csv"));
+    std::string line;
+    std::getline(csv, line);
+    EXPECT_EQ(line, "grid,sensor,area,DA,cDA,UDI_lower,UDI,UDI_upper,ASE_hours,DA_sd");
+    std::vector<double> sd;
+    while (std::getline(csv, line)) sd.push_back(std::stod(line.substr(line.rfind(',') + 1)));
+    ASSERT_EQ(sd.size(), 3u);
+    EXPECT_GT(sd[0], 10);  // 100 sqrt(p (1 - p)), p about 0.08: 27
+    EXPECT_LT(sd[0], 45);
+    EXPECT_EQ(sd[1], 0);
+    EXPECT_EQ(sd[2], 0);
+    const std::string json = ReadFile(tmp_.path() / "m.json");
+    const size_t at = json.find("\"sDA_sd\": ");
+    ASSERT_NE(at, std::string::npos);
+    const double sda_sd = std::stod(json.substr(at + 10));
+    EXPECT_GT(sda_sd, 3);  // 33 sqrt(p (1 - p)): 9
+    EXPECT_LT(sda_sd, 16);
+    // The same numbers every run (a fixed seed).
+    EXPECT_EQ(Run("dcmetrics -e errors.txt total.mtx").out, r.out);
+    // Bad error files: a sensor out of order, a word too many, too few sensors.
+    for (const char *bad : {"1 5 0.1\n", "0 5 0.1 x\n", "0 5 0.1\n1 5 0.2\n"}) {
+        WriteFile(tmp_.path() / "bad.txt", bad);
+        const CommandResult b = Run("dcmetrics -e bad.txt total.mtx");
+        EXPECT_EQ(b.status, 1) << bad;
+        EXPECT_NE(b.err.find("bad.txt"), std::string::npos) << b.err;
+    }
+}
+
 TEST_F(DcmetricsTest, FcplanDrawsMetricsAndRejectsMismatches) {
     WriteFile(tmp_.path() / "total.mtx", AsciiMatrix(3, 8760, 1, false, Total));
     WriteFile(tmp_.path() / "s.pts", "0.5 0.5 1 0 0 1\n1.5 0.5 1 0 0 1\n2.5 0.5 1 0 0 1\n");
