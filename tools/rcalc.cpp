@@ -215,7 +215,9 @@ class TemplateInput {
             Clear();
             size_t k = 0;
             while (k < fields_.size() && Match(k)) ++k;
-            if (k == fields_.size()) {
+            // A record that took no input (a template of numbers where there are none, with
+            // -l) would match forever (RADIANCE's hangs): it is a mismatch.
+            if (k == fields_.size() && pos_ != beg_) {
                 beg_ = pos_;  // advinp()
                 return true;
             }

@@ -333,6 +333,16 @@ INSTANTIATE_TEST_SUITE_P(Matrix, RadiancePrograms,
                                            std::pair{"cnt", 7}),
                          [](const auto &info) { return std::string(info.param.first); });
 
+// An rcalc input template that can match without taking any input (numbers only, -l) skips what
+// it cannot read instead of matching it forever, as RADIANCE's does.
+TEST(Rcalc, TemplateThatTakesNoInputDoesNotHang) {
+    TempDir tmp;
+    const CommandResult r =
+        RunCommand("printf 'x 1 y 22' | timeout 10 rcalc -l -i '${a}' -e '$1=a'", tmp.path());
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.out, "1\n22\n");
+}
+
 // Where RADIANCE's oconv dies after writing its header (a bad scene, a cube too small), ours
 // writes nothing, so no partial octree is left to be taken for one; the message names the file
 // and line where there is one.
