@@ -274,6 +274,7 @@ size_t RunRtraceDc(const RtraceDcOptions &o, const std::vector<std::string> &hea
         first += n;
     }
     if (own_out) own_out->Commit();
+    engines.Finish();
     return first;
 }
 

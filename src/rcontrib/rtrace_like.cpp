@@ -3,11 +3,14 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <set>
 
+#include "matrix/matrices.h"
 #include "raytrace/sensor_cache.h"
 #include "util/errors.h"
+#include "util/files.h"
 
 namespace dayflux {
 
@@ -40,12 +43,17 @@ std::vector<std::string> RtraceLikeParser::Run() {
         if (Own(a) || Ignored(a)) continue;
         // Rendering options and ours, for rcontrib's parser (which checks their values);
         // nothing else, so that no value is taken for a scene file.
-        static const std::set<std::string> with_value = {
-            "-ab",      "-ad",        "-lw",          "-lr",
-            "-st",      "-ss",        "-dj",          "-ds",
-            "-dr",      "-n",         "-asub",        "-seed",
-            "-backend", "-gpu_accum", "-gpu_scratch", "-gpu_traversal",
-            "-device"};
+        static const std::set<std::string> with_value = {"-ab",           "-ad",
+                                                         "-lw",           "-lr",
+                                                         "-st",           "-ss",
+                                                         "-dj",           "-ds",
+                                                         "-dr",           "-n",
+                                                         "-asub",         "-seed",
+                                                         "-backend",      "-gpu_accum",
+                                                         "-gpu_scratch",  "-gpu_traversal",
+                                                         "-device",       "-target_error",
+                                                         "-max_samples",  "-target_sky",
+                                                         "-target_report"};
         const bool flag = a.rfind("-i", 0) == 0 || a.rfind("-I", 0) == 0 || a.rfind("-u", 0) == 0 ||
                           a.rfind("-bv", 0) == 0 || a.rfind("-ld", 0) == 0 ||
                           a.rfind("-w", 0) == 0 || a.rfind("-progress", 0) == 0 ||
@@ -97,7 +105,7 @@ bool RtraceLikeParser::Ignored(const std::string &a) {
     } else if (a == "-mg" || a == "-ms") {
         if (Number(a) != 0 && a == "-mg") ErrorExit(a + ": participating media are not supported");
     } else if (a == "-ae" || a == "-ai" || a == "-aE" || a == "-aI" || a == "-af" || a == "-ap" ||
-               a.rfind("-P", 0) == 0 || a.rfind("-t", 0) == 0) {
+               a.rfind("-P", 0) == 0 || (a.rfind("-t", 0) == 0 && a.size() <= 3)) {
         ErrorExit(a + ": not supported by " + Program());
     } else {
         return false;
@@ -121,13 +129,61 @@ std::vector<std::string> LightSources(const FlatScene &flat) {
     return names;
 }
 
+TargetErrorOptions TargetErrorOf(const RcontribOptions &o) {
+    TargetErrorOptions t;
+    t.target = o.target_error;
+    t.max_samples = o.max_samples;
+    if (!o.target_sky.empty()) {
+        const Matrix sky = LoadMatrix(o.target_sky);
+        for (int r = 0; r < sky.rows; ++r)
+            for (int c = 0; c < sky.cols; ++c) {
+                const double red = sky.at(r, c, 0), green = sky.ncomp > 1 ? sky.at(r, c, 1) : red,
+                             blue = sky.ncomp > 2 ? sky.at(r, c, 2) : red;
+                t.weights.push_back(0.265 * red + 0.670 * green + 0.065 * blue);
+            }
+    }
+    return t;
+}
+
+void ReportTargetError(const RcontribOptions &o, const TargetErrorOptions &t,
+                       const TargetErrorReport &report) {
+    std::fprintf(stderr, "%s: %s\n", ProgramName().c_str(), report.Summary(t).c_str());
+    if (o.target_report.empty()) return;
+    OutputFile out(o.target_report);
+    out.Write("# sensor samples relative_standard_error (-target_error)\n");
+    char line[96];
+    for (const TargetErrorReport::Ray &r : report.Rays()) {
+        std::snprintf(line, sizeof line, "%llu %d %.6g\n", static_cast<unsigned long long>(r.index),
+                      r.samples, r.error);
+        out.Write(line);
+    }
+    out.Commit();
+}
+
 LightEngines::LightEngines(const RcontribOptions &trace, const AmbientCacheOptions &cache,
                            bool report_cache, const FlatScene &flat,
                            const std::vector<TrackedModifier> &tracked)
-    : trace_(trace), cache_(cache), report_cache_(report_cache), flat_(flat), tracked_(tracked) {}
+    : trace_(trace), cache_(cache), report_cache_(report_cache), flat_(flat), tracked_(tracked) {
+    if (trace.target_error > 0) {
+        if (cache.accuracy > 0 && trace.contrib.ambient_bounces > 0)
+            ErrorExit("-target_error traces every sensor (-aa 0), without the ambient cache");
+        target_ = TargetErrorOf(trace);
+        report_ = std::make_shared<TargetErrorReport>();
+    }
+}
+
+void LightEngines::Finish() const {
+    if (report_) ReportTargetError(trace_, target_, *report_);
+}
 
 ContribEngine *LightEngines::For(bool irradiance) {
     std::unique_ptr<ContribEngine> &e = engines_[irradiance];
+    if (!e && report_) {
+        e = WithTargetError(
+            [this, irradiance](int divisions) { return Create(irradiance, false, divisions); },
+            target_, report_);
+        return e.get();
+    }
     if (!e) {
         e = Create(irradiance, false);
         if (irradiance && cache_.accuracy > 0 && trace_.contrib.ambient_bounces > 0) {
@@ -142,8 +198,10 @@ ContribEngine *LightEngines::For(bool irradiance) {
 }
 
 // direct_only: -ab 0 (the sensor cache's direct light).
-std::unique_ptr<ContribEngine> LightEngines::Create(bool irradiance, bool direct_only) const {
+std::unique_ptr<ContribEngine> LightEngines::Create(bool irradiance, bool direct_only,
+                                                    int divisions) const {
     ContribOptions c = trace_.contrib;
+    if (divisions > 0) c.ambient_divisions = divisions;
     c.irradiance = irradiance;
     c.contributions = true;
     if (direct_only) c.ambient_bounces = 0;

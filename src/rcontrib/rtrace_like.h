@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "raytrace/engine.h"
+#include "raytrace/target_error.h"
 #include "rcontrib/options.h"
 #include "scene/flatten.h"
 #include "util/options.h"
@@ -75,7 +76,14 @@ void WeighAsWithCache(ContribOptions *c);
 // The scene's light sources (light, glow, illum, spotlight materials), by name, once each.
 std::vector<std::string> LightSources(const FlatScene &flat);
 
-// The engines a run needs: one for irradiance sensors and one for rays, made when first asked.
+// -target_error's options from rcontrib's (the sky vector read), and what the run reached: a line
+// on stderr, and -target_report's file.
+TargetErrorOptions TargetErrorOf(const RcontribOptions &o);
+void ReportTargetError(const RcontribOptions &o, const TargetErrorOptions &t,
+                       const TargetErrorReport &report);
+
+// The engines a run needs: one for irradiance sensors and one for rays, made when first asked
+// (with -target_error, each traces its rays to the target).
 class LightEngines {
   public:
     // trace: rendering and engine options (its modifiers are not used); report_cache: the
@@ -83,6 +91,8 @@ class LightEngines {
     LightEngines(const RcontribOptions &trace, const AmbientCacheOptions &cache, bool report_cache,
                  const FlatScene &flat, const std::vector<TrackedModifier> &tracked);
     ContribEngine *For(bool irradiance);
+    // -target_error's summary and report, after the run.
+    void Finish() const;
 
     // Traces rays (6 doubles each, numbered from first) into records (`columns` x 3 doubles
     // each), in runs of one engine and at most its batch, in parallel. A ray of zero direction
@@ -91,7 +101,8 @@ class LightEngines {
                const std::function<bool(uint64_t)> &irradiance, std::vector<double> *records);
 
   private:
-    std::unique_ptr<ContribEngine> Create(bool irradiance, bool direct_only) const;
+    std::unique_ptr<ContribEngine> Create(bool irradiance, bool direct_only,
+                                          int divisions = 0) const;
 
     const RcontribOptions &trace_;
     AmbientCacheOptions cache_;
@@ -99,6 +110,8 @@ class LightEngines {
     const FlatScene &flat_;
     const std::vector<TrackedModifier> &tracked_;
     std::unique_ptr<ContribEngine> engines_[2];
+    TargetErrorOptions target_;
+    std::shared_ptr<TargetErrorReport> report_;
 };
 
 }  // namespace dayflux

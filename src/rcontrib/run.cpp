@@ -10,6 +10,7 @@
 #include "raytrace/sensor_cache.h"
 #include "raytrace/target_error.h"
 #include "rcontrib/outputs.h"
+#include "rcontrib/rtrace_like.h"
 #include "scene/flatten.h"
 #include "scene/octree.h"
 #include "scene/reader.h"
@@ -56,37 +57,6 @@ void TraceToOutputs(const RcontribOptions &o, ContribEngine &engine, RcontribOut
     }
 }
 
-namespace {
-
-// -target_sky: a sky vector (one value of three components per column, as gendaymtx -A writes
-// it, in any of RADIANCE's matrix formats) as each column's luminance.
-std::vector<double> SkyWeights(const std::string &file) {
-    const Matrix sky = LoadMatrix(file);
-    std::vector<double> w;
-    for (int r = 0; r < sky.rows; ++r)
-        for (int c = 0; c < sky.cols; ++c) {
-            const double red = sky.at(r, c, 0), green = sky.ncomp > 1 ? sky.at(r, c, 1) : red,
-                         blue = sky.ncomp > 2 ? sky.at(r, c, 2) : red;
-            w.push_back(0.265 * red + 0.670 * green + 0.065 * blue);
-        }
-    return w;
-}
-
-// -target_report: a line per sensor, its samples and estimated relative standard error.
-void WriteTargetReport(const std::string &path, const TargetErrorReport &report) {
-    OutputFile out(path);
-    out.Write("# sensor samples relative_standard_error (rcontrib-gpu -target_error)\n");
-    char line[96];
-    for (const TargetErrorReport::Ray &r : report.Rays()) {
-        std::snprintf(line, sizeof line, "%llu %d %.6g\n", static_cast<unsigned long long>(r.index),
-                      r.samples, r.error);
-        out.Write(line);
-    }
-    out.Commit();
-}
-
-}  // namespace
-
 std::unique_ptr<tbb::global_control> LimitThreads(int threads) {
     if (threads <= 0) return nullptr;
     return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
@@ -108,9 +78,7 @@ void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &heade
     std::shared_ptr<TargetErrorReport> report;
     TargetErrorOptions target;
     if (o.target_error > 0) {
-        target.target = o.target_error;
-        target.max_samples = o.max_samples;
-        if (!o.target_sky.empty()) target.weights = SkyWeights(o.target_sky);
+        target = TargetErrorOf(o);
         report = std::make_shared<TargetErrorReport>();
         engine = WithTargetError(
             [&](int divisions) {
@@ -134,10 +102,7 @@ void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &heade
     if (report) header += "TARGET_ERROR=" + FormatNumber(o.target_error) + "\n";
     RcontribOutputs outputs(o, engine->Columns(), header_args, header, engine->Label());
     TraceToOutputs(o, *engine, outputs, std::move(rays));
-    if (report) {
-        std::fprintf(stderr, "%s: %s\n", ProgramName().c_str(), report->Summary(target).c_str());
-        if (!o.target_report.empty()) WriteTargetReport(o.target_report, *report);
-    }
+    if (report) ReportTargetError(o, target, *report);
 }
 
 }  // namespace dayflux

@@ -465,6 +465,7 @@ void RunRtrace(const RtraceOptions &o, const std::vector<std::string> &header_ar
         done += n;
     }
     if (wanted >= 0 && static_cast<long>(done) < wanted) Warning("unexpected EOF on input");
+    engines.Finish();
 }
 
 }  // namespace dayflux

@@ -93,6 +93,42 @@ TEST(TargetError, SameBytesForAnyThreadsAndShards) {
     EXPECT_EQ(Luminances(one).size(), 100u);
 }
 
+// rtrace-gpu and rtrace_dc-gpu take -target_error too (with -aa 0: it replaces the cache), and
+// rfluxmtx-gpu passes it to rcontrib's engine.
+TEST(TargetError, RtraceRtraceDcAndRfluxmtxTakeIt) {
+    TempDir tmp;
+    const std::string scene = "materials.rad room.rad objects/Glazing.rad skyDomes/skyglow.rad";
+    const std::string points = "'" + Points() + "'";
+    const std::string report = (tmp.path() / "r.txt").string();
+    CommandResult r = RunCommand(
+        "rtrace-gpu -h -I -ab 2 -aa 0 -ad 1024 -lw 1e-4 -target_error "
+        "0.05 -target_report '" +
+            report + "' " + scene + " < " + points,
+        Room());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("rtrace-gpu: -target_error 0.05: "), std::string::npos) << r.err;
+    EXPECT_EQ(Luminances(r.out).size(), 100u);
+    EXPECT_EQ(Report(report).size(), 100u);
+    r = RunCommand("rtrace-gpu -h -I -ab 2 -aa 0.1 -target_error 0.05 " + scene + " < " + points,
+                   Room());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("without the ambient cache"), std::string::npos) << r.err;
+    r = RunCommand("head -n 3 " + points +
+                       " | rtrace_dc-gpu -h -I+ -oc -aa 0 -ab 2 -ad 256 -N 148 "
+                       "-Dd -target_error 0.1 " +
+                       scene,
+                   Room());
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("3 sensors"), std::string::npos) << r.err;
+    r = RunCommand("head -n 3 " + points +
+                       " | rfluxmtx-gpu -h -I+ -ab 2 -ad 256 -lw 1e-3 "
+                       "-target_error 0.1 - skyDomes/skyglow.rad materials.rad room.rad "
+                       "objects/Glazing.rad",
+                   Room());
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("-target_error 0.1: "), std::string::npos) << r.err;
+}
+
 TEST(TargetError, OptionsThatDoNotGoTogetherAreRefused) {
     for (const char *bad :
          {"-target_error 0 ", "-target_error 2 ", "-max_samples 100 ",
