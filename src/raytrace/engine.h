@@ -71,6 +71,16 @@ class ContribEngine {
     // engine takes them in one dispatch.
     virtual void TraceKeyed(const double *rays, size_t n, const uint64_t *keys, int replica,
                             double *records);
+    // As TraceKeyed, but each ray's first hemisphere (-I) is traced as `slices` slices of its
+    // rows (with shares of its light sources), and each slice's record is kept apart:
+    // slice_records holds n x slices records (zeroed by the caller), ray by ray. A slice beyond
+    // the hemisphere's rows adds nothing. -target_error reads the spread of a pair of replicas
+    // slice by slice. False where the engine cannot do it (nothing is traced).
+    virtual bool TraceSlices(const double *rays, size_t n, const uint64_t *keys, int replica,
+                             int slices, double *slice_records) {
+        (void)rays, (void)n, (void)keys, (void)replica, (void)slices, (void)slice_records;
+        return false;
+    }
 };
 
 // make_context(k) gives a calcomp context with every -e/-f and tracked modifier k's -p applied,

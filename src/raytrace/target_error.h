@@ -1,7 +1,11 @@
 // -target_error (ours): each input ray (a sensor) traced in passes of growing sample counts until
 // the estimated relative standard error of its illuminance under a reference sky falls below the
-// target, or its samples reach the cap. A pass traces the ray as kReplicas independent replicas;
-// their spread estimates the pass's error, and the passes are combined weighted by their samples.
+// target, or its samples reach the cap. A pass of a sensor (-I) traces its first hemisphere
+// twice, a pair of replicas whose grids turn alike (core/random.h's kPairedReplicas), in slices
+// of rows: the pair's differences, slice by slice, estimate the error of the pass's mean without
+// giving up the hemisphere's stratification. A pass of another ray (and of an engine without
+// slices) traces it as 8 independent replicas, whose spread estimates the error. The passes are
+// combined weighted by their samples.
 // Every decision rests on the ray's own samples, whose random numbers are keyed by the ray's
 // index, the pass and the replica: the result is the same for any thread count, device split or
 // sharding.
@@ -24,6 +28,7 @@ struct TargetErrorOptions {
     // Each column's weight in the reference illuminance (a sky vector's luminance per bin);
     // empty: every column 1 (a uniform sky over the matrix's columns).
     std::vector<double> weights;
+    bool sensors = false;  // -I: the rays are sensors, whose first hemispheres can be sliced
 };
 
 // What each ray reached, kept for the report (rays from any thread, in any order).

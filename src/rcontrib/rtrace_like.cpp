@@ -179,9 +179,11 @@ void LightEngines::Finish() const {
 ContribEngine *LightEngines::For(bool irradiance) {
     std::unique_ptr<ContribEngine> &e = engines_[irradiance];
     if (!e && report_) {
+        TargetErrorOptions target = target_;
+        target.sensors = irradiance;
         e = WithTargetError(
             [this, irradiance](int divisions) { return Create(irradiance, false, divisions); },
-            target_, report_);
+            target, report_);
         return e.get();
     }
     if (!e) {

@@ -79,6 +79,7 @@ void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &heade
     TargetErrorOptions target;
     if (o.target_error > 0) {
         target = TargetErrorOf(o);
+        target.sensors = o.contrib.irradiance;
         report = std::make_shared<TargetErrorReport>();
         engine = WithTargetError(
             [&](int divisions) {

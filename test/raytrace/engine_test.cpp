@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "raytrace/backend.h"
+#include "raytrace/core/random.h"
 #include "raytrace/materials.h"
 #include "raytrace/packing.h"
 #include "raytrace/runs.h"
@@ -160,15 +161,31 @@ struct HalfCoveredSky {
         options.ambient_divisions = 16;
         return CreateContribEngine(flat, options, Tracking("skyglow"), RayInit, engine_options);
     }
+    // Engine(), or null with why where engine_options.backend was not what opened (no device).
+    std::unique_ptr<ContribEngine> EngineOn(const EngineOptions &engine_options,
+                                            std::string *why) const {
+        std::unique_ptr<ContribEngine> engine = Engine(engine_options);
+        if (engine->Label().rfind(engine_options.backend, 0) == 0) return engine;
+        *why = "no " + engine_options.backend + " engine: " + engine->Label();
+        return nullptr;
+    }
+    size_t Rays() const { return rays.size() / 6; }
+};
+
+// The scene and its engine on a backend (null, with why, where that backend did not open).
+struct HalfCoveredSkyOn {
+    HalfCoveredSky scene;
+    std::string why;
+    std::unique_ptr<ContribEngine> engine;
+    explicit HalfCoveredSkyOn(const EngineOptions &o) : engine(scene.EngineOn(o, &why)) {}
 };
 
 void ExpectKeyedAsInRun(const EngineOptions &engine_options) {
-    const HalfCoveredSky scene;
-    const std::unique_ptr<ContribEngine> engine = scene.Engine(engine_options);
-    if (engine->Label().rfind(engine_options.backend, 0) != 0)
-        GTEST_SKIP() << "no " << engine_options.backend << " engine: " << engine->Label();
-    const std::vector<double> &rays = scene.rays;
-    const size_t n = rays.size() / 6;
+    const HalfCoveredSkyOn on(engine_options);
+    if (!on.engine) GTEST_SKIP() << on.why;
+    ContribEngine *engine = on.engine.get();
+    const std::vector<double> &rays = on.scene.rays;
+    const size_t n = on.scene.Rays();
     std::vector<double> whole(3 * n, 0.0);
     engine->Trace(rays.data(), n, 100, 0, whole.data());
     const std::vector<uint64_t> keys = {101, 104, 105, 107};
@@ -186,6 +203,59 @@ void ExpectKeyedAsInRun(const EngineOptions &engine_options) {
     EXPECT_NE(other[0], whole[3 * 4]);
     EXPECT_GT(whole[0], 0.05);  // some sky seen, and some not
     EXPECT_LT(whole[0], M_PI - 0.5);
+}
+
+// TraceSlices (-target_error): each ray's slices of rows, kept apart, add up to the record of the
+// whole hemisphere (the same numbers: the rows before a slice are replayed), a slice beyond the
+// rows adds nothing, and the two replicas of a pair draw numbers of their own. Under the open
+// uniform sky, each of the two slices of -ad 16's 4 rows holds half the hemisphere: pi / 2.
+void ExpectSlicesAddUp(const EngineOptions &engine_options, double tolerance) {
+    const int slices = 3;  // -ad 16: 4 rows, 2 a slice, the third slice empty
+    const std::vector<uint64_t> keys = {100, 101, 102, 103, 104, 105, 106, 107};
+    const HalfCoveredSkyOn on(engine_options);
+    if (!on.engine) GTEST_SKIP() << on.why;
+    ContribEngine *engine = on.engine.get();
+    const std::vector<double> &rays = on.scene.rays;
+    const size_t n = on.scene.Rays();
+    for (const uint32_t replica : {0u, core::kPairedReplicas, core::kPairedReplicas + 1}) {
+        std::vector<double> whole(3 * n, 0.0), apart(3 * n * slices, 0.0);
+        engine->Trace(rays.data(), n, 100, int(replica), whole.data());
+        ASSERT_TRUE(
+            engine->TraceSlices(rays.data(), n, keys.data(), int(replica), slices, apart.data()));
+        for (size_t i = 0; i < n; ++i) {
+            double sum = 0;
+            for (int s = 0; s < slices; ++s) sum += apart[3 * (i * slices + s)];
+            EXPECT_NEAR(sum, whole[3 * i], tolerance * whole[3 * i]) << "ray " << i;
+            EXPECT_EQ(apart[3 * (i * slices + 2)], 0.0) << "ray " << i;
+        }
+    }
+    std::vector<double> a(3 * n, 0.0), b(3 * n, 0.0);
+    engine->Trace(rays.data(), n, 100, int(core::kPairedReplicas), a.data());
+    engine->Trace(rays.data(), n, 100, int(core::kPairedReplicas + 1), b.data());
+    EXPECT_NE(a, b);
+
+    const FlatScene open = SceneOf(kSky);
+    ContribOptions options;
+    options.irradiance = true;
+    options.ambient_bounces = 1;
+    options.ambient_divisions = 16;
+    const std::unique_ptr<ContribEngine> sky =
+        CreateContribEngine(open, options, Tracking("skyglow"), RayInit, engine_options);
+    std::vector<double> halves(3 * n * slices, 0.0);
+    ASSERT_TRUE(sky->TraceSlices(rays.data(), n, keys.data(), 0, slices, halves.data()));
+    for (size_t i = 0; i < n; ++i)
+        for (int s = 0; s < 2; ++s)
+            EXPECT_NEAR(halves[3 * (i * slices + s)], M_PI / 2, 1e-5) << i << " " << s;
+}
+
+TEST(Engine, SlicesAddUpToTheWholeHemisphere) { ExpectSlicesAddUp(EngineOptions{}, 1e-12); }
+
+TEST(Engine, SlicesAddUpToTheWholeHemisphereVulkan) {
+    EngineOptions engine;
+    engine.backend = "vulkan";
+    const char *device = std::getenv("DAYFLUX_VULKAN_DEVICE");
+    engine.device = device && *device ? device : "llvmpipe";
+    ExpectSlicesAddUp(engine, 1e-5);
 }
 
 TEST(Engine, KeyedTraceAsInTheWholeRun) { ExpectKeyedAsInRun(EngineOptions{}); }

@@ -185,9 +185,9 @@ void PushHemisphere(IN(Ray) ray, IN(real3) colour, IN(real3) point, IN(real3) no
         return;
     }
     // The grid's turn: at the first level from numbers keyed by the hemisphere, so that every
-    // slice of a sensor's hemisphere turns it the same way.
+    // slice of a sensor's hemisphere turns it the same way (and both replicas of a pair).
     uint saved = rng;
-    if (r.adepth == 0) rng = Key(cell_key, ++pushed0, 0x2545f491u, 7u);
+    if (r.adepth == 0) rng = Key(turn_key, ++pushed0, 0x2545f491u, 7u);
     real t0 = Rand(), t1 = Rand(), t2 = Rand(), t3 = Rand();
     if (r.adepth == 0) rng = saved;
     int at = PushSlot();

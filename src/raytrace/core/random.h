@@ -20,6 +20,15 @@ inline uint Pcg(uint v) {
 
 inline uint Key(uint a, uint b, uint c, uint d) { return Pcg(a ^ Pcg(b ^ Pcg(c ^ Pcg(d)))); }
 
+// Replicas from kPairedReplicas up come in pairs (2k, 2k + 1) whose first-level hemispheres share
+// their grid's turn and differ only in the cells' own numbers: each cell's two samples are then
+// alike in law, so that the pair's difference, row by row, estimates the variance of a stratified
+// hemisphere without splitting it (-target_error). Other replicas turn their grids their own way.
+CONST uint kPairedReplicas = 0x40000000u;
+inline uint TurnReplica(uint replica) {
+    return replica >= kPairedReplicas ? (replica & ~1u) : replica;
+}
+
 // A uniform number in [0, 1) from a hashed state.
 inline real UnitInterval(uint state) { return real(state >> 8u) * (1.0 / 16777216.0); }
 

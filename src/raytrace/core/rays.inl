@@ -116,6 +116,7 @@ void Unpush(int at) {
 // ---- random numbers (random.h): the state of the path being traced
 uint rng;
 uint cell_key;  // the key of the input ray (seed, ray, replica), then of its first-level cell
+uint turn_key;  // the key of its first-level grids' turns (seed, ray, TurnReplica(replica))
 real Rand() {
     rng = Pcg(rng);
     return UnitInterval(rng);

@@ -97,6 +97,7 @@ bool TraceAllButCells(real3 org, real3 dir, uint index, uint replica, uint slice
     pushed0 = 0u;
     hemispheres0 = 0u;
     cell_key = Key(params.seed, index, replica, 0x2545f491u);
+    turn_key = Key(params.seed, index, TurnReplica(replica), 0x2545f491u);
     rng = Key(cell_key, slice, 17u, 5u);
     Ray r = PrimaryRay(org, dir);
     if (params.irradiance == 0) {

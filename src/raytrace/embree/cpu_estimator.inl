@@ -31,12 +31,13 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
     DAYFLUX_ESTIMATOR &operator=(const DAYFLUX_ESTIMATOR &) = delete;
 
     void Trace(const double org[3], const double dir[3], uint64_t index, int replica,
-               double *record) override {
+               double *record, int slice, int slices) override {
         record_ = record;
         const real3 d = normalize(real3(dir[0], dir[1], dir[2]));
         Item cells;
         if (TraceAllButCells(real3(org[0], org[1], org[2]) - centre_, d, static_cast<uint>(index),
-                             static_cast<uint>(replica), 0u, 1u, cells))
+                             static_cast<uint>(replica), static_cast<uint>(slice),
+                             static_cast<uint>(slices), cells))
             RunCells(cells);
         Report();
         for (auto &lane : lanes_) lane->Report();

@@ -216,14 +216,21 @@ class VulkanContribEngine : public ContribEngine {
         else
             ContribEngine::TraceKeyed(rays, n, keys, replica, records);
     }
+    bool TraceSlices(const double *rays, size_t n, const uint64_t *keys, int replica, int slices,
+                     double *slice_records) override {
+        if (n > 0 && keys[n - 1] - keys[0] >= kMaxKeySpan) return false;
+        if (n > 0) TraceAll(rays, n, keys[0], keys, replica, slice_records, slices);
+        return true;
+    }
 
   private:
     static constexpr uint64_t kMaxKeySpan = uint64_t(1) << 24;
 
     // keys: each ray's (ascending, within kMaxKeySpan of first_index, its first), or null for
-    // first_index + i.
+    // first_index + i. slices_apart: 0, a record a ray (its slices as the engine chooses); else
+    // that many slices a ray, a record each (TraceSlices).
     void TraceAll(const double *rays, size_t n, uint64_t first_index, const uint64_t *keys,
-                  int replica, double *records) {
+                  int replica, double *records, int slices_apart = 0) {
         if (n == 0) return;
         std::lock_guard<std::mutex> lock(mutex_);
         const size_t nd = devices_.size(), record = 3 * static_cast<size_t>(columns_);
@@ -233,7 +240,8 @@ class VulkanContribEngine : public ContribEngine {
             if (hi == lo) continue;
             const auto run = [&, k, lo, hi] {
                 TraceOn(devices_[k], rays + 6 * lo, hi - lo, keys ? keys[lo] : first_index + lo,
-                        keys ? keys + lo : nullptr, replica, records + lo * record);
+                        keys ? keys + lo : nullptr, replica,
+                        records + lo * record * size_t(std::max(1, slices_apart)), slices_apart);
             };
             if (nd == 1)
                 run();
@@ -253,7 +261,7 @@ class VulkanContribEngine : public ContribEngine {
     size_t AccumBytes() const { return float_accumulators_ ? sizeof(float) : sizeof(double); }
     core::GpuTasks Tasks(size_t n, int slices, uint64_t first_index, int replica) const;
     void TraceOn(DeviceState &dev, const double *rays, size_t n, uint64_t first_index,
-                 const uint64_t *keys, int replica, double *records) const;
+                 const uint64_t *keys, int replica, double *records, int slices_apart) const;
 
     std::vector<DeviceState> devices_;
     std::string names_;
@@ -281,7 +289,7 @@ core::GpuTasks VulkanContribEngine::Tasks(size_t n, int slices, uint64_t first_i
 
 void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n,
                                   uint64_t first_index, const uint64_t *keys, int replica,
-                                  double *records) const {
+                                  double *records, int slices_apart) const {
     std::vector<core::vec4> in(2 * n);
     for (size_t i = 0; i < n; ++i) {
         const double *r = rays + 6 * i;
@@ -295,7 +303,9 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
     // device busy; other rays are one task each.
     const size_t want_tasks = 1 << 16;
     int slices = 1;
-    if (o_.irradiance)
+    if (slices_apart > 0)
+        slices = slices_apart;
+    else if (o_.irradiance)
         slices = static_cast<int>(
             std::clamp<size_t>((want_tasks + n - 1) / n, 1, static_cast<size_t>(max_rows_)));
     const size_t record = 3 * static_cast<size_t>(columns_);
@@ -322,7 +332,8 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
     // slices a sensor) were 35 GB copied back and added on the host for the large office, most
     // of its run on a GPU (docs/benchmarks.md). The same sums in the same order, so the same
     // records where they start at nought (every caller's).
-    const bool sum_slices = slices > 1 && !dev.sum_spirv.empty() && per_run >= size_t(slices);
+    const bool sum_slices =
+        slices > 1 && slices_apart == 0 && !dev.sum_spirv.empty() && per_run >= size_t(slices);
     if (sum_slices) per_run -= per_run % slices;
     std::vector<uint8_t> ray_bytes = Bytes(in), accum, parameter_bytes = parameters_;
     for (size_t offset = 0; offset < total; offset += per_run) {
@@ -379,7 +390,8 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         const auto add = [&](const auto *a) {
             const size_t step = sum_slices ? slices : 1;  // tasks a record read back stands for
             for (size_t t = 0; t < count; t += step) {
-                double *dst = records + ((offset + t) / slices) * record;
+                double *dst =
+                    records + (slices_apart > 0 ? offset + t : (offset + t) / slices) * record;
                 const auto *src = a + t / step * record;
                 for (size_t j = 0; j < record; ++j) dst[j] += src[j];
             }
