@@ -85,6 +85,28 @@ class RecordChannels : public cal::Channels {
         return v;
     }
 
+    // in(0): the record's columns, counted as RADIANCE's l_in() counts them (none with -i or
+    // -n, where the record is not columns).
+    int Count() const override {
+        if (o_.no_input || !o_.in_format.empty()) return 0;
+        if (o_.binary_columns) return o_.binary_columns;
+        const bool blank =
+            o_.blanks_equal && std::isspace(static_cast<unsigned char>(o_.separator));
+        int n = 0;
+        for (const char *cp = text_.c_str(); *cp;) {
+            if (blank) {
+                while (std::isspace(static_cast<unsigned char>(*cp))) ++cp;
+                n += *cp != '\0';
+                while (*cp && !std::isspace(static_cast<unsigned char>(*cp))) ++cp;
+            } else {
+                n += *cp != '\n';
+                while (*cp && *cp++ != o_.separator) {
+                }
+            }
+        }
+        return n;
+    }
+
   private:
     const Options &o_;
     std::string text_;
@@ -527,6 +549,7 @@ int Main(int argc, char **argv) {
     Options o;
     cal::Context cx;
     cx.AllowOutputChannels(true);
+    cx.AllowInFunction();
     cx.Set("PI", 3.14159265358979323846, true);
     int i = 1;
     const auto value = [&]() -> std::string {

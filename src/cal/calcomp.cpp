@@ -189,6 +189,15 @@ struct Evaluator {
                 if (n == 0) return static_cast<double>(args->size());
                 return (*args)[n - 1];
             }
+            case Library::kIn: {
+                read_ray = true;
+                const double a1 = a(1);
+                // RADIANCE's (int)(argument(1) + .5); a NaN or what no int holds is checked first
+                if (!(a1 > -2147483648.0 && a1 < 2147483647.0)) Fail("illegal channel number");
+                const int n = static_cast<int>(a1 + .5);
+                if (!channels) Fail("in() used where there are no columns");
+                return n != 0 ? channels->Value(n) : channels->Count();
+            }
             case Library::kNone:
                 break;
         }
@@ -604,6 +613,7 @@ void Context::Load(std::string_view text, const FileLoc &loc) {
 }
 
 void Context::AllowOutputChannels(bool allow) { impl_->output_channels = allow; }
+void Context::AllowInFunction() { impl_->library[impl_->Intern("in")] = Library::kIn; }
 
 std::vector<std::pair<int, Expression>> Context::OutputChannels() const {
     std::vector<std::pair<int, Expression>> out;

@@ -38,6 +38,8 @@ class Channels {
     // The real arguments of the object being evaluated (a pattern's A1, A2, ...), for arg(n);
     // nullptr where there is no object.
     virtual const std::vector<double> *ObjectArguments() const { return nullptr; }
+    // How many columns there are, for rcalc's in(0) (0 where they are not counted).
+    virtual int Count() const { return 0; }
 };
 
 class ChannelArray : public Channels {
@@ -126,6 +128,9 @@ class Context {
     // rcalc's output channels: "$N = e;" definitions allowed in what is loaded after this, and
     // those defined, by N ascending, each as an expression evaluating its definition.
     void AllowOutputChannels(bool allow);
+    // rcalc's in(n) (RADIANCE's l_in()): $n for n != 0, and for 0 the channels' Count(); a
+    // definition of in() in what is loaded still takes its place.
+    void AllowInFunction();
     std::vector<std::pair<int, Expression>> OutputChannels() const;
     // Sets or replaces a variable (as "name = value;" or with constant, "name : value;").
     void Set(const std::string &name, double value, bool constant = false);

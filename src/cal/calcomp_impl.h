@@ -36,7 +36,8 @@ enum class Library {
     kTan,
     kErf,
     kErfc,
-    kArg
+    kArg,
+    kIn  // rcalc's in(n): column n of the record, or (n = 0) how many it has
 };
 
 // RADIANCE's libfunc() and epow(): a library function's or a power's result that is NaN or

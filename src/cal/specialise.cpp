@@ -218,6 +218,7 @@ class SpecialisationBuilder {
             }
             case Library::kNone:
             case Library::kArg:
+            case Library::kIn:
                 throw NotHandled{};
             default: {
                 const int arity = fn == Library::kAtan2 ? 2 : 1;

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
+#include <string>
 
 namespace dayflux::cal {
 namespace {
@@ -59,6 +61,30 @@ TEST(Calcomp, ChannelsGiveRayVariables) {
     ChannelArray ray({0.6, 0, -0.8});
     EXPECT_EQ(Eval(cx, "up", &ray), -1);
     EXPECT_DOUBLE_EQ(Eval(cx, "atan2(Dx, Dy)", &ray), M_PI / 2);
+}
+
+// in(n) is rcalc's alone: elsewhere an undefined function; with AllowInFunction, $n for n != 0
+// (rounded as RADIANCE's (int)(n + .5)) and the channels' count for 0, and a definition of in()
+// still wins.
+TEST(Calcomp, InIsRcalcsColumnFunction) {
+    class Columns : public ChannelArray {
+      public:
+        using ChannelArray::ChannelArray;
+        int Count() const override { return 2; }
+    };
+    const Columns record({5, 6});
+    Context plain;
+    EXPECT_NE(ErrorOf([&] { Eval(plain, "in(1)", &record); }).find("undefined function 'in'"),
+              std::string::npos);
+    Context cx;
+    cx.AllowInFunction();
+    EXPECT_EQ(Eval(cx, "in(1)", &record), 5);
+    EXPECT_EQ(Eval(cx, "in(1.6)", &record), 6);
+    EXPECT_EQ(Eval(cx, "in(0) + in(-.4)", &record), 4);
+    EXPECT_NE(ErrorOf([&] { Eval(cx, "in(1e30)", &record); }).find("illegal channel number"),
+              std::string::npos);
+    cx.Load("in(n) = 10 * n;", FileLoc{"t.cal", 1});
+    EXPECT_EQ(Eval(cx, "in(1)", &record), 10);
 }
 
 TEST(Calcomp, ConstantsAreReducedAsRadianceDoes) {

@@ -328,7 +328,7 @@ TEST_P(RadiancePrograms, OutputsEqualRadianceByteForByte) {
 INSTANTIATE_TEST_SUITE_P(Matrix, RadiancePrograms,
                          ::testing::Values(std::pair{"getinfo", 15}, std::pair{"total", 31},
                                            std::pair{"rcollate", 33}, std::pair{"gensky", 32},
-                                           std::pair{"oconv", 27}, std::pair{"rcalc", 35},
+                                           std::pair{"oconv", 27}, std::pair{"rcalc", 40},
                                            std::pair{"gendaylit", 34}, std::pair{"xform", 26},
                                            std::pair{"cnt", 7}),
                          [](const auto &info) { return std::string(info.param.first); });
