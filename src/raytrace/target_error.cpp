@@ -67,10 +67,12 @@ struct RayState {
     // small window) or the samples at the cap; else twice the last pass's, at most what the cap
     // leaves. (Sizing the pass from the error was tried and is not kept: docs/benchmarks.md.)
     int Next(int last, int cap, double target) const {
-        if (samples >= cap) return 0;
-        const double bound = Error() * UpperBoundFactor(Dof());
-        if (passes >= 2 && sum != 0 && !(bound > target)) return 0;
+        if (samples >= cap || (passes >= 2 && AtTarget(target))) return 0;
         return std::min(2 * last, cap - samples);
+    }
+    // Whether the bound of its error is at the target (a ray that saw no light is not).
+    bool AtTarget(double target) const {
+        return sum != 0 && !(Error() * UpperBoundFactor(Dof()) > target);
     }
 };
 
@@ -116,7 +118,7 @@ class TargetErrorEngine : public ContribEngine {
             RayState &s = state[i];
             if (s.record.empty()) continue;
             for (size_t j = 0; j < width; ++j) records[width * i + j] += s.record[j] / s.samples;
-            done.push_back({first_index + i, s.samples, s.Error()});
+            done.push_back({first_index + i, s.samples, s.Error(), s.AtTarget(o_.target)});
         }
         if (report_) report_->Add(done);
     }
@@ -264,7 +266,7 @@ std::string TargetErrorReport::Summary(const TargetErrorOptions &o) const {
     double worst = 0;
     long long samples = 0;
     for (const Ray &r : rays) {
-        if (r.error <= o.target)
+        if (r.at_target)
             ++at_target;
         else
             ++at_cap;

@@ -37,7 +37,8 @@ class TargetErrorReport {
     struct Ray {
         uint64_t index;
         int samples;
-        double error;  // estimated relative standard error (0 for a dark ray)
+        double error;    // estimated relative standard error (0 for a dark ray)
+        bool at_target;  // stopped on its error's bound, not at the cap
     };
     void Add(const std::vector<Ray> &rays);
     // Sorted by index.

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -46,7 +47,10 @@ std::vector<Sensor> Report(const fs::path &file) {
 }
 
 // Every sensor stops at the target or at the cap, and its estimated error is honest: measured
-// against the converged answer, at least 90 % of the 100 sensors are within twice their estimate.
+// against the converged answer, 92 % of sensors are within twice their estimate (issue 45 asks
+// 90 %; bench/target_error_speed_error.sh measures it on 6724 sensor runs); of these 100, at
+// least 84 (92 less three binomial standard deviations, 2.7 each). The summary counts as at the
+// target every sensor that stopped before the cap, and none whose estimate is above it.
 TEST(TargetError, SensorsStopAtTheTargetWithHonestErrors) {
     TempDir tmp;
     const fs::path report = tmp.path() / "report.txt";
@@ -64,16 +68,23 @@ TEST(TargetError, SensorsStopAtTheTargetWithHonestErrors) {
     ASSERT_EQ(ours.size(), 100u);
     ASSERT_EQ(answer.size(), 100u);
     ASSERT_EQ(sensors.size(), 100u);
-    int honest = 0, at_target = 0;
+    int honest = 0, early = 0, below = 0;
     for (size_t i = 0; i < ours.size(); ++i) {
         const Sensor &s = sensors[i];
         EXPECT_TRUE(s.error <= 0.03 || s.samples == 4096) << i;
         EXPECT_LE(s.samples, 4096);
-        at_target += s.error <= 0.03;
+        early += s.samples < 4096;
+        below += s.error <= 0.03;
         honest += std::fabs(ours[i] / answer[i] - 1) <= 2 * s.error;
     }
-    EXPECT_GE(honest, 90);
-    EXPECT_GT(at_target, 20);  // the target was reached, and saved samples, where it could be
+    EXPECT_GE(honest, 84);
+    EXPECT_GT(early, 20);  // the target was reached, and saved samples, where it could be
+    int at_target = -1, of = 0;
+    std::sscanf(r.err.c_str() + r.err.find("-target_error 0.03: "),
+                "-target_error 0.03: %d of %d sensors at the target", &at_target, &of);
+    EXPECT_EQ(of, 100) << r.err;
+    EXPECT_GE(at_target, early) << r.err;  // (those at the cap: their error's bound decides)
+    EXPECT_LE(at_target, below) << r.err;
 }
 
 // The same bytes on one thread and two, and when the sensors are traced as two shards.
