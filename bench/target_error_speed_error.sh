@@ -8,6 +8,8 @@
 #   weighed by the New York year's cumulative sky (gendaymtx -A, also -target_sky); -lw 1e-6, not
 #   the example's 5e-5, which cuts the paths of -ad above 4096 short (the settings would differ
 #   in bias, not only noise); converged answer -ad 65536 -lw 1e-7.
+# - blinds: the office with its exterior blinds (make_office.py --blinds, in the daylight
+#   coefficients' scene as the example's BLINDS=1 puts them), otherwise as office.
 # For each setting, run with SEEDS seeds: the mean wall time and the sensors' relative errors
 # (of their illuminance under the case's sky) against the converged answer: the 95th percentile
 # of all runs' errors, their rms and worst, the 95th percentile over sensors of a sensor's rms
@@ -42,10 +44,11 @@ case $case in
         echo 1 > "$tmp/weights.txt"
         sky=""
         ;;
-    office)
-        csv=$here/results/target_error_office.csv
+    office | blinds)
+        csv=$here/results/target_error_$case.csv
         cd "$tmp"
-        python3 "$root/examples/reference-office/make_office.py" --out model > /dev/null
+        python3 "$root/examples/reference-office/make_office.py" --out model \
+            $([ "$case" = blinds ] && echo --blinds) > /dev/null
         xzcat "$root"/examples/reference-office/weather/*.epw.xz > weather.epw
         "$bin/epw2wea" weather.epw weather.wea > /dev/null
         "$bin/gendaymtx" -A -m 1 weather.wea 2> /dev/null > cumulative.txt
@@ -54,7 +57,7 @@ case $case in
                               /^$/ { f = 1 }' "$1"; }
         getinfo_body cumulative.txt > "$tmp/weights.txt"
         scene="-e MF:1 -f reinhart.cal -b rbin -bn Nrbins -m skyglow model/materials.rad
-               model/office.rad model/glass.rad model/sky.rad"
+               model/office.rad model/glass.rad model/blinds.rad model/sky.rad"
         options="-ab 6 -lw 1e-6"
         converged="-ab 6 -ad 65536 -lw 1e-7"
         cap=16384
@@ -64,7 +67,7 @@ case $case in
         sky="-target_sky $tmp/cumulative.smx"
         ;;
     *)
-        echo "CASE: room or office" >&2
+        echo "CASE: room, office or blinds" >&2
         exit 2
         ;;
 esac
