@@ -27,7 +27,9 @@
 #   settings, for lavapipe), TESTS (0 skips step 2), TEST_SHARDS (1: test processes side by side,
 #   each compiling its own pipelines: NVIDIA's compiler is most of step 2), CASES ("V Vsub DC
 #   DCsub Cds DSdif DSdifC T"; also D Vd Dd; DCsub: DC with -asub 3, whose probes a GPU slice of
-#   one row asks for three; Vsub: V with -asub 3, whose surfaces sample the window directly)
+#   one row asks for three; Vsub: V with -asub 3, whose surfaces sample the window directly),
+#   FP64 (1: also vulkan-bvh-fp64, the BVH walk with bins and accumulators in double,
+#   -gpu_cal double -gpu_accum double, as the engine was before it went without fp64)
 # On the device machine (device/README.md): bench/gpu_bundle.sh here, then, there, with .gpu and
 # .gl carried: for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig; BUILD=.gpu bench/gpu.sh
 set -euo pipefail
@@ -40,6 +42,7 @@ QUICK=${QUICK:-0}
 TESTS=${TESTS:-1}
 TEST_SHARDS=${TEST_SHARDS:-1}
 CASES=${CASES:-"V Vsub DC DCsub Cds DSdif DSdifC T"}
+FP64=${FP64:-0}
 RCONTRIB=$BUILD/bin/rcontrib-gpu
 if [ -f "$BUILD/gpu.tar.xz" ] && [ ! -x "$RCONTRIB" ]; then  # bench/gpu_bundle.sh's archive
     tar -C "$BUILD" -xJf "$BUILD/gpu.tar.xz"
@@ -96,6 +99,8 @@ DS_ARGS="-I+ -oc -faf -ab 5 -ad 1000 -ar 300 -dj 0 -st 0.15 -L 1000 -N 148 -Dd"
 export RAYPATH=.:$root/lib
 programs=("embree|-backend embree" "vulkan-rayquery|-device $DEVICE -gpu_traversal rayquery"
           "vulkan-bvh|-device $DEVICE -gpu_traversal bvh")
+[ "$FP64" = 1 ] &&
+    programs+=("vulkan-bvh-fp64|-device $DEVICE -gpu_traversal bvh -gpu_cal double -gpu_accum double")
 echo "== reference office (wall s; relative RMS difference from Embree at the same seed)" |
     tee -a "$summary"
 printf "%-6s %-4s %-16s %8s %10s %12s\n" model case program sensors wall_s vs_embree |

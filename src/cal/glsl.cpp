@@ -1,6 +1,7 @@
 #include "cal/glsl.h"
 
 #include <charconv>
+#include <cmath>
 #include <functional>
 #include <map>
 #include <set>
@@ -114,23 +115,129 @@ double cal_rand(double x) {
 }
 )GLSL";
 
-std::string Literal(double v) {
+// The same in single precision, for devices without shaderFloat64 (and every device by default):
+// GLSL's own float functions may be thousands of ulps out (Vulkan allows atan 4096), so the
+// series stay, shorter, with float constants (ln 2 and pi/2 split so that k times the first part
+// is exact), accurate to a few ulps.
+constexpr const char *kFloatMathLibrary = R"GLSL(
+const float cal_PI = 3.14159265358979323846;
+const float cal_LN2 = 0.693147180559945309417;
+float cal_exp(float x) {
+    if (x > 88.7228390) return 1.0 / 0.0;  // ln of the largest float
+    if (x < -104.0) return 0.0;
+    float k = floor(x / cal_LN2 + 0.5);
+    float r = (x - k * 0.693145751953125) - k * 1.428606765330187e-6;
+    float term = 1.0, sum = 1.0;
+    for (int i = 1; i < 10; ++i) { term *= r / float(i); sum += term; }
+    return k > 127.0 ? ldexp(sum * 2.0, int(k) - 1) : ldexp(sum, int(k));
+}
+float cal_log(float x) {
+    if (x <= 0.0) return x == 0.0 ? -1.0 / 0.0 : 0.0 / 0.0;
+    if (isinf(x)) return x;
+    int e;
+    float m = frexp(x, e);
+    if (m < 0.70710678118654752440) { m *= 2.0; e -= 1; }
+    float s = (m - 1.0) / (m + 1.0), s2 = s * s, term = s, sum = 0.0;
+    for (int i = 0; i < 8; ++i) { sum += term / float(2 * i + 1); term *= s2; }
+    return 2.0 * sum + float(e) * cal_LN2;
+}
+float cal_log10(float x) { return cal_log(x) / 2.30258509299404568402; }
+float cal_sin_series(float r) {
+    float r2 = r * r, term = r, sum = r;
+    for (int i = 1; i < 7; ++i) { term *= -r2 / float((2 * i) * (2 * i + 1)); sum += term; }
+    return sum;
+}
+float cal_cos_series(float r) {
+    float r2 = r * r, term = 1.0, sum = 1.0;
+    for (int i = 1; i < 7; ++i) { term *= -r2 / float((2 * i - 1) * (2 * i)); sum += term; }
+    return sum;
+}
+float cal_reduce(float x, out int q) {
+    float k = floor(x / (cal_PI / 2.0) + 0.5);
+    q = int(k - 4.0 * floor(k / 4.0));
+    return ((x - k * 1.5703125) - k * 4.837512969970703125e-4) - k * 7.54978995489188216e-8;
+}
+float cal_sin(float x) {
+    int q; float r = cal_reduce(x, q);
+    return q == 0 ? cal_sin_series(r) : q == 1 ? cal_cos_series(r) : q == 2 ? -cal_sin_series(r) : -cal_cos_series(r);
+}
+float cal_cos(float x) {
+    int q; float r = cal_reduce(x, q);
+    return q == 0 ? cal_cos_series(r) : q == 1 ? -cal_sin_series(r) : q == 2 ? -cal_cos_series(r) : cal_sin_series(r);
+}
+float cal_tan(float x) { return cal_sin(x) / cal_cos(x); }
+float cal_atan_unit(float x) {
+    float y = x / (1.0 + sqrt(1.0 + x * x));
+    y = y / (1.0 + sqrt(1.0 + y * y));
+    float y2 = y * y, term = y, sum = 0.0;
+    for (int i = 0; i < 9; ++i) { sum += term / float(2 * i + 1); term *= -y2; }
+    return 4.0 * sum;
+}
+float cal_atan(float x) {
+    if (abs(x) <= 1.0) return cal_atan_unit(x);
+    return (x > 0.0 ? cal_PI / 2.0 : -cal_PI / 2.0) - cal_atan_unit(1.0 / x);
+}
+float cal_atan2(float y, float x) {
+    if (x == 0.0 && y == 0.0) return 0.0;
+    if (abs(y) <= abs(x)) {
+        float a = cal_atan_unit(y / x);
+        if (x > 0.0) return a;
+        return y >= 0.0 ? a + cal_PI : a - cal_PI;
+    }
+    float a = cal_atan_unit(x / y);
+    return y > 0.0 ? cal_PI / 2.0 - a : -cal_PI / 2.0 - a;
+}
+float cal_asin(float x) {
+    if (!(abs(x) <= 1.0)) return 0.0 / 0.0;
+    return cal_atan2(x, sqrt((1.0 - x) * (1.0 + x)));
+}
+float cal_acos(float x) {
+    if (!(abs(x) <= 1.0)) return 0.0 / 0.0;
+    return cal_atan2(sqrt((1.0 - x) * (1.0 + x)), x);
+}
+float cal_sqrt(float x) { return !(x >= 0.0) ? 0.0 / 0.0 : sqrt(x); }
+float cal_ok(float v) { return isnan(v) || isinf(v) ? 0.0 : v; }
+float cal_pow(float x, float y) {
+    if (y == 0.0) return 1.0;
+    if (x == 0.0) return y > 0.0 ? 0.0 : 1.0 / 0.0;
+    if (x < 0.0) {
+        if (y != floor(y)) return 0.0 / 0.0;
+        float m = cal_exp(y * cal_log(-x));
+        return y - 2.0 * floor(y / 2.0) == 0.0 ? m : -m;
+    }
+    return cal_exp(y * cal_log(x));
+}
+float cal_div(float a, float b) { return b == 0.0 ? 0.0 : a / b; }
+float cal_rand(float x) {
+    x *= 1.0 / (1.0 + x * x) + 2.71828182845904;
+    x += 0.785398163397447 - floor(x);
+    x = 1e5 / x;
+    return x - floor(x);
+}
+)GLSL";
+
+// A literal of the generated code's type: double (LF, 17 digits) or float (9 digits).
+std::string Literal(double v, bool single) {
+    const char *suffix = single ? "" : "LF";
+    if (v != v) return std::string("(0.0") + suffix + "/0.0" + suffix + ")";
+    if (single && std::fabs(v) > 3.4028234663852886e38) v = v > 0 ? 1.0 / 0.0 : -1.0 / 0.0;
     char buf[64];
-    auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::scientific, 17);
+    auto r =
+        std::to_chars(buf, buf + sizeof buf, v, std::chars_format::scientific, single ? 8 : 17);
     std::string s(buf, r.ptr);
-    if (v != v) return "(0.0LF/0.0LF)";
-    if (s == "inf") return "(1.0LF/0.0LF)";
-    if (s == "-inf") return "(-1.0LF/0.0LF)";
-    return "(" + s + "LF)";
+    if (s == "inf") return std::string("(1.0") + suffix + "/0.0" + suffix + ")";
+    if (s == "-inf") return std::string("(-1.0") + suffix + "/0.0" + suffix + ")";
+    return "(" + s + suffix + ")";
 }
 
 class Generator {
   public:
-    Generator(const Context &cx, const GlslOptions &o) : cx_(cx), o_(o) {}
+    Generator(const Context &cx, const GlslOptions &o)
+        : cx_(cx), o_(o), single_(o.precision == GlslPrecision::kFloat) {}
 
     std::string Entry(const GlslEntry &e) {
         where_ = e.expr->Text();
-        return "double " + e.name + "() { return " + Expr(e.expr->Root(), nullptr, 0) + "; }\n";
+        return T() + " " + e.name + "() { return " + Expr(e.expr->Root(), nullptr, 0) + "; }\n";
     }
 
     std::string Definitions() const {
@@ -141,6 +248,9 @@ class Generator {
     }
 
   private:
+    std::string T() const { return single_ ? "float" : "double"; }
+    std::string Zero() const { return single_ ? "0.0" : "0.0LF"; }
+
     [[noreturn]] void Fail(const std::string &msg) const {
         ErrorExit("in '" + where_ + "': " + msg + " (GLSL)");
     }
@@ -154,17 +264,17 @@ class Generator {
         emitted_.insert(key);
         std::string params, decl;
         for (size_t i = 0; i < d->params.size(); ++i)
-            params += (i ? ", " : "") + std::string("double a") + std::to_string(i + 1);
-        forward_.push_back("double " + fname + "(" + params + ");\n");
+            params += (i ? ", " : "") + T() + " a" + std::to_string(i + 1);
+        forward_.push_back(T() + " " + fname + "(" + params + ");\n");
         std::string body;
         if (depth >= o_.recursion_depth) {
-            body = "0.0LF / 0.0LF";  // deeper than unrolled: NaN marks it
+            body = Literal(std::nan(""), single_);  // deeper than unrolled: NaN marks it
         } else {
             active_.push_back(sym);
             body = Expr(d->body.get(), d, depth);
             active_.pop_back();
         }
-        bodies_.push_back("double " + fname + "(" + params + ") { return " + body + "; }\n");
+        bodies_.push_back(T() + " " + fname + "(" + params + ") { return " + body + "; }\n");
         return fname;
     }
 
@@ -182,14 +292,14 @@ class Generator {
         };
         if (name == "if") {
             need(3);
-            return "((" + a[0] + ") > 0.0LF ? (" + a[1] + ") : (" + a[2] + "))";
+            return "((" + a[0] + ") > " + Zero() + " ? (" + a[1] + ") : (" + a[2] + "))";
         }
         if (name == "select") {
             need(1);
             // select(0, ...) gives the number of choices.
             return "((cal_sel_i(" + a[0] + ") == 0) ? " +
-                   Literal(static_cast<double>(a.size() - 1)) + " : " + Select(a.size() - 1) +
-                   "(cal_sel_i(" + a[0] + ")" + Tail(a) + "))";
+                   Literal(static_cast<double>(a.size() - 1), single_) + " : " +
+                   Select(a.size() - 1) + "(cal_sel_i(" + a[0] + ")" + Tail(a) + "))";
         }
         if (name == "max" || name == "min") {
             need(1);
@@ -225,12 +335,12 @@ class Generator {
     std::string Select(size_t n) {
         const std::string name = o_.prefix + "_select" + std::to_string(n);
         if (selects_.insert(n).second) {
-            std::string params = "int i", body = "(0.0LF/0.0LF)";
+            std::string params = "int i", body = Literal(std::nan(""), single_);
             for (size_t k = n; k >= 1; --k)
                 body =
                     "(i == " + std::to_string(k) + " ? c" + std::to_string(k) + " : " + body + ")";
-            for (size_t k = 1; k <= n; ++k) params += ", double c" + std::to_string(k);
-            std::string helper = "double ";
+            for (size_t k = 1; k <= n; ++k) params += ", " + T() + " c" + std::to_string(k);
+            std::string helper = T() + " ";
             helper.append(name).append("(").append(params).append(") { return ");
             helper.append(body).append("; }\n");
             forward_.insert(forward_.begin(), helper);
@@ -247,7 +357,7 @@ class Generator {
         auto kid = [&](int i) { return Expr(n->kids[i].get(), in, depth); };
         switch (n->kind) {
             case Node::kNum:
-                return Literal(n->num);
+                return Literal(n->num, single_);
             case Node::kChan:
                 if (n->index < 1 || n->index > o_.channels)
                     Fail("channel $" + std::to_string(n->index) + " out of range");
@@ -294,11 +404,12 @@ class Generator {
                 return call + ")";
             }
         }
-        return "0.0LF";
+        return Zero();
     }
 
     const Context &cx_;
     const GlslOptions &o_;
+    const bool single_;
     std::string where_;
     std::set<std::string> emitted_;
     std::set<size_t> selects_;
@@ -315,13 +426,16 @@ std::string GenerateGlsl(const Context &cx, const std::vector<GlslEntry> &entrie
     for (const GlslEntry &e : entries) entry_code += g.Entry(e);
     std::string s;
     if (options.preamble) {
-        s += "double cal_chan[" + std::to_string(options.channels + 1) + "];\n";
-        s += kMathLibrary;
-        s += "int cal_sel_i(double a) { return int(floor(a + 0.5LF)); }\n";
+        const bool single = options.precision == GlslPrecision::kFloat;
+        const std::string t = single ? "float" : "double", zero = single ? "0.0" : "0.0LF";
+        s += t + " cal_chan[" + std::to_string(options.channels + 1) + "];\n";
+        s += single ? kFloatMathLibrary : kMathLibrary;
+        s += "int cal_sel_i(" + t + " a) { return int(floor(a + 0.5" + (single ? "" : "LF") +
+             ")); }\n";
         // A pattern's real arguments: cal_arg[0] is their count, as arg(0).
-        s += "double cal_arg[" + std::to_string(options.max_args + 1) + "];\n";
-        s += "double cal_argv(double n) { int i = cal_sel_i(n); return i >= 0 && i <= " +
-             std::to_string(options.max_args) + " ? cal_arg[i] : 0.0LF; }\n";
+        s += t + " cal_arg[" + std::to_string(options.max_args + 1) + "];\n";
+        s += t + " cal_argv(" + t + " n) { int i = cal_sel_i(n); return i >= 0 && i <= " +
+             std::to_string(options.max_args) + " ? cal_arg[i] : " + zero + "; }\n";
     }
     s += g.Definitions();
     s += entry_code;

@@ -26,6 +26,11 @@ enum class GpuTraversal { kAuto, kRayQuery, kBvh };
 // invocation), or private arrays, which lavapipe's LLVM compiles over four times sooner; auto:
 // private arrays on CPU devices only.
 enum class GpuScratch { kAuto, kOn, kOff };
+// The GPU's per-task accumulators: two floats an entry, the second holding what the first's
+// rounding lost (pairs: double's precision without shaderFloat64, the default), float (half the
+// memory; a sensor's first hemisphere is split between tasks, so their sums are short), or
+// double (needs shaderFloat64). Records are summed in double on the host.
+enum class GpuAccum { kPair, kFloat, kDouble };
 
 struct EngineOptions {
     std::string backend = "embree";  // "embree" or "vulkan"
@@ -34,10 +39,12 @@ struct EngineOptions {
     std::string device;
     GpuTraversal traversal = GpuTraversal::kAuto;
     GpuScratch scratch = GpuScratch::kAuto;
-    // The GPU's per-task accumulators in float instead of double (half the memory: a sensor's
-    // first hemisphere is split between tasks, so their sums are short; records are summed in
-    // double on the host).
-    bool float_accumulators = false;
+    GpuAccum accumulators = GpuAccum::kPair;
+    // Bins and patterns (calcomp) on the GPU in double rather than float (needs shaderFloat64).
+    // By default no shader holds a double: the engine runs on devices without fp64 (Apple's,
+    // Intel's) and at full rate on consumer GPUs, which run fp64 at 1/32-1/64.
+    bool gpu_double_cal = false;
+    bool NeedsFloat64() const { return accumulators == GpuAccum::kDouble || gpu_double_cal; }
     // For tests: false sums a sensor's slices on the host, each task's record read back (as
     // with float accumulators); a bound on the tasks a dispatch takes (0: as memory allows).
     bool gpu_slice_sums = true;

@@ -62,9 +62,12 @@ template <typename Parameters>
 Parameters MakeParameters(const PackedScene &packed, const ContribOptions &o) {
     using Real = decltype(Parameters::lw);
     Parameters p{};
-    p.centre_x = packed.centre[0];
-    p.centre_y = packed.centre[1];
-    p.centre_z = packed.centre[2];
+    p.centre_x = static_cast<Real>(packed.centre[0]);
+    p.centre_y = static_cast<Real>(packed.centre[1]);
+    p.centre_z = static_cast<Real>(packed.centre[2]);
+    p.centre_rest_x = static_cast<Real>(packed.centre[0] - p.centre_x);
+    p.centre_rest_y = static_cast<Real>(packed.centre[1] - p.centre_y);
+    p.centre_rest_z = static_cast<Real>(packed.centre[2] - p.centre_z);
     p.lw = static_cast<Real>(o.limit_weight);
     p.dj = static_cast<Real>(o.source_jitter);
     p.st = static_cast<Real>(o.specular_threshold);

@@ -282,10 +282,18 @@ class Parser : public OptionCursor {
         } else if (a == "-backend") {
             backend_ = Value(a);
         } else if (a == "-gpu_accum") {
-            // The GPU's per-task accumulators: double (the default) or float.
+            // The GPU's per-task accumulators: float pairs (the default), float or double.
             const std::string t = Value(a);
-            if (t != "float" && t != "double") ErrorExit("-gpu_accum " + t + ": float or double");
-            o_.engine.float_accumulators = t == "float";
+            if (t != "pair" && t != "float" && t != "double")
+                ErrorExit("-gpu_accum " + t + ": pair, float or double");
+            o_.engine.accumulators = t == "pair"    ? GpuAccum::kPair
+                                     : t == "float" ? GpuAccum::kFloat
+                                                    : GpuAccum::kDouble;
+        } else if (a == "-gpu_cal") {
+            // The GPU's bins and patterns: float (the default) or double.
+            const std::string t = Value(a);
+            if (t != "float" && t != "double") ErrorExit("-gpu_cal " + t + ": float or double");
+            o_.engine.gpu_double_cal = t == "double";
         } else if (a == "-gpu_scratch") {
             const std::string t = Value(a);
             if (t != "auto" && t != "on" && t != "off")

@@ -1,6 +1,7 @@
 // rcontrib's command line, read as RADIANCE's rcontrib reads it, and ours beside it: -backend,
-// -device, -gpu_traversal and -gpu_accum (the engine), -seed, -asub, -se (standard errors) and
-// -progress. Options it does not know are errors, as in RADIANCE; options that rcontrib forces
+// -device, -gpu_traversal, -gpu_accum and -gpu_cal (the engine), -seed, -asub, -se (standard
+// errors) and -progress. Options it does not know are errors, as in RADIANCE; options that rcontrib
+// forces
 // (-aa 0 -as 0 -dt 0) are accepted and ignored.
 #pragma once
 
@@ -55,7 +56,7 @@ struct RcontribOptions {
     double target_error = 0;
     int max_samples = 0;
     std::string target_sky, target_report;
-    EngineOptions engine;  // -backend, -device, -gpu_traversal, -gpu_accum
+    EngineOptions engine;  // -backend, -device, -gpu_traversal, -gpu_accum, -gpu_cal
     std::vector<std::string> scene;
 };
 

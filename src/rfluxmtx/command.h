@@ -2,8 +2,8 @@
 // it becomes: rcontrib's options as given (those rfluxmtx refuses refused here), the output
 // format with a double input in sampling mode, -c, then for each receiver its -o, -f, -p, -bn,
 // -b and -m, then -y (the sender's bins) in sampling mode. dayflux's own engine options
-// (-backend, -device, -gpu_traversal, -gpu_accum, -gpu_scratch, -seed, -asub, -se, -progress) pass
-// through.
+// (-backend, -device, -gpu_traversal, -gpu_accum, -gpu_cal, -gpu_scratch, -seed, -asub, -se,
+// -progress) pass through.
 #pragma once
 
 #include <cstdint>

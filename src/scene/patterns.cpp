@@ -43,24 +43,30 @@ void PatternFunction::Evaluate(std::span<const double> channels, double rgb[3]) 
     }
 }
 
-std::string PatternFunction::Glsl(const std::string &name) const {
+std::string PatternFunction::Glsl(const std::string &name, cal::GlslPrecision precision) const {
     const State st = Load();
     std::vector<cal::GlslEntry> entries;
     for (size_t k = 0; k < st.functions.size(); ++k)
         entries.push_back({name + "_f" + std::to_string(k), &st.functions[k]});
     cal::GlslOptions o;
+    o.precision = precision;
     o.prefix = name + "_d";
     o.preamble = false;
     if (args_.size() > static_cast<size_t>(o.max_args))
         ErrorExit(&pattern_.loc, "'" + pattern_.name + "': more than " +
                                      std::to_string(o.max_args) + " arguments for the GPU");
+    const bool single = precision == cal::GlslPrecision::kFloat;
+    const char *suffix = single ? "" : "LF";
     std::ostringstream s;
     s << cal::GenerateGlsl(*st.cx, entries, o);
-    s << "void " << name << "_args() {\n    cal_arg[0] = " << args_.size() << ".0LF;\n";
-    s.precision(17);
+    s << "void " << name << "_args() {\n    cal_arg[0] = " << args_.size() << ".0" << suffix
+      << ";\n";
+    s.precision(single ? 8 : 17);
     for (size_t a = 0; a < args_.size(); ++a)
-        s << "    cal_arg[" << a + 1 << "] = " << std::scientific << args_[a] << "LF;\n";
-    s << "}\ndvec3 " << name << "() {\n    " << name << "_args();\n    return dvec3(";
+        s << "    cal_arg[" << a + 1 << "] = " << std::scientific << args_[a] << suffix << ";\n";
+    s << "}\n"
+      << (single ? "vec3 " : "dvec3 ") << name << "() {\n    " << name << "_args();\n    return "
+      << (single ? "vec3(" : "dvec3(");
     for (size_t k = 0; k < st.functions.size(); ++k)
         s << (k ? ", " : "") << name << "_f" << k << "()";
     s << ");\n}\n";

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cal/calcomp.h"
+#include "cal/glsl.h"
 #include "scene/primitives.h"
 
 namespace dayflux {
@@ -23,9 +24,9 @@ class PatternFunction {
     // The pattern's RGB factor for a ray: channels hold Dx Dy Dz, Nx Ny Nz, Px Py Pz, ... ($1..).
     void Evaluate(std::span<const double> channels, double rgb[3]) const;
     // The same as GLSL (cal/glsl.h, without the preamble): "void <name>_args()" sets cal_arg to
-    // the pattern's arguments, "dvec3 <name>()" evaluates it from cal_chan. Throws UserError for
-    // what GLSL cannot express.
-    std::string Glsl(const std::string &name) const;
+    // the pattern's arguments, "dvec3 <name>()" (vec3 in float) evaluates it from cal_chan.
+    // Throws UserError for what GLSL cannot express.
+    std::string Glsl(const std::string &name, cal::GlslPrecision precision) const;
 
   private:
     struct State {

@@ -284,15 +284,18 @@ TEST(Engine, KeyedTraceAsInTheWholeRunVulkan) {
 }
 
 // The GPU's slices summed on the device give the records the host's sums of every task's record
-// gave, to the bit, also where a run takes several dispatches (each holding its sensors' slices
-// whole: -I at -ad 16 cuts a sensor into five slices, its four rows among them; dispatches of
-// 15 tasks, then 10).
+// gave, also where a run takes several dispatches (each holding its sensors' slices whole: -I at
+// -ad 16 cuts a sensor into five slices, its four rows among them; dispatches of 15 tasks, then
+// 10). Double accumulators: the same sums in the same order, to the bit. Float pairs (the
+// default): the device's TwoSum against the host's double sums, within 1e-12; and the device's
+// own sums to the bit however the dispatches fall.
 TEST(Engine, SlicesSummedOnTheDeviceAsOnTheHostVulkan) {
-    const auto records = [](bool on_device, int tasks_per_dispatch) {
+    const auto records = [](GpuAccum accumulators, bool on_device, int tasks_per_dispatch) {
         EngineOptions engine;
         engine.backend = "vulkan";
         const char *device = std::getenv("DAYFLUX_VULKAN_DEVICE");
         engine.device = device && *device ? device : "llvmpipe";
+        engine.accumulators = accumulators;
         engine.gpu_slice_sums = on_device;
         engine.gpu_tasks_per_dispatch = tasks_per_dispatch;
         const HalfCoveredSky scene;
@@ -302,13 +305,22 @@ TEST(Engine, SlicesSummedOnTheDeviceAsOnTheHostVulkan) {
         e->Trace(scene.rays.data(), scene.rays.size() / 6, 0, 0, out.data());
         return out;
     };
-    const std::vector<double> host = records(false, 0);
+    const std::vector<double> host = records(GpuAccum::kDouble, false, 0);
     if (host.empty()) GTEST_SKIP() << "no Vulkan engine";
-    EXPECT_EQ(records(true, 0), host);
-    EXPECT_EQ(records(true, 17), host);  // 17 tasks a dispatch at most: 15 (three sensors)
-    EXPECT_EQ(records(false, 17), host);
+    EXPECT_EQ(records(GpuAccum::kDouble, true, 0), host);
+    EXPECT_EQ(records(GpuAccum::kDouble, true, 17), host);  // at most 17 tasks: 15 (3 sensors)
+    EXPECT_EQ(records(GpuAccum::kDouble, false, 17), host);
     EXPECT_GT(host[0], 0.05);  // some sky seen, and some not
     EXPECT_LT(host[0], M_PI - 0.5);
+    const std::vector<double> pairs = records(GpuAccum::kPair, true, 0);
+    EXPECT_EQ(records(GpuAccum::kPair, true, 17), pairs);
+    const std::vector<double> pairs_host = records(GpuAccum::kPair, false, 0);
+    ASSERT_EQ(pairs.size(), host.size());
+    ASSERT_EQ(pairs_host.size(), host.size());
+    for (size_t i = 0; i < host.size(); ++i) {
+        EXPECT_NEAR(pairs[i], pairs_host[i], 1e-12 * std::fabs(host[i])) << i;
+        EXPECT_NEAR(pairs[i], host[i], 1e-6 * std::fabs(host[i])) << i;  // float's rounding
+    }
 }
 
 // The caster of an engine, counting the shadow rays the blockers stopped; with drop_blockers,

@@ -2,6 +2,8 @@
 // NVIDIA's nvpro-samples shader headers are: GLM gives C++ GLSL's types and function names, and a
 // few macros cover what differs.
 //   real, real2, real3, real4  the estimator's arithmetic: double in C++, float in GLSL
+//   cal_real                   the calcomp functions' (bins, patterns): double in C++; in GLSL
+//                              float, or double where a run asks (the host defines it)
 //   IN(T), OUT(T), INOUT(T)    GLSL's in, out and inout parameters (C++: a const reference for
 //                              in, since GLSL copies what C++ would; references for the others)
 //   CONST                      a constant at file or class scope
@@ -43,6 +45,7 @@ using real = double;
 using real2 = glm::dvec2;
 using real3 = glm::dvec3;
 using real4 = glm::dvec4;
+using cal_real = double;
 
 using glm::abs;
 using glm::acos;

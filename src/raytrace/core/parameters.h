@@ -18,23 +18,26 @@ struct BasicParameters {
 #define ParameterReal float
 struct Parameters {
 #endif
-    // (doubles first: the std430 layout and the C++ layout of GpuParameters agree unpadded)
-    double centre_x, centre_y, centre_z;  // the scene's centre, added back where bins see points
-    ParameterReal lw;                     // -lw
-    ParameterReal dj;                     // -dj
-    ParameterReal st;                     // -st
-    ParameterReal ss;                     // -ss
-    ParameterReal ds;                     // -ds
-    int ab;                               // -ab
-    int ad;                               // -ad
-    int lr;                               // -lr
-    int asub;                             // -asub (1: none; read where DAYFLUX_ASUB is compiled)
-    int irradiance;                       // -I (0 or 1)
-    int first_hit;                        // -i (0 or 1)
-    int contributions;                    // -V+ (0 or 1)
-    int nsources;                         // the packed sources
-    int ndirect;                          // of them, those sampled with shadow rays (not glow)
-    uint seed;                            // -seed, its 64 bits folded into 32
+    // The scene's centre, added back where bins see points; on the GPU as float and what float
+    // rounding left of it (0 on the CPU), since a shader has no double without shaderFloat64.
+    // (Every member is 4 bytes on the GPU: std430's layout is GpuParameters' C++ one, unpadded.)
+    ParameterReal centre_x, centre_y, centre_z;
+    ParameterReal centre_rest_x, centre_rest_y, centre_rest_z;
+    ParameterReal lw;   // -lw
+    ParameterReal dj;   // -dj
+    ParameterReal st;   // -st
+    ParameterReal ss;   // -ss
+    ParameterReal ds;   // -ds
+    int ab;             // -ab
+    int ad;             // -ad
+    int lr;             // -lr
+    int asub;           // -asub (1: none; read where DAYFLUX_ASUB is compiled)
+    int irradiance;     // -I (0 or 1)
+    int first_hit;      // -i (0 or 1)
+    int contributions;  // -V+ (0 or 1)
+    int nsources;       // the packed sources
+    int ndirect;        // of them, those sampled with shadow rays (not glow)
+    uint seed;          // -seed, its 64 bits folded into 32
 };
 
 #ifdef __cplusplus

@@ -135,9 +135,10 @@ void SetRayVariables(IN(Ray) r, real3 point, real3 normal, real t) {
     cal_chan[4] = normal.x;
     cal_chan[5] = normal.y;
     cal_chan[6] = normal.z;
-    cal_chan[7] = double(point.x) + params.centre_x;
-    cal_chan[8] = double(point.y) + params.centre_y;
-    cal_chan[9] = double(point.z) + params.centre_z;
+    // (on the CPU the rest is 0, and this is the point plus the centre)
+    cal_chan[7] = cal_real(point.x) + (cal_real(params.centre_rest_x) + cal_real(params.centre_x));
+    cal_chan[8] = cal_real(point.y) + (cal_real(params.centre_rest_y) + cal_real(params.centre_y));
+    cal_chan[9] = cal_real(point.z) + (cal_real(params.centre_rest_z) + cal_real(params.centre_z));
     cal_chan[10] = t;
     cal_chan[11] = -dot(r.dir, normal);
     cal_chan[12] = 1;
@@ -157,16 +158,16 @@ real3 Colour(IN(PackedSurface) m, IN(Ray) r, real3 point, real3 normal, real t) 
 
 // Adds a ray's coefficient (times radiance with -V) to the bin tracked modifier k's bin
 // expression gives (source: the distant source it reached, or -1). Negative bins are ignored, as
-// RADIANCE ignores them; one beyond -bn, or NaN, is reported and ignored, checked as a double
+// RADIANCE ignores them; one beyond -bn, or NaN, is reported and ignored, checked before int()
 // because int() of one beyond the int range is undefined (INT_MIN on x86, a write before the
 // record).
 void Contribute(int k, IN(Ray) r, IN(real3) point, IN(real3) normal, real t, int source,
                 IN(real3) radiance) {
     SetRayVariables(r, point, normal, t);
     ivec4 entry = tracked[k];
-    double b = BinOf(k, source);
+    cal_real b = BinOf(k, source);
     if (b <= -0.5) return;
-    if (!(b < double(entry[kTrackedBins]) - 0.5)) {
+    if (!(b < cal_real(entry[kTrackedBins]) - 0.5)) {
         reports |= kReportBadBin;
         return;
     }

@@ -26,7 +26,7 @@ namespace {
 // parameters have contexts of their own, each's definitions under a prefix of its own), and
 // EvalBin(j), which runs function j. Sets bin_function per modifier.
 std::string BinGlsl(const std::vector<TrackedModifier> &tracked, const MakeContext &make_context,
-                    std::vector<int> *bin_function) {
+                    cal::GlslPrecision precision, std::vector<int> *bin_function) {
     struct BinContext {
         std::unique_ptr<cal::Context> cx;
         std::vector<cal::Expression> bins;
@@ -58,22 +58,24 @@ std::string BinGlsl(const std::vector<TrackedModifier> &tracked, const MakeConte
     std::string glsl;
     for (size_t g = 0; g < contexts.size(); ++g) {
         cal::GlslOptions go;
+        go.precision = precision;
         go.prefix = g == 0 ? go.prefix : "cal_c" + std::to_string(g) + "_d";
         go.preamble = g == 0;
         glsl += cal::GenerateGlsl(*contexts[g].cx, contexts[g].entries, go);
     }
-    glsl += "double EvalBin(int j) {\n";
+    glsl += "cal_real EvalBin(int j) {\n";
     for (int j = 0; j < nfunctions; ++j)
         glsl +=
             "    if (j == " + std::to_string(j) + ") return cal_bin" + std::to_string(j) + "();\n";
-    return glsl + "    return -1.0LF;\n}\n";
+    return glsl + "    return -1.0;\n}\n";
 }
 
 // GLSL of the patterns the tables name, and PatternRGB(k), which runs pattern k.
-std::string PatternGlsl(const std::vector<const PatternFunction *> &patterns) {
+std::string PatternGlsl(const std::vector<const PatternFunction *> &patterns,
+                        cal::GlslPrecision precision) {
     std::string glsl;
     for (size_t k = 0; k < patterns.size(); ++k)
-        glsl += patterns[k]->Glsl("pat" + std::to_string(k));
+        glsl += patterns[k]->Glsl("pat" + std::to_string(k), precision);
     glsl += "vec3 PatternRGB(int k) {\n";
     for (size_t k = 0; k < patterns.size(); ++k)
         glsl += "    if (k == " + std::to_string(k) + ") return vec3(pat" + std::to_string(k) +
@@ -83,7 +85,8 @@ std::string PatternGlsl(const std::vector<const PatternFunction *> &patterns) {
 
 // The run's macros: its sizes and the features its scene needs (its options are in the
 // parameters buffer, so that runs differing only in them share one compiled shader).
-std::string Macros(const PackedScene &packed, const ContribOptions &options, bool float_accum) {
+std::string Macros(const PackedScene &packed, const ContribOptions &options,
+                   const EngineOptions &engine) {
     std::string src;
     const auto define = [&](const char *name, const std::string &value) {
         src += std::string("#define ") + name + " " + value + "\n";
@@ -93,7 +96,9 @@ std::string Macros(const PackedScene &packed, const ContribOptions &options, boo
     define("MIX_STACK", std::to_string(kGpuMixStack));
     define("LOCAL_SIZE", std::to_string(kGpuLocalSize));
     define("STACK_SIZE", std::to_string(kGpuStackSize));
-    define("ACCUM_T", float_accum ? "float" : "double");
+    define("ACCUM_T", engine.accumulators == GpuAccum::kDouble ? "double" : "float");
+    if (engine.accumulators == GpuAccum::kPair) define("DAYFLUX_ACCUM_PAIR", "1");
+    define("cal_real", engine.gpu_double_cal ? "double" : "float");
     if (options.ambient_subsamples > 1) define("DAYFLUX_ASUB", "1");
     if (packed.bsdf) define("DAYFLUX_BSDF", "1");
     if (packed.aperture) define("DAYFLUX_APERTURE", "1");
@@ -155,30 +160,35 @@ void WriteSpirv(const fs::path &path, const std::vector<uint32_t> &spirv) {
 
 bool MakeContribShader(const PackedScene &packed, const ContribOptions &options,
                        const std::vector<TrackedModifier> &tracked, const MakeContext &make_context,
-                       bool float_accumulators, ContribShader *shader, std::string *why) {
+                       const EngineOptions &engine, ContribShader *shader, std::string *why) {
+    const cal::GlslPrecision precision =
+        engine.gpu_double_cal ? cal::GlslPrecision::kDouble : cal::GlslPrecision::kFloat;
     std::string bins, patterns;
     try {
-        bins = BinGlsl(tracked, make_context, &shader->bin_function);
+        bins = BinGlsl(tracked, make_context, precision, &shader->bin_function);
     } catch (const UserError &e) {
         *why = std::string("a bin expression GLSL cannot express: ") + e.what();
         return false;
     }
     try {
-        patterns = PatternGlsl(packed.patterns);
+        patterns = PatternGlsl(packed.patterns, precision);
     } catch (const UserError &e) {
         *why = std::string("a pattern GLSL cannot express: ") + e.what();
         return false;
     }
-    shader->source = Macros(packed, options, float_accumulators) +
+    shader->source = Macros(packed, options, engine) +
                      "#include \"raytrace/vulkan/shaders/common.h\"\n" + bins + patterns +
                      kShaderContrib;
     return true;
 }
 
-std::vector<uint32_t> CompileSliceSumShader() {
-    const std::string source =
+std::vector<uint32_t> CompileSliceSumShader(GpuAccum accumulators) {
+    CHECK(accumulators != GpuAccum::kFloat);
+    std::string source =
         "#version 460\n#include \"raytrace/vulkan/shaders/common.h\"\nlayout(local_size_x = " +
-        std::to_string(kSliceSumLocalSize) + ") in;\n" + R"glsl(
+        std::to_string(kSliceSumLocalSize) + ") in;\n";
+    if (accumulators == GpuAccum::kDouble) {
+        source += R"glsl(
 layout(std430, set = 0, binding = kBindingAccum) readonly buffer Accum { double accum[]; };
 layout(std430, set = 0, binding = kBindingTasks) readonly buffer Tasks { GpuTasks tasks; };
 layout(std430, set = 0, binding = kBindingSliceSums) buffer Sums { double sums[]; };
@@ -194,6 +204,32 @@ void main() {
     sums[i] = sum;
 }
 )glsl";
+    } else {
+        // Pairs (contrib.comp's AddToRecord): the slices' sums added with TwoSum, the lost parts
+        // and the slices' own second floats summed beside, in the slices' order.
+        source += R"glsl(
+layout(std430, set = 0, binding = kBindingAccum) readonly buffer Accum { float accum[]; };
+layout(std430, set = 0, binding = kBindingTasks) readonly buffer Tasks { GpuTasks tasks; };
+layout(std430, set = 0, binding = kBindingSliceSums) buffer Sums { float sums[]; };
+void main() {
+    uint i = gl_GlobalInvocationID.x +
+             gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    uint record = 3u * uint(tasks.ncols), slices = uint(tasks.slices);
+    uint rays = uint(tasks.count) / slices;
+    if (i >= rays * record) return;
+    uint ray = i / record, j = i - ray * record;
+    precise float sum = 0.0, lost = 0.0;
+    for (uint k = 0u; k < slices; ++k) {
+        uint at = 2u * ((ray * slices + k) * record + j);
+        precise float v = accum[at], s = sum + v, b = s - sum;
+        lost += ((sum - (s - b)) + (v - b)) + accum[at + 1u];
+        sum = s;
+    }
+    sums[2u * i] = sum;
+    sums[2u * i + 1u] = lost;
+}
+)glsl";
+    }
     return vk::GpuDevice::CompileGlsl(source, "slice_sum.comp", IncludedFile);
 }
 

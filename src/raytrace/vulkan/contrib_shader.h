@@ -34,7 +34,7 @@ struct ContribShader {
 // The shader's source for a run; false, with why, where GLSL cannot express a bin or a pattern.
 bool MakeContribShader(const PackedScene &packed, const ContribOptions &options,
                        const std::vector<TrackedModifier> &tracked, const MakeContext &make_context,
-                       bool float_accumulators, ContribShader *shader, std::string *why);
+                       const EngineOptions &engine, ContribShader *shader, std::string *why);
 
 // SPIR-V for devices with ray queries or without (our BVH walk), with the stack and rows in
 // scratch buffers or private arrays (GpuScratch), from the cache if it is there.
@@ -44,8 +44,8 @@ std::vector<uint32_t> CompileContribShader(const ContribShader &shader, bool ray
 // SPIR-V of the second stage of a dispatch whose rays' slices it holds whole (GpuTasks: count a
 // multiple of slices): each ray's record summed over its slices in their order, from
 // kBindingAccum into kBindingSliceSums, so that one record a ray comes back rather than one a
-// slice. Double accumulators only (the host's sums are double).
+// slice. Pairs or double accumulators (plain floats come back a slice at a time).
 constexpr int kSliceSumLocalSize = 64;
-std::vector<uint32_t> CompileSliceSumShader();
+std::vector<uint32_t> CompileSliceSumShader(GpuAccum accumulators);
 
 }  // namespace dayflux

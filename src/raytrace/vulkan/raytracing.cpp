@@ -336,6 +336,19 @@ uint32_t GpuDevice::RuntimeArrayStride(const std::vector<uint32_t> &spirv, uint3
     return 0;
 }
 
+bool GpuDevice::UsesFloat64(const std::vector<uint32_t> &spirv) {
+    // (the SPIR-V specification, 3.31 and 3.32: OpCapability Float64, OpTypeFloat 64)
+    constexpr uint32_t kOpCapability = 17, kCapabilityFloat64 = 10, kOpTypeFloat = 22;
+    for (size_t i = 5; i < spirv.size();) {
+        const uint32_t op = spirv[i] & 0xffffu, words = spirv[i] >> 16;
+        if (words == 0 || i + words > spirv.size()) return true;  // malformed: assume the worst
+        if (op == kOpCapability && words >= 2 && spirv[i + 1] == kCapabilityFloat64) return true;
+        if (op == kOpTypeFloat && words >= 3 && spirv[i + 2] == 64) return true;
+        i += words;
+    }
+    return false;
+}
+
 namespace {
 
 // What a device lacks for ray queries ("" if nothing).
@@ -394,11 +407,11 @@ std::vector<std::string> GpuDevice::Describe(std::string *why) {
 
 std::vector<std::unique_ptr<GpuDevice>> GpuDevice::OpenAll(std::string *why,
                                                            const std::string &named,
-                                                           Traversal traversal) {
+                                                           Traversal traversal, bool float64) {
     std::vector<std::unique_ptr<GpuDevice>> all;
     for (int k = 0;; ++k) {
         std::string why_k;
-        std::unique_ptr<GpuDevice> d = Open(&why_k, !named.empty(), traversal, k, named);
+        std::unique_ptr<GpuDevice> d = Open(&why_k, !named.empty(), traversal, k, named, float64);
         if (!d) {
             if (all.empty()) *why = why_k;
             return all;
@@ -408,23 +421,27 @@ std::vector<std::unique_ptr<GpuDevice>> GpuDevice::OpenAll(std::string *why,
 }
 
 std::unique_ptr<GpuDevice> GpuDevice::Open(std::string *why, bool allow_cpu, Traversal traversal,
-                                           int ordinal, const std::string &named) {
+                                           int ordinal, const std::string &named, bool float64) {
     auto impl = std::make_unique<Impl>();
     impl->instance = CreateInstance(why);
     if (!impl->instance) return nullptr;
-    const auto lacks = [traversal](VkPhysicalDevice device) {
+    const auto lacks = [traversal, float64](VkPhysicalDevice device) {
         VkPhysicalDeviceProperties p;
         vkGetPhysicalDeviceProperties(device, &p);
         if (p.apiVersion < VK_API_VERSION_1_2) return std::string(" Vulkan 1.2");
         VkPhysicalDeviceFeatures f;
         vkGetPhysicalDeviceFeatures(device, &f);
-        std::string lacks = f.shaderFloat64 ? "" : " shaderFloat64";
+        std::string lacks = !float64 || f.shaderFloat64 ? "" : " shaderFloat64";
         if (traversal == Traversal::kRayQuery) lacks += LacksRayQueries(device);
         return lacks;
     };
-    const std::vector<VkPhysicalDevice> choice = ChooseDevices(
-        impl->instance, lacks, allow_cpu, named,
-        traversal == Traversal::kRayQuery ? "with ray queries" : "with double precision", why);
+    const std::vector<VkPhysicalDevice> choice =
+        ChooseDevices(impl->instance, lacks, allow_cpu, named,
+                      traversal == Traversal::kRayQuery
+                          ? (float64 ? "with ray queries and double precision" : "with ray queries")
+                      : float64 ? "with double precision"
+                                : "for compute",
+                      why);
     if (ordinal >= static_cast<int>(choice.size())) {
         if (!choice.empty()) *why = "no more devices";
         return nullptr;
@@ -450,7 +467,7 @@ std::unique_ptr<GpuDevice> GpuDevice::Open(std::string *why, bool allow_cpu, Tra
     VkPhysicalDeviceFeatures available;
     vkGetPhysicalDeviceFeatures(impl->physical, &available);
     FeatureChain enable;
-    enable.f2.features.shaderFloat64 = VK_TRUE;
+    enable.f2.features.shaderFloat64 = float64 ? VK_TRUE : VK_FALSE;
     enable.f2.features.shaderInt64 = available.shaderInt64;
     std::vector<const char *> extensions;
     if (impl->ray_queries) {

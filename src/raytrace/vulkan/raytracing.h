@@ -19,19 +19,22 @@ enum class Traversal { kAuto, kRayQuery, kBvh };
 class GpuDevice {
   public:
     // The device choice of vulkan/devices.h (`named`, by name substring or index, else a
-    // discrete GPU first, else any), among Vulkan 1.2 devices with shaderFloat64 (our generated
-    // GLSL uses doubles) and, for kRayQuery, VK_KHR_acceleration_structure, VK_KHR_ray_query and
+    // discrete GPU first, else any), among Vulkan 1.2 devices with, for float64, shaderFloat64
+    // (enabled only then: shaders holding a double are invalid on a device opened without it)
+    // and, for kRayQuery, VK_KHR_acceleration_structure, VK_KHR_ray_query and
     // bufferDeviceAddress. CPU devices (lavapipe) count only with allow_cpu or when named: they
     // are slower than our Embree backend. Returns nullptr and sets *why when none qualifies.
     static std::unique_ptr<GpuDevice> Open(std::string *why, bool allow_cpu = true,
                                            Traversal traversal = Traversal::kRayQuery,
-                                           int ordinal = 0, const std::string &named = "");
+                                           int ordinal = 0, const std::string &named = "",
+                                           bool float64 = false);
     // Every device the choice gives (vulkan/devices.h: the ones named, else all of the best
     // kind), each opened on its own; none, with *why, when none qualifies. CPU devices only when
     // named.
     static std::vector<std::unique_ptr<GpuDevice>> OpenAll(std::string *why,
                                                            const std::string &named,
-                                                           Traversal traversal);
+                                                           Traversal traversal,
+                                                           bool float64 = false);
     // One line per Vulkan device: its index, name, type, and whether it has ray queries and
     // double precision; none, with *why, when there is no driver or device.
     static std::vector<std::string> Describe(std::string *why);
@@ -100,6 +103,9 @@ class GpuDevice {
     // 0, `binding` in spirv (the std430 size of its element as the compiler laid it out); 0
     // where there is none.
     static uint32_t RuntimeArrayStride(const std::vector<uint32_t> &spirv, uint32_t binding);
+    // Whether spirv declares the Float64 capability or a 64-bit float type: what a device
+    // without shaderFloat64 (Apple's, Intel's) cannot run.
+    static bool UsesFloat64(const std::vector<uint32_t> &spirv);
     // Runs spirv over `invocations` invocations in groups of local_size_x (which must match the
     // shader's), with the top-level structure at set 0 binding 0 (accelerationStructureEXT) and
     // storage buffers at bindings 1, 2, ... in the order given (without ray queries: no

@@ -21,7 +21,7 @@ namespace {
 
 // std430's layouts of these are their C++ layouts: no padding between their members.
 static_assert(sizeof(core::GpuTasks) == 48 && offsetof(core::GpuTasks, tmin) == 32);
-static_assert(sizeof(core::GpuParameters) == 88 && offsetof(core::GpuParameters, lw) == 24 &&
+static_assert(sizeof(core::GpuParameters) == 84 && offsetof(core::GpuParameters, lw) == 24 &&
               offsetof(core::GpuParameters, ab) == 44 && offsetof(core::GpuParameters, seed) == 80);
 
 // Bytes of results per dispatch: within every device's maxStorageBufferRange (lavapipe: 128 MiB).
@@ -123,7 +123,7 @@ struct Geometry {
 struct DeviceState {
     std::unique_ptr<vk::GpuDevice> device;
     std::vector<uint32_t> spirv;
-    std::vector<uint32_t> sum_spirv;  // CompileSliceSumShader's (empty: float accumulators)
+    std::vector<uint32_t> sum_spirv;  // CompileSliceSumShader's (empty: plain float accumulators)
     int positions = -1, indices = -1, triangles = -1, surfaces = -1, sources = -1, shapes = -1;
     int bvh_nodes = -1, bvh_prims = -1, klems = -1, relays = -1, tracked = -1, receivers = -1;
     bool scratch = false;     // stack and rows in scratch buffers (GpuScratch)
@@ -176,11 +176,11 @@ vk::Traversal DeviceTraversal(GpuTraversal t) {
 class VulkanContribEngine : public ContribEngine {
   public:
     VulkanContribEngine(const PackedScene &packed, const ContribOptions &options,
-                        bool float_accumulators, int tasks_per_dispatch,
+                        GpuAccum accumulators, int tasks_per_dispatch,
                         std::vector<DeviceState> devices)
         : devices_(std::move(devices)),
           o_(options),
-          float_accumulators_(float_accumulators),
+          accumulators_(accumulators),
           tasks_per_dispatch_(tasks_per_dispatch),
           columns_(packed.columns),
           parameters_(Bytes(std::vector<core::GpuParameters>{
@@ -258,7 +258,9 @@ class VulkanContribEngine : public ContribEngine {
         WarnCoreReports(reports, lost);
     }
 
-    size_t AccumBytes() const { return float_accumulators_ ? sizeof(float) : sizeof(double); }
+    size_t AccumBytes() const {
+        return accumulators_ == GpuAccum::kFloat ? sizeof(float) : 2 * sizeof(float);
+    }
     core::GpuTasks Tasks(size_t n, int slices, uint64_t first_index, int replica) const;
     void TraceOn(DeviceState &dev, const double *rays, size_t n, uint64_t first_index,
                  const uint64_t *keys, int replica, double *records, int slices_apart) const;
@@ -266,7 +268,7 @@ class VulkanContribEngine : public ContribEngine {
     std::vector<DeviceState> devices_;
     std::string names_;
     ContribOptions o_;
-    bool float_accumulators_;
+    GpuAccum accumulators_;
     int tasks_per_dispatch_;  // EngineOptions::gpu_tasks_per_dispatch
     int columns_;
     std::vector<uint8_t> parameters_;  // the core's (kBindingParameters)
@@ -387,19 +389,23 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         std::memcpy(stat, stats.data(), sizeof stat);
         dev.dropped += stat[0];
         dev.reports |= stat[1];
-        const auto add = [&](const auto *a) {
+        // entry(i): entry i of the records read back, in double
+        const auto add = [&](const auto &entry) {
             const size_t step = sum_slices ? slices : 1;  // tasks a record read back stands for
             for (size_t t = 0; t < count; t += step) {
                 double *dst =
                     records + (slices_apart > 0 ? offset + t : (offset + t) / slices) * record;
-                const auto *src = a + t / step * record;
-                for (size_t j = 0; j < record; ++j) dst[j] += src[j];
+                const size_t src = t / step * record;
+                for (size_t j = 0; j < record; ++j) dst[j] += entry(src + j);
             }
         };
-        if (float_accumulators_)
-            add(reinterpret_cast<const float *>(accum.data()));
+        const auto *floats = reinterpret_cast<const float *>(accum.data());
+        if (accumulators_ == GpuAccum::kPair)
+            add([floats](size_t i) { return double(floats[2 * i]) + double(floats[2 * i + 1]); });
+        else if (accumulators_ == GpuAccum::kFloat)
+            add([floats](size_t i) { return double(floats[i]); });
         else
-            add(reinterpret_cast<const double *>(accum.data()));
+            add([&accum](size_t i) { return reinterpret_cast<const double *>(accum.data())[i]; });
     }
 }
 
@@ -410,15 +416,14 @@ std::unique_ptr<ContribEngine> CreateVulkanContribEngine(
     const std::vector<TrackedModifier> &tracked, const MakeContext &make_context,
     const EngineOptions &engine, std::string *why) {
     ContribShader shader;
-    if (!MakeContribShader(packed, options, tracked, make_context, engine.float_accumulators,
-                           &shader, why))
+    if (!MakeContribShader(packed, options, tracked, make_context, engine, &shader, why))
         return nullptr;
     std::vector<core::ivec4> tracked_table = packed.tracked;
     for (size_t k = 0; k < tracked_table.size(); ++k)
         tracked_table[k][core::kTrackedFunction] = shader.bin_function[k];
     // lavapipe only when named: on a CPU, the Embree backend is faster.
-    std::vector<std::unique_ptr<vk::GpuDevice>> opened =
-        vk::GpuDevice::OpenAll(why, engine.device, DeviceTraversal(engine.traversal));
+    std::vector<std::unique_ptr<vk::GpuDevice>> opened = vk::GpuDevice::OpenAll(
+        why, engine.device, DeviceTraversal(engine.traversal), engine.NeedsFloat64());
     if (opened.empty()) return nullptr;
     Geometry geometry(scene, packed);
     std::vector<DeviceState> devices;
@@ -428,8 +433,13 @@ std::unique_ptr<ContribEngine> CreateVulkanContribEngine(
         dev.scratch = engine.scratch == GpuScratch::kOn ||
                       (engine.scratch == GpuScratch::kAuto && !dev.device->IsCpu());
         dev.spirv = CompileContribShader(shader, dev.device->RayQueries(), dev.scratch);
-        if (!engine.float_accumulators && engine.gpu_slice_sums)
-            dev.sum_spirv = CompileSliceSumShader();
+        if (engine.accumulators != GpuAccum::kFloat && engine.gpu_slice_sums)
+            dev.sum_spirv = CompileSliceSumShader(engine.accumulators);
+        // What we generate holds a double only where the run asked for one: the device was
+        // opened without shaderFloat64 otherwise.
+        CHECK(engine.NeedsFloat64() ||
+              (!vk::GpuDevice::UsesFloat64(dev.spirv) &&
+               (dev.sum_spirv.empty() || !vk::GpuDevice::UsesFloat64(dev.sum_spirv))));
         if (dev.scratch) {
             dev.item_bytes =
                 vk::GpuDevice::RuntimeArrayStride(dev.spirv, uint32_t(core::kBindingScratchItems));
@@ -437,7 +447,7 @@ std::unique_ptr<ContribEngine> CreateVulkanContribEngine(
         }
         if (!Upload(packed, tracked_table, geometry, dev, why)) return nullptr;
     }
-    return std::make_unique<VulkanContribEngine>(packed, options, engine.float_accumulators,
+    return std::make_unique<VulkanContribEngine>(packed, options, engine.accumulators,
                                                  engine.gpu_tasks_per_dispatch, std::move(devices));
 }
 

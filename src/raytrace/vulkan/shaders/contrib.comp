@@ -4,7 +4,8 @@
 // maps a task to an input ray and a slice of its first hemisphere.
 //
 // The host prepends: #version and extensions, its sizes (DEEP_N DEEP_LEVELS STACK_SIZE
-// MIX_STACK LOCAL_SIZE), ACCUM_T and the DAYFLUX_* features the scene needs, compiled in;
+// MIX_STACK LOCAL_SIZE), ACCUM_T (DAYFLUX_ACCUM_PAIR: two an entry), cal_real (the calcomp
+// functions' float or double) and the DAYFLUX_* features the scene needs, compiled in;
 // shaders/common.h (the bindings, GpuTasks, and the core's Parameters); the generated calcomp
 // functions, EvalBin(j), which runs bin function j, and PatternRGB(k). The run's options are
 // read from the parameters buffer, so that runs differing only in them share one shader.
@@ -54,14 +55,25 @@ uint stack_base, rows_base;
 #endif
 
 // ---- what the core asks of its driver (raytrace/core/README.md)
-double BinOf(int k, int source) { return EvalBin(tracked[k][kTrackedFunction]); }
+cal_real BinOf(int k, int source) { return EvalBin(tracked[k][kTrackedFunction]); }
 
 uint acc_base;  // this task's record
+#ifdef DAYFLUX_ACCUM_PAIR
+// Two floats an entry: the sum, and what its rounding lost (TwoSum, exact in float), summed
+// beside it: double's precision without shaderFloat64.
+void AddToEntry(uint at, float v) {
+    precise float sum = accum[2u * at], s = sum + v, b = s - sum;
+    accum[2u * at] = s;
+    accum[2u * at + 1u] += (sum - (s - b)) + (v - b);
+}
+#else
+void AddToEntry(uint at, float v) { accum[at] += ACCUM_T(v); }
+#endif
 void AddToRecord(int column, vec3 v) {
     uint at = acc_base + 3u * uint(column);
-    accum[at] += ACCUM_T(v.x);
-    accum[at + 1] += ACCUM_T(v.y);
-    accum[at + 2] += ACCUM_T(v.z);
+    AddToEntry(at, v.x);
+    AddToEntry(at + 1u, v.y);
+    AddToEntry(at + 2u, v.z);
 }
 
 // No test of shadow rays against the blockers here (direct.inl): each walks through what it
