@@ -29,7 +29,12 @@
 #   DCsub Cds DSdif DSdifC T"; also D Vd Dd; DCsub: DC with -asub 3, whose probes a GPU slice of
 #   one row asks for three; Vsub: V with -asub 3, whose surfaces sample the window directly),
 #   FP64 (1: also vulkan-bvh-fp64, the BVH walk with bins and accumulators in double,
-#   -gpu_cal double -gpu_accum double, as the engine was before it went without fp64)
+#   -gpu_cal double -gpu_accum double, as the engine was before it went without fp64),
+#   REPLAY (the rcontrib cases also measured by bench/gpu_replay_bench.cpp on each traversal:
+#   rays traced, rays a second, the device's seconds per stage from timestamps, and the GPU
+#   efficiency, run rays/s over the rate of a kernel replaying its rays for their nearest hits
+#   alone; default "V DC Cds"; OUT/replay.csv), REPLAY_EVERY (the replay logs every K-th
+#   sensor's rays: 10)
 # On the device machine (device/README.md): bench/gpu_bundle.sh here, then, there, with .gpu and
 # .gl carried: for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig; BUILD=.gpu bench/gpu.sh
 set -euo pipefail
@@ -43,6 +48,9 @@ TESTS=${TESTS:-1}
 TEST_SHARDS=${TEST_SHARDS:-1}
 CASES=${CASES:-"V Vsub DC DCsub Cds DSdif DSdifC T"}
 FP64=${FP64:-0}
+REPLAY=${REPLAY-"V DC Cds"}
+REPLAY_EVERY=${REPLAY_EVERY:-10}
+REPLAY_BENCH=$BUILD/bench/gpu_replay_bench
 RCONTRIB=$BUILD/bin/rcontrib-gpu
 if [ -f "$BUILD/gpu.tar.xz" ] && [ ! -x "$RCONTRIB" ]; then  # bench/gpu_bundle.sh's archive
     tar -C "$BUILD" -xJf "$BUILD/gpu.tar.xz"
@@ -55,6 +63,8 @@ start=$(date +%s)
 summary=$OUT/summary.txt
 csv=$OUT/gpu.csv
 echo "model,case,program,sensors,wall_s,rel_rms_vs_embree" > "$csv"
+replay_csv=$OUT/replay.csv
+: > "$replay_csv"
 {
     echo "bench/gpu.sh $(date -u +%Y-%m-%dT%H:%MZ) on $(hostname), $(nproc) cores, device $DEVICE"
     echo "commit $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
@@ -182,6 +192,23 @@ for model in $MODELS; do
                 "$(cat "$dir/time")" "$diff" | tee -a "$summary"
             echo "$model,$case,$name,$sensors,$(cat "$dir/time"),$diff" >> "$csv"
         done
+        # The GPU efficiency: the run's rays a second over its replay's (gpu_replay_bench.cpp).
+        if [[ " $REPLAY " == *" $case "* && $program == "$RCONTRIB" && -x $REPLAY_BENCH ]]; then
+            for traversal in rayquery bvh; do
+                (cd "$dir" && "$REPLAY_BENCH" -record_every "$REPLAY_EVERY" -repeat 3 \
+                    -backend vulkan -device "$DEVICE" -gpu_traversal "$traversal" -seed 1 \
+                    $args < sensors.pts > "$dir/replay.csv" 2> "$dir/err") || {
+                    echo "$model $case $traversal replay: $(tail -1 "$dir/err")" |
+                        tee -a "$summary"
+                    continue
+                }
+                [ -s "$replay_csv" ] || echo "model,case,traversal,$(head -1 "$dir/replay.csv")" \
+                    > "$replay_csv"
+                echo "$model,$case,$traversal,$(tail -1 "$dir/replay.csv")" >> "$replay_csv"
+                tail -1 "$replay_csv" | awk -F, '{ printf "replay %s %s %s: %s rays, run %s Mrays/s (trace %s s, sums %s s), replay %s Mrays/s, efficiency %s\n", $1, $2, $3, $6, $11, $9, $10, $16, $17 }' |
+                    tee -a "$summary"
+            done
+        fi
     done
 done
 echo "total $(($(date +%s) - start)) s" | tee -a "$summary"

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Prepares, here, what bench/gpu.sh needs on a lent GPU machine, which has no Debian packages and
 # no network (device/README.md): .gpu/gpu.tar.xz (this build's programs, lib/dayflux, the test
-# binary and the Debian libraries they load, in runtime/; compressed, since unpacked they pass
+# binary, bench/gpu_replay_bench and the Debian libraries they load, in runtime/; compressed, since unpacked they pass
 # the 64 MiB a run may carry: Embree alone is 43 MB) and .gl/ (the Vulkan loader's packages, to
 # be unpacked there). Both are ignored by git (.git/info/exclude), so they travel only when a
 # run carries them: carry [".gpu", ".gl"], then
@@ -17,18 +17,19 @@ for d in /.gpu/ /.gl/; do
 done
 stage=$(mktemp -d)
 trap 'rm -rf "$stage"' EXIT
-mkdir -p "$stage"/{bin,lib,test,runtime}
+mkdir -p "$stage"/{bin,bench,lib,test,runtime}
 cp "$BUILD/bin/rcontrib-gpu" "$BUILD/bin/rfluxmtx-gpu" "$BUILD/bin/rtrace_dc-gpu" "$BUILD/bin/gen_dc" \
     "$BUILD/bin/ds_illum" "$BUILD/bin/genBSDF" "$stage/bin/"
+cp "$BUILD/bench/gpu_replay_bench" "$stage/bench/"
 cp -r "$BUILD/lib/dayflux" "$stage/lib/"
 cp "$BUILD/test/dayflux_tests" "$stage/test/"
 # The shared libraries both load, but for the C library's own (those the machine has) and the
 # Vulkan loader (unpacked from .gl there, where it finds the machine's NVIDIA driver).
-for exe in "$stage"/bin/* "$stage/test/dayflux_tests"; do
+for exe in "$stage"/bin/* "$stage"/bench/* "$stage/test/dayflux_tests"; do
     ldd "$exe" | awk '$3 ~ /^\// {print $3}'
 done | sort -u | grep -vE '/(libc|libm|libmvec|libpthread|libdl|librt|ld-linux-x86-64|libvulkan)\.so' |
     while read -r lib; do cp -L "$lib" "$stage/runtime/"; done
-strip --strip-unneeded "$stage"/bin/* "$stage"/test/* "$stage"/runtime/*
+strip --strip-unneeded "$stage"/bin/* "$stage"/bench/* "$stage"/test/* "$stage"/runtime/*
 rm -rf .gpu
 mkdir -p .gpu
 tar -C "$stage" -cf - . | xz -T0 -6 > .gpu/gpu.tar.xz

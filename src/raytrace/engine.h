@@ -49,6 +49,9 @@ struct EngineOptions {
     // with float accumulators); a bound on the tasks a dispatch takes (0: as memory allows).
     bool gpu_slice_sums = true;
     int gpu_tasks_per_dispatch = 0;
+    // For benchmarks (bench/gpu_replay_bench.cpp): the GPU logs up to this many of the rays it
+    // traces (nearest-hit queries), for ContribEngine::ReplayLoggedRays.
+    uint64_t gpu_ray_log = 0;
     // The CPU: the paths of a sensor's first-hemisphere cells (-I) walked at once by a thread,
     // their rays traced together in Embree's packets (1: one after the other; at most 16).
     int cpu_paths_at_once = 8;
@@ -87,6 +90,23 @@ class ContribEngine {
                              int slices, double *slice_records) {
         (void)rays, (void)n, (void)keys, (void)replica, (void)slices, (void)slice_records;
         return false;
+    }
+
+    // For benchmarks (bench/gpu_replay_bench.cpp), the GPU engine's: the nearest-hit queries
+    // traced since it was made (0 where not counted), and the device's seconds in each stage of
+    // its dispatches (trace, slice sums; empty without timestamps).
+    virtual uint64_t RaysTraced() const { return 0; }
+    virtual std::vector<double> StageSeconds() const { return {}; }
+    // The rays logged (EngineOptions::gpu_ray_log) traced again by a kernel that only finds their
+    // nearest hits (the trace's own Intersect), `passes` times on the first device: the fastest
+    // pass's device and wall seconds, the rays and how many hit. Nothing where none were logged.
+    struct ReplayResult {
+        uint64_t rays = 0, hits = 0;
+        double device_seconds = 0, wall_seconds = 0;
+    };
+    virtual ReplayResult ReplayLoggedRays(int passes) {
+        (void)passes;
+        return {};
     }
 };
 

@@ -323,6 +323,70 @@ TEST(Engine, SlicesSummedOnTheDeviceAsOnTheHostVulkan) {
     }
 }
 
+// The caster of an engine, counting its nearest-hit queries and their hits.
+class HitCounter : public Backend {
+  public:
+    HitCounter(std::unique_ptr<Backend> inner, std::atomic<size_t> *rays, std::atomic<size_t> *hits)
+        : inner_(std::move(inner)), rays_(rays), hits_(hits) {}
+    std::string Name() const override { return inner_->Name(); }
+    void SetBlockers(std::vector<uint32_t> triangles) override {
+        inner_->SetBlockers(std::move(triangles));
+    }
+    void Commit(const FlatScene &scene) override { inner_->Commit(scene); }
+    void Closest(const TraceRay *rays, TraceHit *hits, size_t n) const override {
+        inner_->Closest(rays, hits, n);
+        *rays_ += n;
+        for (size_t i = 0; i < n; ++i) *hits_ += hits[i].hit;
+    }
+    void Occluded(const TraceRay *rays, bool *occluded, size_t n) const override {
+        inner_->Occluded(rays, occluded, n);
+    }
+    void Blocked(const TraceRay *rays, bool *blocked, size_t n) const override {
+        inner_->Blocked(rays, blocked, n);
+    }
+
+  private:
+    std::unique_ptr<Backend> inner_;
+    std::atomic<size_t> *rays_, *hits_;
+};
+
+// What bench/gpu_replay_bench.cpp measures GPU efficiency with: the GPU counts the nearest-hit
+// queries it traces, as many as Embree's engine asks (one estimator: at -ab 1 under a sky of
+// glow, one a first-hemisphere cell), logs them, and its replay kernel finds their hits again,
+// as many as Embree found (float traversal apart: within 1 %); the device times its stages.
+TEST(Engine, RaysCountedLoggedAndReplayedVulkan) {
+    const HalfCoveredSky scene;
+    std::atomic<size_t> cpu_rays{0}, cpu_hits{0};
+    EngineOptions cpu;
+    cpu.wrap_cpu_backend = [&](std::unique_ptr<Backend> b) {
+        return std::make_unique<HitCounter>(std::move(b), &cpu_rays, &cpu_hits);
+    };
+    std::vector<double> out(scene.rays.size() / 2, 0.0);
+    scene.Engine(cpu, 1024)->Trace(scene.rays.data(), scene.Rays(), 0, 0, out.data());
+    EXPECT_EQ(cpu_rays, scene.Rays() * 1024);  // 32 x 32 cells a sensor
+    EngineOptions gpu;
+    gpu.backend = "vulkan";
+    const char *device = std::getenv("DAYFLUX_VULKAN_DEVICE");
+    gpu.device = device && *device ? device : "llvmpipe";
+    gpu.gpu_ray_log = 1 << 20;
+    const std::unique_ptr<ContribEngine> e = scene.Engine(gpu, 1024);
+    if (e->Label().rfind("vulkan", 0) != 0) GTEST_SKIP() << "no Vulkan engine";
+    EXPECT_EQ(e->RaysTraced(), 0u);
+    e->Trace(scene.rays.data(), scene.Rays(), 0, 0, out.data());
+    EXPECT_EQ(e->RaysTraced(), cpu_rays);
+    const ContribEngine::ReplayResult replay = e->ReplayLoggedRays(2);
+    EXPECT_EQ(replay.rays, cpu_rays);
+    EXPECT_GT(cpu_hits, cpu_rays / 10);  // the roof: some hit, others reach the sky
+    EXPECT_LT(cpu_hits, cpu_rays * 9 / 10);
+    EXPECT_NEAR(double(replay.hits), double(cpu_hits), 0.01 * double(cpu_hits));
+    EXPECT_GT(replay.wall_seconds, 0);
+    const std::vector<double> stages = e->StageSeconds();
+    if (!stages.empty()) {  // where the queue has timestamps (lavapipe's has)
+        EXPECT_GT(stages[0], 0);
+        EXPECT_GT(replay.device_seconds, 0);
+    }
+}
+
 // The caster of an engine, counting the shadow rays the blockers stopped; with drop_blockers,
 // given none (every shadow ray then walks through what it meets).
 class BlockerCounter : public Backend {

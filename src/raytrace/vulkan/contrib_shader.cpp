@@ -99,6 +99,7 @@ std::string Macros(const PackedScene &packed, const ContribOptions &options,
     define("ACCUM_T", engine.accumulators == GpuAccum::kDouble ? "double" : "float");
     if (engine.accumulators == GpuAccum::kPair) define("DAYFLUX_ACCUM_PAIR", "1");
     define("cal_real", engine.gpu_double_cal ? "double" : "float");
+    if (engine.gpu_ray_log > 0) define("DAYFLUX_RAY_LOG", "1");
     if (options.ambient_subsamples > 1) define("DAYFLUX_ASUB", "1");
     if (packed.bsdf) define("DAYFLUX_BSDF", "1");
     if (packed.aperture) define("DAYFLUX_APERTURE", "1");
@@ -234,10 +235,11 @@ void main() {
 }
 
 std::vector<uint32_t> CompileContribShader(const ContribShader &shader, bool ray_queries,
-                                           bool scratch) {
+                                           bool scratch, bool replay) {
     // ([[dont_unroll]] keeps the BSDF's small loops, so its code is not copied.)
     const std::string source =
         std::string("#version 460\n#extension GL_EXT_control_flow_attributes : enable\n") +
+        (replay ? "#define DAYFLUX_REPLAY 1\n" : "") +
         (ray_queries ? "#extension GL_EXT_ray_query : require\n" : "#define DAYFLUX_BVH 1\n") +
         (scratch ? "#define DAYFLUX_SCRATCH 1\n"
                  : "#define MAXN " + std::to_string(kGpuMaxRows) + "\n") +

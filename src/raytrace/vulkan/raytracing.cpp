@@ -124,10 +124,15 @@ struct GpuDevice::Impl {
     std::vector<Buffer> readback_buffers;  // their host-visible copies
     std::vector<Buffer> resident;          // Resident(): device-local, with the data's own sizes
     std::vector<VkDeviceSize> resident_size;
+    // Timestamps around RunStages' stages, where the queue has them (timestamp_bits > 0).
+    VkQueryPool timestamps = VK_NULL_HANDLE;
+    uint32_t timestamp_slots = 0, timestamp_bits = 0;
+    std::vector<double> stage_seconds;  // the last RunStages'
 
     ~Impl() {
         if (device) {
             vkDeviceWaitIdle(device);
+            if (timestamps) vkDestroyQueryPool(device, timestamps, nullptr);
             DestroyScene();
             for (auto &[key, p] : pipelines) DestroyPipeline(p);
             for (Buffer &b : run_buffers) Destroy(b);
@@ -281,6 +286,7 @@ GpuDevice::GpuDevice(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 GpuDevice::~GpuDevice() = default;
 const std::string &GpuDevice::Name() const { return impl_->name; }
 uint64_t GpuDevice::MaxBufferBytes() const { return impl_->limits.maxStorageBufferRange; }
+const std::vector<double> &GpuDevice::LastStageSeconds() const { return impl_->stage_seconds; }
 
 bool GpuDevice::IsCpu() const {
     VkPhysicalDeviceProperties p;
@@ -457,6 +463,13 @@ std::unique_ptr<GpuDevice> GpuDevice::Open(std::string *why, bool allow_cpu, Tra
     if (!ComputeQueueFamily(impl->physical, &impl->queue_family)) {
         *why = impl->name + " has no compute queue";
         return nullptr;
+    }
+    {
+        uint32_t n = 0;
+        vkGetPhysicalDeviceQueueFamilyProperties(impl->physical, &n, nullptr);
+        std::vector<VkQueueFamilyProperties> families(n);
+        vkGetPhysicalDeviceQueueFamilyProperties(impl->physical, &n, families.data());
+        impl->timestamp_bits = families[impl->queue_family].timestampValidBits;
     }
     const float priority = 1.f;
     VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -944,6 +957,17 @@ void GpuDevice::RunStages(const std::vector<Stage> &stages, const std::vector<Bi
     for (const auto &run : runs) groups_of(run.first);  // (before anything is recorded)
 
     VkCommandBuffer cb = d.BeginCommands();
+    const uint32_t slots = static_cast<uint32_t>(runs.size()) + 1;
+    const bool timed = d.timestamp_bits > 0;
+    if (timed && d.timestamp_slots < slots) {
+        if (d.timestamps) vkDestroyQueryPool(dev, d.timestamps, nullptr);
+        VkQueryPoolCreateInfo qpci{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+        qpci.queryType = VK_QUERY_TYPE_TIMESTAMP;
+        qpci.queryCount = slots;
+        VK_CHECK(vkCreateQueryPool(dev, &qpci, nullptr, &d.timestamps));
+        d.timestamp_slots = slots;
+    }
+    if (timed) vkCmdResetQueryPool(cb, d.timestamps, 0, slots);
     const auto barrier = [&](VkPipelineStageFlags from, VkAccessFlags written,
                              VkPipelineStageFlags to, VkAccessFlags used) {
         VkMemoryBarrier b{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
@@ -978,7 +1002,12 @@ void GpuDevice::RunStages(const std::vector<Stage> &stages, const std::vector<Bi
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, runs[k].second->pipeline);
         vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, runs[k].second->layout, 0, 1,
                                 &set, 0, nullptr);
+        if (timed && k == 0)
+            vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, d.timestamps, 0);
         vkCmdDispatch(cb, gx, gy, 1);
+        if (timed)
+            vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, d.timestamps,
+                                static_cast<uint32_t>(k) + 1);
     }
     if (any_accumulator) {
         barrier(VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
@@ -995,6 +1024,18 @@ void GpuDevice::RunStages(const std::vector<Stage> &stages, const std::vector<Bi
             VK_ACCESS_HOST_READ_BIT);
     d.SubmitAndWait(cb);
     vkDestroyDescriptorPool(dev, dpool, nullptr);
+    d.stage_seconds.clear();
+    if (timed) {
+        std::vector<uint64_t> ticks(slots);
+        VK_CHECK(vkGetQueryPoolResults(dev, d.timestamps, 0, slots, slots * sizeof(uint64_t),
+                                       ticks.data(), sizeof(uint64_t),
+                                       VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+        const uint64_t mask =
+            d.timestamp_bits >= 64 ? ~uint64_t{0} : (uint64_t{1} << d.timestamp_bits) - 1;
+        for (uint32_t k = 1; k < slots; ++k)
+            d.stage_seconds.push_back(double((ticks[k] - ticks[k - 1]) & mask) *
+                                      d.limits.timestampPeriod * 1e-9);
+    }
 
     for (uint32_t i = 0; i < nb; ++i) {
         const Binding &bi = bindings[i];

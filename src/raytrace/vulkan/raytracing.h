@@ -123,6 +123,10 @@ class GpuDevice {
         uint32_t invocations, local_size_x;
     };
     void RunStages(const std::vector<Stage> &stages, const std::vector<Binding> &bindings);
+    // The device's time for each stage (with invocations) of the last Run or RunStages, from
+    // timestamp queries: the first from its start, each other from the end of the one before
+    // (the barrier between them included). Empty where the queue has no timestamps.
+    const std::vector<double> &LastStageSeconds() const;
 
     struct Impl;
 

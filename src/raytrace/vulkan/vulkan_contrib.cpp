@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <mutex>
@@ -130,7 +131,37 @@ struct DeviceState {
     uint32_t item_bytes = 0;  // the shader's stack item (std430), for its scratch
     uint64_t dropped = 0;     // stack items lost in its last Trace
     uint32_t reports = 0;     // the core's kReport* flags, likewise
+    // For benchmarks: nearest-hit queries traced, the device's seconds per stage (trace, slice
+    // sums), and the rays logged (EngineOptions::gpu_ray_log), since the engine was made.
+    uint64_t rays_traced = 0;
+    std::vector<double> stage_seconds;
+    std::vector<core::vec4> ray_log;
+    std::vector<uint32_t> replay_spirv;  // compiled when first asked for
 };
+
+using G = vk::GpuDevice;
+
+// The bindings of the scene's tables, as uploaded (Upload), for every kernel of a device.
+NamedBindings SceneBindings(const DeviceState &dev, std::vector<uint8_t> *none) {
+    NamedBindings named;
+    named.Set(core::kBindingPositions, G::OnDevice(dev.positions));
+    named.Set(core::kBindingIndices, G::OnDevice(dev.indices));
+    named.Set(core::kBindingTriangles, G::OnDevice(dev.triangles));
+    named.Set(core::kBindingSurfaces, G::OnDevice(dev.surfaces));
+    named.Set(core::kBindingSources, G::OnDevice(dev.sources));
+    named.Set(core::kBindingShapes, G::OnDevice(dev.shapes));
+    if (!dev.device->RayQueries()) {  // our BVH in place of the acceleration structure
+        named.Set(core::kBindingScene, G::OnDevice(dev.bvh_nodes));
+        named.Set(core::kBindingBvhPrims, G::OnDevice(dev.bvh_prims));
+    } else {
+        named.Set(core::kBindingBvhPrims, G::In(none));  // unused
+    }
+    named.Set(core::kBindingKlems, G::OnDevice(dev.klems));
+    named.Set(core::kBindingRelays, G::OnDevice(dev.relays));
+    named.Set(core::kBindingTracked, G::OnDevice(dev.tracked));
+    named.Set(core::kBindingReceivers, G::OnDevice(dev.receivers));
+    return named;
+}
 
 // The device's copy of the scene; false, with why, when its buffers cannot hold it.
 bool Upload(const PackedScene &packed, const std::vector<core::ivec4> &tracked, Geometry &geometry,
@@ -176,12 +207,14 @@ vk::Traversal DeviceTraversal(GpuTraversal t) {
 class VulkanContribEngine : public ContribEngine {
   public:
     VulkanContribEngine(const PackedScene &packed, const ContribOptions &options,
-                        GpuAccum accumulators, int tasks_per_dispatch,
+                        const EngineOptions &engine, ContribShader shader,
                         std::vector<DeviceState> devices)
         : devices_(std::move(devices)),
           o_(options),
-          accumulators_(accumulators),
-          tasks_per_dispatch_(tasks_per_dispatch),
+          accumulators_(engine.accumulators),
+          tasks_per_dispatch_(engine.gpu_tasks_per_dispatch),
+          ray_log_capacity_(engine.gpu_ray_log),
+          shader_(std::move(shader)),
           columns_(packed.columns),
           parameters_(Bytes(std::vector<core::GpuParameters>{
               MakeParameters<core::GpuParameters>(packed, options)})),
@@ -258,6 +291,21 @@ class VulkanContribEngine : public ContribEngine {
         WarnCoreReports(reports, lost);
     }
 
+    uint64_t RaysTraced() const override {
+        uint64_t n = 0;
+        for (const DeviceState &d : devices_) n += d.rays_traced;
+        return n;
+    }
+    std::vector<double> StageSeconds() const override {
+        std::vector<double> sum;
+        for (const DeviceState &d : devices_) {
+            sum.resize(std::max(sum.size(), d.stage_seconds.size()));
+            for (size_t k = 0; k < d.stage_seconds.size(); ++k) sum[k] += d.stage_seconds[k];
+        }
+        return sum;
+    }
+    ReplayResult ReplayLoggedRays(int passes) override;
+
     size_t AccumBytes() const {
         return accumulators_ == GpuAccum::kFloat ? sizeof(float) : 2 * sizeof(float);
     }
@@ -269,7 +317,9 @@ class VulkanContribEngine : public ContribEngine {
     std::string names_;
     ContribOptions o_;
     GpuAccum accumulators_;
-    int tasks_per_dispatch_;  // EngineOptions::gpu_tasks_per_dispatch
+    int tasks_per_dispatch_;     // EngineOptions::gpu_tasks_per_dispatch
+    uint64_t ray_log_capacity_;  // EngineOptions::gpu_ray_log
+    ContribShader shader_;
     int columns_;
     std::vector<uint8_t> parameters_;  // the core's (kBindingParameters)
     double centre_[3], extent_;
@@ -348,47 +398,45 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
         // zeroed on the device; with sum_slices, the rays' sums
         accum.resize((sum_slices ? count / slices : count) * record * AccumBytes());
-        std::vector<uint8_t> stats(16, 0);
-        using G = vk::GpuDevice;
-        NamedBindings named;
+        std::vector<uint8_t> stats(16, 0), none;
+        // The rays this dispatch may log: what the log has room for, within a buffer's range.
+        const uint64_t log_room = std::min<uint64_t>(
+            ray_log_capacity_ - std::min<uint64_t>(ray_log_capacity_, dev.ray_log.size() / 2),
+            dev.device->MaxBufferBytes() / (2 * sizeof(core::vec4)));
+        tasks.log_capacity = static_cast<int>(std::min<uint64_t>(log_room, INT32_MAX));
+        std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
+        std::vector<uint8_t> log_bytes(size_t(tasks.log_capacity) * 2 * sizeof(core::vec4));
+        NamedBindings named = SceneBindings(dev, &none);
         named.Set(core::kBindingRays, G::In(&ray_bytes));
-        named.Set(core::kBindingPositions, G::OnDevice(dev.positions));
-        named.Set(core::kBindingIndices, G::OnDevice(dev.indices));
-        named.Set(core::kBindingTriangles, G::OnDevice(dev.triangles));
-        named.Set(core::kBindingSurfaces, G::OnDevice(dev.surfaces));
-        named.Set(core::kBindingSources, G::OnDevice(dev.sources));
         named.Set(core::kBindingAccum, sum_slices ? G::ZeroedScratch(count * record * AccumBytes())
                                                   : G::Accumulator(&accum));
         named.Set(core::kBindingTasks, G::In(&task_bytes));
         named.Set(core::kBindingParameters, G::In(&parameter_bytes));
         named.Set(core::kBindingStats, G::InOut(&stats));
-        named.Set(core::kBindingShapes, G::OnDevice(dev.shapes));
-        std::vector<uint8_t> none;
-        if (!dev.device->RayQueries()) {  // our BVH in place of the acceleration structure
-            named.Set(core::kBindingScene, G::OnDevice(dev.bvh_nodes));
-            named.Set(core::kBindingBvhPrims, G::OnDevice(dev.bvh_prims));
-        } else {
-            named.Set(core::kBindingBvhPrims, G::In(&none));  // unused
-        }
-        named.Set(core::kBindingKlems, G::OnDevice(dev.klems));
-        named.Set(core::kBindingRelays, G::OnDevice(dev.relays));
-        named.Set(core::kBindingTracked, G::OnDevice(dev.tracked));
         named.Set(core::kBindingScratchItems,
                   dev.scratch ? G::Scratch(count * stack_bytes) : G::In(&none));
         named.Set(core::kBindingScratchRows,
                   dev.scratch ? G::Scratch(count * rows_bytes) : G::In(&none));
-        named.Set(core::kBindingReceivers, G::OnDevice(dev.receivers));
         named.Set(core::kBindingSliceSums, sum_slices ? G::Accumulator(&accum) : G::In(&none));
+        named.Set(core::kBindingRayLog,
+                  log_bytes.empty() ? G::In(&none) : G::Accumulator(&log_bytes));
         const std::vector<G::Binding> buffers = named.InOrder(dev.device->RayQueries());
         std::vector<G::Stage> stages = {{&dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize}};
         if (sum_slices)
             stages.push_back({&dev.sum_spirv, static_cast<uint32_t>(count / slices * record),
                               kSliceSumLocalSize});
         dev.device->RunStages(stages, buffers);
-        uint32_t stat[2];
+        uint32_t stat[4];
         std::memcpy(stat, stats.data(), sizeof stat);
         dev.dropped += stat[0];
         dev.reports |= stat[1];
+        dev.rays_traced += stat[2];
+        const std::vector<double> &seconds = dev.device->LastStageSeconds();
+        dev.stage_seconds.resize(std::max(dev.stage_seconds.size(), seconds.size()));
+        for (size_t k = 0; k < seconds.size(); ++k) dev.stage_seconds[k] += seconds[k];
+        const size_t logged = std::min<size_t>(stat[3], size_t(tasks.log_capacity));
+        const auto *log = reinterpret_cast<const core::vec4 *>(log_bytes.data());
+        dev.ray_log.insert(dev.ray_log.end(), log, log + 2 * logged);
         // entry(i): entry i of the records read back, in double
         const auto add = [&](const auto &entry) {
             const size_t step = sum_slices ? slices : 1;  // tasks a record read back stands for
@@ -407,6 +455,63 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         else
             add([&accum](size_t i) { return reinterpret_cast<const double *>(accum.data())[i]; });
     }
+}
+
+ContribEngine::ReplayResult VulkanContribEngine::ReplayLoggedRays(int passes) {
+    ReplayResult result;
+    DeviceState &dev = devices_[0];
+    const size_t n = dev.ray_log.size() / 2;
+    if (n == 0) return result;
+    if (dev.replay_spirv.empty())
+        dev.replay_spirv =
+            CompileContribShader(shader_, dev.device->RayQueries(), dev.scratch, true);
+    const int log = dev.device->Resident(Bytes(dev.ray_log));
+    result.rays = n;
+    for (int pass = 0; pass < std::max(1, passes); ++pass) {
+        double device_s = 0, wall_s = 0;
+        for (size_t offset = 0; offset < n; offset += kMaxTasksPerRun) {  // as traces go
+            const size_t count = std::min<size_t>(kMaxTasksPerRun, n - offset);
+            core::GpuTasks tasks = Tasks(0, 1, 0, 0);
+            tasks.task_offset = static_cast<int>(offset);
+            tasks.count = static_cast<int>(count);
+            std::vector<uint8_t> task_bytes(sizeof tasks), stats(16, 0), none,
+                parameter_bytes = parameters_, distances(pass == 0 ? count * AccumBytes() : 0);
+            std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
+            NamedBindings named = SceneBindings(dev, &none);
+            named.Set(core::kBindingRays, G::In(&none));
+            // the first pass's distances come back, to count hits; the others' stay there
+            named.Set(core::kBindingAccum,
+                      pass == 0 ? G::Accumulator(&distances) : G::Scratch(count * AccumBytes()));
+            named.Set(core::kBindingTasks, G::In(&task_bytes));
+            named.Set(core::kBindingParameters, G::In(&parameter_bytes));
+            named.Set(core::kBindingStats, G::InOut(&stats));
+            named.Set(core::kBindingScratchItems, G::In(&none));
+            named.Set(core::kBindingScratchRows, G::In(&none));
+            named.Set(core::kBindingSliceSums, G::In(&none));
+            named.Set(core::kBindingRayLog, G::OnDevice(log));
+            const auto start = std::chrono::steady_clock::now();
+            dev.device->Run(dev.replay_spirv, static_cast<uint32_t>(count), kGpuLocalSize,
+                            named.InOrder(dev.device->RayQueries()));
+            wall_s +=
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            const std::vector<double> &seconds = dev.device->LastStageSeconds();
+            device_s += seconds.empty() ? 0 : seconds[0];
+            for (size_t i = 0; pass == 0 && i < count; ++i) {
+                double t;
+                if (accumulators_ == GpuAccum::kDouble) {
+                    std::memcpy(&t, distances.data() + i * sizeof t, sizeof t);
+                } else {
+                    float f;
+                    std::memcpy(&f, distances.data() + i * sizeof f, sizeof f);
+                    t = f;
+                }
+                result.hits += t >= 0;
+            }
+        }
+        if (pass == 0 || wall_s < result.wall_seconds) result.wall_seconds = wall_s;
+        if (pass == 0 || device_s < result.device_seconds) result.device_seconds = device_s;
+    }
+    return result;
 }
 
 }  // namespace
@@ -447,8 +552,8 @@ std::unique_ptr<ContribEngine> CreateVulkanContribEngine(
         }
         if (!Upload(packed, tracked_table, geometry, dev, why)) return nullptr;
     }
-    return std::make_unique<VulkanContribEngine>(packed, options, engine.accumulators,
-                                                 engine.gpu_tasks_per_dispatch, std::move(devices));
+    return std::make_unique<VulkanContribEngine>(packed, options, engine, std::move(shader),
+                                                 std::move(devices));
 }
 
 }  // namespace dayflux

@@ -21,7 +21,9 @@ CONST int kBindingSurfaces = 5;   // PackedSurface per surface kind
 CONST int kBindingSources = 6;    // PackedSource per source
 CONST int kBindingAccum = 7;      // double (or float), tasks x columns x 3
 CONST int kBindingTasks = 8;      // GpuTasks: what this dispatch does
-CONST int kBindingStats = 9;      // uint: stack items dropped (should stay 0), then kReport* flags
+// uint: stack items dropped (should stay 0), kReport* flags, nearest-hit queries traced, rays
+// logged (DAYFLUX_RAY_LOG)
+CONST int kBindingStats = 9;
 CONST int kBindingShapes = 10;    // PackedShape per analytic surface (procedural boxes)
 CONST int kBindingBvhPrims = 11;  // int per BVH leaf entry: triangle, or -(shape + 1)
 CONST int kBindingKlems = 12;     // float: the BSDF materials' Klems data
@@ -37,23 +39,27 @@ CONST int kBindingReceivers = 17;     // vec4: what -asub samples directly (tabl
 // dispatch's rays x columns x 3; kBindingAccum is then scratch that this stage reads.
 CONST int kBindingSliceSums = 18;
 CONST int kBindingParameters = 19;  // GpuParameters (core/parameters.h): the run's, `params`
-CONST int kBindingCount = 20;
+// For benchmarks: 2 vec4 a ray (org, from as int bits; dir): the rays a run logs
+// (DAYFLUX_RAY_LOG, up to tasks.log_capacity), or those a replay traces (DAYFLUX_REPLAY).
+CONST int kBindingRayLog = 20;
+CONST int kBindingCount = 21;
 
 // One dispatch: tasks [task_offset, task_offset + count) of rays x slices; a slice traces a
 // share of the rows of the first hemisphere (the rest of a path follows the cell that started
 // it). Results: count x columns x 3 accumulators. What the core reads of the run is in the
 // parameters (kBindingParameters); these are the driver's own.
 struct GpuTasks {
-    int rays;         // input rays in the batch (the rays buffer)
-    int slices;       // tasks per ray
-    int first_ray;    // index of the batch's first ray in the whole input (random numbers)
-    int replica;      // -se replica (random numbers)
-    int task_offset;  // first task of this dispatch
-    int count;        // tasks in this dispatch
-    int ncols;        // columns of a record (all tracked modifiers' bins)
-    int maxn;         // first-hemisphere cells a side the rows hold: at least any -ad gives
-    float tmin;       // the ray start offset
-    int pad0, pad1, pad2;
+    int rays;          // input rays in the batch (the rays buffer)
+    int slices;        // tasks per ray
+    int first_ray;     // index of the batch's first ray in the whole input (random numbers)
+    int replica;       // -se replica (random numbers)
+    int task_offset;   // first task of this dispatch
+    int count;         // tasks in this dispatch
+    int ncols;         // columns of a record (all tracked modifiers' bins)
+    int maxn;          // first-hemisphere cells a side the rows hold: at least any -ad gives
+    float tmin;        // the ray start offset
+    int log_capacity;  // rays kBindingRayLog holds (DAYFLUX_RAY_LOG)
+    int pad1, pad2;
 };
 
 #ifdef __cplusplus

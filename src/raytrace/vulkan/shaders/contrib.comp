@@ -31,7 +31,10 @@ layout(std430, set = 0, binding = kBindingSources) readonly buffer Sources { Pac
 layout(std430, set = 0, binding = kBindingAccum) buffer Accum { ACCUM_T accum[]; };
 layout(std430, set = 0, binding = kBindingTasks) readonly buffer Tasks { GpuTasks tasks; };
 layout(std430, set = 0, binding = kBindingParameters) readonly buffer RunParameters { Parameters params; };
-layout(std430, set = 0, binding = kBindingStats) buffer Stats { uint stats_dropped, stats_reports; };
+layout(std430, set = 0, binding = kBindingStats) buffer Stats {
+    uint stats_dropped, stats_reports, stats_rays, stats_logged;
+};
+layout(std430, set = 0, binding = kBindingRayLog) buffer RayLog { vec4 ray_log[]; };
 layout(std430, set = 0, binding = kBindingShapes) readonly buffer Shapes { PackedShape shapes[]; };
 layout(std430, set = 0, binding = kBindingRelays) readonly buffer Relays { vec4 relays[]; };
 layout(std430, set = 0, binding = kBindingTracked) readonly buffer Tracked { ivec4 tracked[]; };
@@ -199,9 +202,20 @@ bool Closest(vec3 org, vec3 dir, int from, out float t, out int prim, out int sh
 }
 #endif
 
+uint rays_traced;  // this invocation's nearest-hit queries
+
 // The nearest surface a ray meets (Intersect for the core): a triangle, its hit refined as the
-// CPU backend refines it, or an analytic surface.
+// CPU backend refines it, or an analytic surface. Counted, and with DAYFLUX_RAY_LOG logged for
+// a replay (bench/gpu_replay_bench.cpp).
 bool Intersect(Ray r, out Hit h) {
+    ++rays_traced;
+#ifdef DAYFLUX_RAY_LOG
+    uint at = atomicAdd(stats_logged, 1u);
+    if (at < uint(tasks.log_capacity)) {
+        ray_log[2u * at] = vec4(r.org, intBitsToFloat(r.from));
+        ray_log[2u * at + 1u] = vec4(r.dir, 0);
+    }
+#endif
     float t;
     int prim, shape;
     if (!Closest(r.org, r.dir, r.from, t, prim, shape)) return false;
@@ -229,10 +243,28 @@ bool Intersect(Ray r, out Hit h) {
 
 #include "raytrace/core/walk.inl"
 
+#ifdef DAYFLUX_REPLAY
+// The logged rays [task_offset, task_offset + count) again, nearest hits alone (GPU efficiency's
+// denominator, as bench/ray_replay_bench.cpp's replay is the CPU's): a hit's distance, or -1,
+// into accum, so that nothing is optimised away.
+void main() {
+    uint i = gl_GlobalInvocationID.x +
+             gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    if (i >= uint(tasks.count)) return;
+    uint at = uint(tasks.task_offset) + i;
+    Ray r;
+    r.org = ray_log[2u * at].xyz;
+    r.from = floatBitsToInt(ray_log[2u * at].w);
+    r.dir = ray_log[2u * at + 1u].xyz;
+    Hit h;
+    accum[i] = ACCUM_T(Intersect(r, h) ? h.t + h.normal.x : -1.0);
+}
+#else
 void main() {
     top = 0;
     dropped = 0u;
     reports = 0u;
+    rays_traced = 0u;
     uint local_task = gl_GlobalInvocationID.x;
     if (local_task < uint(tasks.count)) {
         uint task = uint(tasks.task_offset) + local_task;
@@ -253,4 +285,6 @@ void main() {
     // Items that did not fit the stack are lost: the host says how many.
     if (dropped > 0u) atomicAdd(stats_dropped, dropped);
     if (reports != 0u) atomicOr(stats_reports, reports);
+    if (rays_traced > 0u) atomicAdd(stats_rays, rays_traced);
 }
+#endif

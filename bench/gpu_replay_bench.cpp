@@ -1,0 +1,135 @@
+// Issue 42's measure of the GPU engine's limit, the GPU twin of ray_replay_bench.cpp: the rays a
+// run traces, replayed on the same device by a kernel that only finds their nearest hits (the
+// trace's own BVH walk or ray query and hit refinement, contrib.comp's DAYFLUX_REPLAY). Over the
+// sensors read from stdin (rcontrib-gpu's options, with -backend vulkan and -device, and scene
+// as arguments, text rays):
+//   1. the run, once to compile its pipeline (not timed), then timed (-repeat N times, the
+//      fastest kept): wall seconds, the device's seconds per stage (timestamps: trace, slice
+//      sums) and the nearest-hit queries it traced (the engine counts them);
+//   2. the run again over every K-th sensor (-record_every K), logging its rays (at most
+//      -log_rays M), and those rays replayed N times, the fastest pass kept.
+// GPU efficiency = (rays a second of the run) / (rays a second of the replay), both by the
+// device's own timestamps where it has them (else wall time).
+// usage: gpu_replay_bench [-record_every K] [-repeat N] [-log_rays M] rcontrib-gpu-options...
+//        scene... < sensors
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "raytrace/engine.h"
+#include "rcontrib/options.h"
+#include "rcontrib/run.h"
+#include "util/errors.h"
+
+namespace dayflux {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::unique_ptr<ContribEngine> MakeEngine(const RcontribOptions &o, const FlatScene &flat,
+                                          uint64_t log_rays) {
+    EngineOptions engine = o.engine;
+    engine.gpu_ray_log = log_rays;
+    std::unique_ptr<ContribEngine> e = CreateContribEngine(
+        flat, o.contrib, TrackedModifiers(o),
+        [&o](int k) { return MakeCalContext(o, o.modifiers[k].params); }, engine);
+    if (e->Label().rfind("vulkan", 0) != 0)
+        ErrorExit("no Vulkan engine for this run (" + e->Label() + ")");
+    return e;
+}
+
+struct RunTimes {
+    double wall = 0;
+    std::vector<double> stages;  // the device's, per stage
+    uint64_t rays = 0;
+};
+
+RunTimes TimedRun(ContribEngine &e, const std::vector<double> &rays) {
+    const size_t n = rays.size() / 6;
+    std::vector<double> records(n * 3 * static_cast<size_t>(e.Columns()), 0.0);
+    const uint64_t rays_before = e.RaysTraced();
+    const std::vector<double> stages_before = e.StageSeconds();
+    const Clock::time_point start = Clock::now();
+    e.Trace(rays.data(), n, 0, 0, records.data());
+    RunTimes t;
+    t.wall = std::chrono::duration<double>(Clock::now() - start).count();
+    t.rays = e.RaysTraced() - rays_before;
+    t.stages = e.StageSeconds();
+    for (size_t k = 0; k < stages_before.size(); ++k) t.stages[k] -= stages_before[k];
+    return t;
+}
+
+std::vector<double> ReadRays(std::istream &in) {
+    std::vector<double> rays;
+    double v;
+    while (in >> v) rays.push_back(v);
+    if (rays.empty() || rays.size() % 6) ErrorExit("<stdin>: expected rays of 6 numbers");
+    return rays;
+}
+
+double Total(const std::vector<double> &v) {
+    double s = 0;
+    for (double x : v) s += x;
+    return s;
+}
+
+int Main(int argc, char **argv) {
+    std::vector<std::string> args(argv, argv + argc);
+    size_t every = 1, repeat = 3, log_rays = size_t(1) << 24;
+    while (args.size() > 2 &&
+           (args[1] == "-record_every" || args[1] == "-repeat" || args[1] == "-log_rays")) {
+        size_t &value = args[1] == "-repeat" ? repeat : args[1] == "-log_rays" ? log_rays : every;
+        value = std::max<size_t>(1, std::stoul(args[2]));
+        args.erase(args.begin() + 1, args.begin() + 3);
+    }
+    std::vector<std::string> header;
+    const RcontribOptions o = ParseRcontribOptions(args, &header);
+    if (o.engine.backend != "vulkan") ErrorExit("the replay measures the Vulkan backend");
+    std::string octree_header;
+    const FlatScene flat = ReadRcontribScene(o.scene, &octree_header);
+    const std::vector<double> rays = ReadRays(std::cin);
+
+    const std::unique_ptr<ContribEngine> engine = MakeEngine(o, flat, 0);
+    TimedRun(*engine, std::vector<double>(rays.begin(), rays.begin() + 6));  // compiles
+    RunTimes run = TimedRun(*engine, rays);
+    for (size_t k = 1; k < repeat; ++k) {
+        RunTimes again = TimedRun(*engine, rays);
+        if (again.wall < run.wall) run = again;
+    }
+
+    std::vector<double> subset;
+    for (size_t i = 0; i < rays.size() / 6; i += every)
+        subset.insert(subset.end(), &rays[6 * i], &rays[6 * i + 6]);
+    const std::unique_ptr<ContribEngine> logging = MakeEngine(o, flat, log_rays);
+    TimedRun(*logging, subset);
+    const ContribEngine::ReplayResult replay = logging->ReplayLoggedRays(static_cast<int>(repeat));
+    if (replay.rays == 0) ErrorExit("no rays logged");
+
+    // The device's clock where it has one, for both.
+    const bool device_clock = !run.stages.empty() && replay.device_seconds > 0;
+    const double run_s = device_clock ? Total(run.stages) : run.wall;
+    const double replay_s = device_clock ? replay.device_seconds : replay.wall_seconds;
+    const double run_rate = double(run.rays) / run_s, replay_rate = double(replay.rays) / replay_s;
+    std::string device = engine->Label();  // (a CSV field: "llvmpipe (LLVM 15.0.6, 128 bits)")
+    std::replace(device.begin(), device.end(), ',', ';');
+    std::printf(
+        "device,sensors,rays,run_wall_s,run_device_s,trace_stage_s,sum_stage_s,run_mrays_s,"
+        "replayed_rays,replay_hits,replay_wall_s,replay_device_s,replay_mrays_s,efficiency\n");
+    std::printf("%s,%zu,%llu,%.4f,%.4f,%.4f,%.4f,%.2f,%llu,%llu,%.4f,%.4f,%.2f,%.3f\n",
+                device.c_str(), rays.size() / 6, static_cast<unsigned long long>(run.rays),
+                run.wall, Total(run.stages), run.stages.empty() ? 0.0 : run.stages[0],
+                run.stages.size() > 1 ? run.stages[1] : 0.0, run_rate * 1e-6,
+                static_cast<unsigned long long>(replay.rays),
+                static_cast<unsigned long long>(replay.hits), replay.wall_seconds,
+                replay.device_seconds, replay_rate * 1e-6, run_rate / replay_rate);
+    return 0;
+}
+
+}  // namespace
+}  // namespace dayflux
+
+int main(int argc, char **argv) { return dayflux::RunTool(argc, argv, dayflux::Main); }
