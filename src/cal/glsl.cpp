@@ -208,11 +208,15 @@ float cal_pow(float x, float y) {
     return cal_exp(y * cal_log(x));
 }
 float cal_div(float a, float b) { return b == 0.0 ? 0.0 : a / b; }
+// frac(1e5 / x) from the remainder of 1e5 by x, exact by fma, rather than from the quotient,
+// whose float keeps 7 or 8 bits of fraction.
 float cal_rand(float x) {
     x *= 1.0 / (1.0 + x * x) + 2.71828182845904;
     x += 0.785398163397447 - floor(x);
-    x = 1e5 / x;
-    return x - floor(x);
+    float q = floor(1e5 / x);
+    precise float r = fma(-q, x, 1e5);
+    r = r < 0.0 ? r + x : r >= x ? r - x : r;
+    return r / x;
 }
 )GLSL";
 

@@ -246,8 +246,8 @@ class Parser : public OptionCursor {
         return true;
     }
 
-    // Ours: -seed -first_record -asub -backend -device -gpu_traversal -gpu_accum -gpu_scratch
-    // -se -progress -no_commands.
+    // Ours: -seed -first_record -asub -backend -device -gpu_traversal -gpu_accum -gpu_cal
+    // -gpu_scratch -se -progress -no_commands.
     bool Ours(const std::string &a) {
         if (a == "-asub") {
             // N x N samples in each cell of the first ambient hemisphere, one of them

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -31,25 +32,39 @@ struct Allowance {
 class GlslAgainstInterpreter : public testing::Test {
   protected:
     static void SetUpTestSuite() {
-        std::string why;
-        // Any device with ray queries and doubles will do, lavapipe included; the scene is empty.
-        device_ = vk::GpuDevice::Open(&why, true, vk::Traversal::kRayQuery, 0, "", true).release();
+        // Any device with ray queries will do, lavapipe included; the scene is empty. The
+        // double code runs where shaderFloat64 is enabled, the float code on a device opened
+        // without it (as the engine opens one by default).
+        device_ = vk::GpuDevice::Open(&skip_reason_, true, vk::Traversal::kRayQuery, 0, "", true)
+                      .release();
         if (device_) device_->BuildScene({}, {});
-        if (!device_) skip_reason_ = why;
+        single_device_ =
+            vk::GpuDevice::Open(&single_skip_reason_, true, vk::Traversal::kRayQuery).release();
+        if (single_device_) single_device_->BuildScene({}, {});
     }
     static void TearDownTestSuite() {
         delete device_;
-        device_ = nullptr;
+        delete single_device_;
+        device_ = single_device_ = nullptr;
     }
 
     // Evaluates exprs on the device for n random directions, in the generated code's precision
     // (in float, the directions rounded to float first, for both), and compares every value with
     // the interpreter's.
-    void Compare(Context &cx, const std::vector<std::string> &exprs, int n, unsigned seed,
-                 Allowance allow = {}, const std::vector<double> &object_args = {},
-                 GlslPrecision precision = GlslPrecision::kDouble) {
-        if (!device_) GTEST_SKIP() << "no Vulkan device with shaderFloat64: " << skip_reason_;
+    // Gives the device's values, n x exprs.size().
+    std::vector<double> Compare(Context &cx, const std::vector<std::string> &exprs, int n,
+                                unsigned seed, Allowance allow = {},
+                                const std::vector<double> &object_args = {},
+                                GlslPrecision precision = GlslPrecision::kDouble) {
         const bool single = precision == GlslPrecision::kFloat;
+        vk::GpuDevice *device = single ? single_device_ : device_;
+        if (!device) {
+            [&] {
+                GTEST_SKIP() << "no Vulkan device" << (single ? "" : " with shaderFloat64") << ": "
+                             << (single ? single_skip_reason_ : skip_reason_);
+            }();
+            return {};
+        }
         const std::string t = single ? "float" : "double", suffix = single ? "" : "LF";
         std::vector<Expression> compiled;
         for (const auto &e : exprs) compiled.push_back(cx.Compile(e, FileLoc{"-b", 0}));
@@ -97,7 +112,7 @@ class GlslAgainstInterpreter : public testing::Test {
                 std::memcpy(in.data() + i * bytes, &dirs[i], bytes);
             }
         }
-        device_->Run(spirv, n, 64, {vk::GpuDevice::In(&in), vk::GpuDevice::InOut(&out)});
+        device->Run(spirv, n, 64, {vk::GpuDevice::In(&in), vk::GpuDevice::InOut(&out)});
         std::vector<double> gpu(static_cast<size_t>(n) * k);
         for (size_t i = 0; i < gpu.size(); ++i) {
             float f;
@@ -129,14 +144,17 @@ class GlslAgainstInterpreter : public testing::Test {
                 }
             }
         }
-        EXPECT_LE(differ, allow.allowed) << "in " << t << " on " << device_->Name() << first;
+        EXPECT_LE(differ, allow.allowed) << "in " << t << " on " << device->Name() << first;
+        return gpu;
     }
 
-    static vk::GpuDevice *device_;
-    static std::string skip_reason_;
+    static vk::GpuDevice *device_, *single_device_;
+    static std::string skip_reason_, single_skip_reason_;
 };
 vk::GpuDevice *GlslAgainstInterpreter::device_ = nullptr;
+vk::GpuDevice *GlslAgainstInterpreter::single_device_ = nullptr;
 std::string GlslAgainstInterpreter::skip_reason_;
+std::string GlslAgainstInterpreter::single_skip_reason_;
 
 // The test: a million random directions through every standard bin function.
 TEST_F(GlslAgainstInterpreter, StandardBinFunctionsGiveIdenticalBins) {
@@ -269,6 +287,26 @@ TEST_F(GlslAgainstInterpreter, SkyPatternsInFloat) {
             GlslPrecision::kFloat);
     Compare(gendaylit, {"skybright"}, 20000, 12, {3e-6},
             {7.5, 3.1, -1, -0.3, 3, -2, 0.5, 0.2, -0.4, 0.89}, GlslPrecision::kFloat);
+}
+
+// rand() in float: frac(1e5 / x) from the remainder, so its numbers spread over the unit
+// interval; taken from the float quotient they were 256 values.
+TEST_F(GlslAgainstInterpreter, RandInFloatSpreads) {
+    Context cx;
+    cx.LoadRayInit();
+    const std::vector<double> r =
+        Compare(cx, {"rand(Dx)"}, 20000, 14, {1e300}, {}, GlslPrecision::kFloat);
+    if (r.empty()) return;  // (skipped: no device)
+    ASSERT_EQ(r.size(), 20000u);
+    std::vector<double> sorted = r;
+    std::sort(sorted.begin(), sorted.end());
+    EXPECT_GE(sorted.front(), 0);
+    EXPECT_LT(sorted.back(), 1);
+    const size_t distinct = std::unique(sorted.begin(), sorted.end()) - sorted.begin();
+    EXPECT_GT(distinct, 19000u);
+    double mean = 0;
+    for (double x : r) mean += x / double(r.size());
+    EXPECT_NEAR(mean, 0.5, 4 * std::sqrt(1.0 / 12 / double(r.size())));
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 // No double in the GPU's shaders unless a run asks for one: every feature the core compiles in,
-// with the standard bin functions, on both traversals and both places for the stack, gives
-// SPIR-V without the Float64 capability, which a device without shaderFloat64 (Apple's, Intel's)
-// can run. (Compiling needs no device; every run also checks its SPIR-V before it starts.)
+// with the standard bin functions, gives SPIR-V without the Float64 capability, which a device
+// without shaderFloat64 (Apple's, Intel's) can run. (Compiling needs no device; every run also
+// checks its SPIR-V, on its own traversal and stack, before it starts.)
 #include <gtest/gtest.h>
 
 #include <string>

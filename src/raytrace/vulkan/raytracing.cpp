@@ -835,6 +835,7 @@ void GpuDevice::RunStages(const std::vector<Stage> &stages, const std::vector<Bi
         if (stages[k].invocations > 0)
             runs.push_back({stages[k], &PipelineFor(d, *stages[k].spirv, nb)});
     }
+    d.stage_seconds.clear();
     if (runs.empty()) return;
     // One descriptor set for every stage: their layouts are defined alike, so compatible.
     const Pipeline &p = *runs[0].second;
@@ -1002,8 +1003,8 @@ void GpuDevice::RunStages(const std::vector<Stage> &stages, const std::vector<Bi
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, runs[k].second->pipeline);
         vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, runs[k].second->layout, 0, 1,
                                 &set, 0, nullptr);
-        if (timed && k == 0)
-            vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, d.timestamps, 0);
+        if (timed && k == 0)  // (once the fills before it are done)
+            vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, d.timestamps, 0);
         vkCmdDispatch(cb, gx, gy, 1);
         if (timed)
             vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, d.timestamps,
@@ -1024,7 +1025,6 @@ void GpuDevice::RunStages(const std::vector<Stage> &stages, const std::vector<Bi
             VK_ACCESS_HOST_READ_BIT);
     d.SubmitAndWait(cb);
     vkDestroyDescriptorPool(dev, dpool, nullptr);
-    d.stage_seconds.clear();
     if (timed) {
         std::vector<uint64_t> ticks(slots);
         VK_CHECK(vkGetQueryPoolResults(dev, d.timestamps, 0, slots, slots * sizeof(uint64_t),

@@ -135,7 +135,7 @@ struct DeviceState {
     // sums), and the rays logged (EngineOptions::gpu_ray_log), since the engine was made.
     uint64_t rays_traced = 0;
     std::vector<double> stage_seconds;
-    std::vector<core::vec4> ray_log;
+    std::vector<core::uvec4> ray_log;
     std::vector<uint32_t> replay_spirv;  // compiled when first asked for
 };
 
@@ -214,6 +214,7 @@ class VulkanContribEngine : public ContribEngine {
           accumulators_(engine.accumulators),
           tasks_per_dispatch_(engine.gpu_tasks_per_dispatch),
           ray_log_capacity_(engine.gpu_ray_log),
+          float64_(engine.NeedsFloat64()),
           shader_(std::move(shader)),
           columns_(packed.columns),
           parameters_(Bytes(std::vector<core::GpuParameters>{
@@ -319,6 +320,7 @@ class VulkanContribEngine : public ContribEngine {
     GpuAccum accumulators_;
     int tasks_per_dispatch_;     // EngineOptions::gpu_tasks_per_dispatch
     uint64_t ray_log_capacity_;  // EngineOptions::gpu_ray_log
+    bool float64_;               // the run asked for doubles (EngineOptions::NeedsFloat64)
     ContribShader shader_;
     int columns_;
     std::vector<uint8_t> parameters_;  // the core's (kBindingParameters)
@@ -382,8 +384,10 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
     // A dispatch holding its rays' slices whole sums them on the device (a second stage), so
     // that one record a ray comes back, not one a slice: C_ds's records (5185 x 3 doubles, 20
     // slices a sensor) were 35 GB copied back and added on the host for the large office, most
-    // of its run on a GPU (docs/benchmarks.md). The same sums in the same order, so the same
-    // records where they start at nought (every caller's).
+    // of its run on a GPU (docs/benchmarks.md). With double accumulators, the same sums in the
+    // same order, so the same records where they start at nought (every caller's); with pairs,
+    // the same to about 1e-16 (the device's TwoSum against the host's double sums), and the same
+    // bytes on the same device, whose memory decides which it does.
     const bool sum_slices =
         slices > 1 && slices_apart == 0 && !dev.sum_spirv.empty() && per_run >= size_t(slices);
     if (sum_slices) per_run -= per_run % slices;
@@ -398,14 +402,16 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
         // zeroed on the device; with sum_slices, the rays' sums
         accum.resize((sum_slices ? count / slices : count) * record * AccumBytes());
-        std::vector<uint8_t> stats(16, 0), none;
-        // The rays this dispatch may log: what the log has room for, within a buffer's range.
-        const uint64_t log_room = std::min<uint64_t>(
-            ray_log_capacity_ - std::min<uint64_t>(ray_log_capacity_, dev.ray_log.size() / 2),
-            dev.device->MaxBufferBytes() / (2 * sizeof(core::vec4)));
+        std::vector<uint8_t> stats(20, 0), none;
+        // The rays this dispatch may log: what the log has room for (the whole log is one
+        // buffer for the replay, so within a buffer's range).
+        const uint64_t log_capacity = std::min<uint64_t>(
+            ray_log_capacity_, dev.device->MaxBufferBytes() / (2 * sizeof(core::uvec4)));
+        const uint64_t log_room =
+            log_capacity - std::min<uint64_t>(log_capacity, dev.ray_log.size() / 2);
         tasks.log_capacity = static_cast<int>(std::min<uint64_t>(log_room, INT32_MAX));
         std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
-        std::vector<uint8_t> log_bytes(size_t(tasks.log_capacity) * 2 * sizeof(core::vec4));
+        std::vector<uint8_t> log_bytes(size_t(tasks.log_capacity) * 2 * sizeof(core::uvec4));
         NamedBindings named = SceneBindings(dev, &none);
         named.Set(core::kBindingRays, G::In(&ray_bytes));
         named.Set(core::kBindingAccum, sum_slices ? G::ZeroedScratch(count * record * AccumBytes())
@@ -426,16 +432,16 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
             stages.push_back({&dev.sum_spirv, static_cast<uint32_t>(count / slices * record),
                               kSliceSumLocalSize});
         dev.device->RunStages(stages, buffers);
-        uint32_t stat[4];
+        uint32_t stat[5];
         std::memcpy(stat, stats.data(), sizeof stat);
         dev.dropped += stat[0];
         dev.reports |= stat[1];
-        dev.rays_traced += stat[2];
+        dev.rays_traced += stat[2] + (uint64_t{stat[4]} << 32);
         const std::vector<double> &seconds = dev.device->LastStageSeconds();
         dev.stage_seconds.resize(std::max(dev.stage_seconds.size(), seconds.size()));
         for (size_t k = 0; k < seconds.size(); ++k) dev.stage_seconds[k] += seconds[k];
         const size_t logged = std::min<size_t>(stat[3], size_t(tasks.log_capacity));
-        const auto *log = reinterpret_cast<const core::vec4 *>(log_bytes.data());
+        const auto *log = reinterpret_cast<const core::uvec4 *>(log_bytes.data());
         dev.ray_log.insert(dev.ray_log.end(), log, log + 2 * logged);
         // entry(i): entry i of the records read back, in double
         const auto add = [&](const auto &entry) {
@@ -462,9 +468,11 @@ ContribEngine::ReplayResult VulkanContribEngine::ReplayLoggedRays(int passes) {
     DeviceState &dev = devices_[0];
     const size_t n = dev.ray_log.size() / 2;
     if (n == 0) return result;
-    if (dev.replay_spirv.empty())
+    if (dev.replay_spirv.empty()) {
         dev.replay_spirv =
             CompileContribShader(shader_, dev.device->RayQueries(), dev.scratch, true);
+        CHECK(float64_ || !vk::GpuDevice::UsesFloat64(dev.replay_spirv));
+    }
     const int log = dev.device->Resident(Bytes(dev.ray_log));
     result.rays = n;
     for (int pass = 0; pass < std::max(1, passes); ++pass) {
@@ -474,7 +482,7 @@ ContribEngine::ReplayResult VulkanContribEngine::ReplayLoggedRays(int passes) {
             core::GpuTasks tasks = Tasks(0, 1, 0, 0);
             tasks.task_offset = static_cast<int>(offset);
             tasks.count = static_cast<int>(count);
-            std::vector<uint8_t> task_bytes(sizeof tasks), stats(16, 0), none,
+            std::vector<uint8_t> task_bytes(sizeof tasks), stats(20, 0), none,
                 parameter_bytes = parameters_, distances(pass == 0 ? count * AccumBytes() : 0);
             std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
             NamedBindings named = SceneBindings(dev, &none);

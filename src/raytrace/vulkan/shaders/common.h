@@ -21,8 +21,8 @@ CONST int kBindingSurfaces = 5;   // PackedSurface per surface kind
 CONST int kBindingSources = 6;    // PackedSource per source
 CONST int kBindingAccum = 7;      // double (or float), tasks x columns x 3
 CONST int kBindingTasks = 8;      // GpuTasks: what this dispatch does
-// uint: stack items dropped (should stay 0), kReport* flags, nearest-hit queries traced, rays
-// logged (DAYFLUX_RAY_LOG)
+// uint: stack items dropped (should stay 0), kReport* flags, nearest-hit queries traced (low
+// word), rays logged (DAYFLUX_RAY_LOG), nearest-hit queries (high word)
 CONST int kBindingStats = 9;
 CONST int kBindingShapes = 10;    // PackedShape per analytic surface (procedural boxes)
 CONST int kBindingBvhPrims = 11;  // int per BVH leaf entry: triangle, or -(shape + 1)
@@ -39,7 +39,7 @@ CONST int kBindingReceivers = 17;     // vec4: what -asub samples directly (tabl
 // dispatch's rays x columns x 3; kBindingAccum is then scratch that this stage reads.
 CONST int kBindingSliceSums = 18;
 CONST int kBindingParameters = 19;  // GpuParameters (core/parameters.h): the run's, `params`
-// For benchmarks: 2 vec4 a ray (org, from as int bits; dir): the rays a run logs
+// For benchmarks: 2 uvec4 a ray (org's float bits, from; dir's float bits): the rays a run logs
 // (DAYFLUX_RAY_LOG, up to tasks.log_capacity), or those a replay traces (DAYFLUX_REPLAY).
 CONST int kBindingRayLog = 20;
 CONST int kBindingCount = 21;

@@ -32,9 +32,9 @@ layout(std430, set = 0, binding = kBindingAccum) buffer Accum { ACCUM_T accum[];
 layout(std430, set = 0, binding = kBindingTasks) readonly buffer Tasks { GpuTasks tasks; };
 layout(std430, set = 0, binding = kBindingParameters) readonly buffer RunParameters { Parameters params; };
 layout(std430, set = 0, binding = kBindingStats) buffer Stats {
-    uint stats_dropped, stats_reports, stats_rays, stats_logged;
+    uint stats_dropped, stats_reports, stats_rays, stats_logged, stats_rays_high;
 };
-layout(std430, set = 0, binding = kBindingRayLog) buffer RayLog { vec4 ray_log[]; };
+layout(std430, set = 0, binding = kBindingRayLog) buffer RayLog { uvec4 ray_log[]; };
 layout(std430, set = 0, binding = kBindingShapes) readonly buffer Shapes { PackedShape shapes[]; };
 layout(std430, set = 0, binding = kBindingRelays) readonly buffer Relays { vec4 relays[]; };
 layout(std430, set = 0, binding = kBindingTracked) readonly buffer Tracked { ivec4 tracked[]; };
@@ -65,9 +65,9 @@ uint acc_base;  // this task's record
 // Two floats an entry: the sum, and what its rounding lost (TwoSum, exact in float), summed
 // beside it: double's precision without shaderFloat64.
 void AddToEntry(uint at, float v) {
-    precise float sum = accum[2u * at], s = sum + v, b = s - sum;
+    precise float sum = accum[2u * at], s = sum + v, b = s - sum, lost = (sum - (s - b)) + (v - b);
     accum[2u * at] = s;
-    accum[2u * at + 1u] += (sum - (s - b)) + (v - b);
+    accum[2u * at + 1u] += lost;
 }
 #else
 void AddToEntry(uint at, float v) { accum[at] += ACCUM_T(v); }
@@ -209,11 +209,14 @@ uint rays_traced;  // this invocation's nearest-hit queries
 // a replay (bench/gpu_replay_bench.cpp).
 bool Intersect(Ray r, out Hit h) {
     ++rays_traced;
-#ifdef DAYFLUX_RAY_LOG
-    uint at = atomicAdd(stats_logged, 1u);
-    if (at < uint(tasks.log_capacity)) {
-        ray_log[2u * at] = vec4(r.org, intBitsToFloat(r.from));
-        ray_log[2u * at + 1u] = vec4(r.dir, 0);
+#if defined(DAYFLUX_RAY_LOG) && !defined(DAYFLUX_REPLAY)
+    // (the count stops at the capacity: it is read only up to there)
+    if (stats_logged < uint(tasks.log_capacity)) {
+        uint at = atomicAdd(stats_logged, 1u);
+        if (at < uint(tasks.log_capacity)) {
+            ray_log[2u * at] = uvec4(floatBitsToUint(r.org), uint(r.from));
+            ray_log[2u * at + 1u] = uvec4(floatBitsToUint(r.dir), 0u);
+        }
     }
 #endif
     float t;
@@ -245,19 +248,19 @@ bool Intersect(Ray r, out Hit h) {
 
 #ifdef DAYFLUX_REPLAY
 // The logged rays [task_offset, task_offset + count) again, nearest hits alone (GPU efficiency's
-// denominator, as bench/ray_replay_bench.cpp's replay is the CPU's): a hit's distance, or -1,
-// into accum, so that nothing is optimised away.
+// denominator, as bench/ray_replay_bench.cpp's replay is the CPU's): a hit's distance (plus
+// |normal.x|, so that nothing is optimised away), or -1, into accum.
 void main() {
     uint i = gl_GlobalInvocationID.x +
              gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     if (i >= uint(tasks.count)) return;
     uint at = uint(tasks.task_offset) + i;
     Ray r;
-    r.org = ray_log[2u * at].xyz;
-    r.from = floatBitsToInt(ray_log[2u * at].w);
-    r.dir = ray_log[2u * at + 1u].xyz;
+    r.org = uintBitsToFloat(ray_log[2u * at].xyz);
+    r.from = int(ray_log[2u * at].w);
+    r.dir = uintBitsToFloat(ray_log[2u * at + 1u].xyz);
     Hit h;
-    accum[i] = ACCUM_T(Intersect(r, h) ? h.t + h.normal.x : -1.0);
+    accum[i] = ACCUM_T(Intersect(r, h) ? h.t + abs(h.normal.x) : -1.0);
 }
 #else
 void main() {
@@ -285,6 +288,9 @@ void main() {
     // Items that did not fit the stack are lost: the host says how many.
     if (dropped > 0u) atomicAdd(stats_dropped, dropped);
     if (reports != 0u) atomicOr(stats_reports, reports);
-    if (rays_traced > 0u) atomicAdd(stats_rays, rays_traced);
+    if (rays_traced > 0u) {  // 64 bits: a dispatch of millions of sensors passes 2^32
+        uint before = atomicAdd(stats_rays, rays_traced);
+        if (before + rays_traced < before) atomicAdd(stats_rays_high, 1u);
+    }
 }
 #endif
