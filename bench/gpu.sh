@@ -30,11 +30,16 @@
 #   one row asks for three; Vsub: V with -asub 3, whose surfaces sample the window directly),
 #   FP64 (1: also vulkan-bvh-fp64, the BVH walk with bins and accumulators in double,
 #   -gpu_cal double -gpu_accum double, as the engine was before it went without fp64),
+#   SPIRV_NONE (1: also vulkan-bvh-O0, the BVH walk with unoptimised SPIR-V, -gpu_spirv_opt
+#   none, which lavapipe runs 1.4-2x sooner: does NVIDIA's compiler too?),
 #   REPLAY (the rcontrib cases also measured by bench/gpu_replay_bench.cpp on each traversal:
 #   rays traced, rays a second, the device's seconds per stage from timestamps, and the GPU
 #   efficiency, run rays/s over the rate of a kernel replaying its rays for their nearest hits
 #   alone; default "V DC Cds"; OUT/replay.csv), REPLAY_EVERY (the replay logs every K-th
-#   sensor's rays: 10)
+#   sensor's rays: 10), COMPILE (spirv-opt levels whose pipeline creation for the first model's
+#   DC shader is timed, one sensor at -ad 16 on the BVH traversal: cold, with every cache empty
+#   and the drivers' disabled; driver, with our SPIR-V cached; warm, with the driver's cache
+#   too; default "performance size none"; OUT/compile.csv; up to 35 s a cold one on NVIDIA)
 # On the device machine (device/README.md): bench/gpu_bundle.sh here, then, there, with .gpu and
 # .gl carried: for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig; BUILD=.gpu bench/gpu.sh
 set -euo pipefail
@@ -51,6 +56,7 @@ FP64=${FP64:-0}
 REPLAY=${REPLAY-"V DC Cds"}
 REPLAY_EVERY=${REPLAY_EVERY:-10}
 REPLAY_BENCH=$BUILD/bench/gpu_replay_bench
+COMPILE=${COMPILE-"performance size none"}
 RCONTRIB=$BUILD/bin/rcontrib-gpu
 if [ -f "$BUILD/gpu.tar.xz" ] && [ ! -x "$RCONTRIB" ]; then  # bench/gpu_bundle.sh's archive
     tar -C "$BUILD" -xJf "$BUILD/gpu.tar.xz"
@@ -111,6 +117,8 @@ programs=("embree|-backend embree" "vulkan-rayquery|-device $DEVICE -gpu_travers
           "vulkan-bvh|-device $DEVICE -gpu_traversal bvh")
 [ "$FP64" = 1 ] &&
     programs+=("vulkan-bvh-fp64|-device $DEVICE -gpu_traversal bvh -gpu_cal double -gpu_accum double")
+[ "${SPIRV_NONE:-0}" = 1 ] &&
+    programs+=("vulkan-bvh-O0|-device $DEVICE -gpu_traversal bvh -gpu_spirv_opt none")
 echo "== reference office (wall s; relative RMS difference from Embree at the same seed)" |
     tee -a "$summary"
 printf "%-6s %-4s %-16s %8s %10s %12s\n" model case program sensors wall_s vs_embree |
@@ -211,4 +219,34 @@ for model in $MODELS; do
         fi
     done
 done
+# 4. compile time (issue 42's step 4): the DC shader's pipeline, per spirv-opt level
+if [ -n "$COMPILE" ]; then
+    echo "== compile time, DC shader (s): cold, driver only, warm" | tee -a "$summary"
+    echo "level,cold_s,driver_s,warm_s" > "$OUT/compile.csv"
+    model=${MODELS%% *}
+    dir=$tmp/$model
+    head -1 "$dir/sensors.pts" > "$dir/one.pts"
+    once=(-device "$DEVICE" -gpu_traversal bvh -I+ -ab 6 -ad 16 -lw 5e-5 -faf -e MF:1
+          -f reinhart.cal -b rbin -bn Nrbins -m skyglow model/materials.rad model/office.rad
+          model/glass.rad model/sky.rad)
+    timed() {  # seconds of one run, with the environment given
+        local t0
+        t0=$(date +%s.%N)
+        (cd "$dir" && env "$@" "$RCONTRIB" -gpu_spirv_opt "$level" "${once[@]}" < one.pts \
+            > /dev/null 2> "$dir/err") || { cat "$dir/err"; exit 1; }
+        awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.2f", b - a }'
+    }
+    for level in $COMPILE; do
+        cache=$(mktemp -d)
+        no_driver_cache=(XDG_CACHE_HOME="$cache" MESA_SHADER_CACHE_DISABLE=true
+                         __GL_SHADER_DISK_CACHE=0)
+        cold=$(timed "${no_driver_cache[@]}")
+        driver=$(timed "${no_driver_cache[@]}")
+        timed XDG_CACHE_HOME="$cache" > /dev/null  # fills the drivers' caches
+        warm=$(timed XDG_CACHE_HOME="$cache")
+        rm -rf "$cache"
+        echo "$level,$cold,$driver,$warm" >> "$OUT/compile.csv"
+        echo "$level: cold $cold, driver $driver, warm $warm" | tee -a "$summary"
+    done
+fi
 echo "total $(($(date +%s) - start)) s" | tee -a "$summary"

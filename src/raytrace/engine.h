@@ -45,6 +45,11 @@ struct EngineOptions {
     // Intel's) and at full rate on consumer GPUs, which run fp64 at 1/32-1/64.
     bool gpu_double_cal = false;
     bool NeedsFloat64() const { return accumulators == GpuAccum::kDouble || gpu_double_cal; }
+    // What spirv-opt does to the GPU's shader before the driver compiles it (issue 42's compile
+    // time): "performance" (-O), "size" (-Os), "none", or "auto": none on CPU devices, whose
+    // LLVM compiles and runs unoptimised SPIR-V sooner (lavapipe: 5 s less a pipeline, traces
+    // 1.4-2x sooner), performance on GPUs (until NVIDIA's figures say otherwise).
+    std::string gpu_spirv_opt = "auto";
     // For tests: false sums a sensor's slices on the host, each task's record read back (as
     // with float accumulators); a bound on the tasks a dispatch takes (0: as memory allows).
     bool gpu_slice_sums = true;

@@ -289,6 +289,13 @@ class Parser : public OptionCursor {
             o_.engine.accumulators = t == "pair"    ? GpuAccum::kPair
                                      : t == "float" ? GpuAccum::kFloat
                                                     : GpuAccum::kDouble;
+        } else if (a == "-gpu_spirv_opt") {
+            // spirv-opt's level for the GPU's shader: auto (the default), performance, size or
+            // none.
+            const std::string t = Value(a);
+            if (t != "auto" && t != "performance" && t != "size" && t != "none")
+                ErrorExit("-gpu_spirv_opt " + t + ": auto, performance, size or none");
+            o_.engine.gpu_spirv_opt = t;
         } else if (a == "-gpu_cal") {
             // The GPU's bins and patterns: float (the default) or double.
             const std::string t = Value(a);

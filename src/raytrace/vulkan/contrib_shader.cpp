@@ -235,19 +235,29 @@ void main() {
 }
 
 std::vector<uint32_t> CompileContribShader(const ContribShader &shader, bool ray_queries,
-                                           bool scratch, bool replay) {
+                                           bool scratch, bool replay,
+                                           vk::SpirvOptimization optimization, bool inf_nan) {
     // ([[dont_unroll]] keeps the BSDF's small loops, so its code is not copied.)
     const std::string source =
         std::string("#version 460\n#extension GL_EXT_control_flow_attributes : enable\n") +
+        // SignedZeroInfNanPreserve (4461, capability 4466) for 32-bit floats: a bin of inf - inf
+        // is NaN, reported and ignored, as calcomp's, not folded to 0
+        (inf_nan ? "#extension GL_EXT_spirv_intrinsics : require\n"
+                   "spirv_execution_mode(extensions = [\"SPV_KHR_float_controls\"], "
+                   "capabilities = [4466], 4461, 32);\n"
+                 : "") +
         (replay ? "#define DAYFLUX_REPLAY 1\n" : "") +
         (ray_queries ? "#extension GL_EXT_ray_query : require\n" : "#define DAYFLUX_BVH 1\n") +
         (scratch ? "#define DAYFLUX_SCRATCH 1\n"
                  : "#define MAXN " + std::to_string(kGpuMaxRows) + "\n") +
         shader.source;
-    const fs::path cache = CachePath(source);
+    // (the cache's key: the source, and the optimiser's level where it is not the default)
+    const int level = static_cast<int>(optimization);
+    const fs::path cache = CachePath(level == 0 ? source : source + "// O" + std::to_string(level));
     if (!cache.empty())
         if (std::vector<uint32_t> spirv = ReadSpirv(cache); !spirv.empty()) return spirv;
-    std::vector<uint32_t> spirv = vk::GpuDevice::CompileGlsl(source, "contrib.comp", IncludedFile);
+    std::vector<uint32_t> spirv =
+        vk::GpuDevice::CompileGlsl(source, "contrib.comp", IncludedFile, optimization);
     if (!cache.empty()) WriteSpirv(cache, spirv);
     return spirv;
 }

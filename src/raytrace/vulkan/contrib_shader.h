@@ -10,6 +10,7 @@
 
 #include "raytrace/engine.h"
 #include "raytrace/packing.h"
+#include "raytrace/vulkan/raytracing.h"
 
 namespace dayflux {
 
@@ -39,9 +40,10 @@ bool MakeContribShader(const PackedScene &packed, const ContribOptions &options,
 // SPIR-V for devices with ray queries or without (our BVH walk), with the stack and rows in
 // scratch buffers or private arrays (GpuScratch), from the cache if it is there.
 // replay: the kernel that traces logged rays again for their nearest hits alone (contrib.comp's
-// DAYFLUX_REPLAY).
-std::vector<uint32_t> CompileContribShader(const ContribShader &shader, bool ray_queries,
-                                           bool scratch, bool replay = false);
+// DAYFLUX_REPLAY); inf_nan: floats keep infinities and NaNs (GpuDevice::PreservesInfNan).
+std::vector<uint32_t> CompileContribShader(
+    const ContribShader &shader, bool ray_queries, bool scratch, bool replay = false,
+    vk::SpirvOptimization optimization = vk::SpirvOptimization::kPerformance, bool inf_nan = false);
 
 // SPIR-V of the second stage of a dispatch whose rays' slices it holds whole (GpuTasks: count a
 // multiple of slices): each ray's record summed over its slices in their order, from

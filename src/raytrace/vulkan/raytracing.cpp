@@ -94,6 +94,7 @@ struct Pipeline {
 
 struct GpuDevice::Impl {
     bool ray_queries = false;
+    bool preserves_inf_nan = false;  // shaderSignedZeroInfNanPreserveFloat32
     VkInstance instance = VK_NULL_HANDLE;
     VkPhysicalDevice physical = VK_NULL_HANDLE;
     VkDevice device = VK_NULL_HANDLE;
@@ -454,10 +455,14 @@ std::unique_ptr<GpuDevice> GpuDevice::Open(std::string *why, bool allow_cpu, Tra
     }
     impl->physical = choice[ordinal];
     impl->ray_queries = traversal != Traversal::kBvh && LacksRayQueries(impl->physical).empty();
+    VkPhysicalDeviceVulkan12Properties props12{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_PROPERTIES};
     VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
-    if (impl->ray_queries) props.pNext = &impl->as_props;
+    props.pNext = &props12;
+    if (impl->ray_queries) props12.pNext = &impl->as_props;
     vkGetPhysicalDeviceProperties2(impl->physical, &props);
     impl->as_props.pNext = nullptr;
+    impl->preserves_inf_nan = props12.shaderSignedZeroInfNanPreserveFloat32 == VK_TRUE;
     impl->name = props.properties.deviceName;
     impl->limits = props.properties.limits;
     if (!ComputeQueueFamily(impl->physical, &impl->queue_family)) {
@@ -541,6 +546,7 @@ std::unique_ptr<GpuDevice> GpuDevice::FinishOpen(std::unique_ptr<Impl> impl) {
 }
 
 bool GpuDevice::RayQueries() const { return impl_->ray_queries; }
+bool GpuDevice::PreservesInfNan() const { return impl_->preserves_inf_nan; }
 
 namespace {
 
@@ -572,11 +578,15 @@ class Includer : public shaderc::CompileOptions::IncluderInterface {
 
 std::vector<uint32_t> GpuDevice::CompileGlsl(
     const std::string &source, const std::string &name,
-    const std::function<std::string(const std::string &)> &include) {
+    const std::function<std::string(const std::string &)> &include,
+    SpirvOptimization optimization) {
     shaderc::Compiler compiler;
     shaderc::CompileOptions options;
     if (include) options.SetIncluder(std::make_unique<Includer>(include));
-    options.SetOptimizationLevel(shaderc_optimization_level_performance);
+    options.SetOptimizationLevel(
+        optimization == SpirvOptimization::kPerformance ? shaderc_optimization_level_performance
+        : optimization == SpirvOptimization::kSize      ? shaderc_optimization_level_size
+                                                        : shaderc_optimization_level_zero);
     options.SetTargetEnvironment(shaderc_target_env_vulkan, shaderc_env_version_vulkan_1_2);
     // Ray queries need SPIR-V 1.4 (SPV_KHR_ray_query), which Vulkan 1.2 accepts.
     options.SetTargetSpirv(shaderc_spirv_version_1_4);

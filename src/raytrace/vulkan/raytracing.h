@@ -15,6 +15,8 @@ namespace dayflux::vk {
 // How shaders find hits: ray queries against the device's acceleration structures, or a walk of
 // our BVH (raytrace/bvh.h); kAuto takes ray queries where the device has them.
 enum class Traversal { kAuto, kRayQuery, kBvh };
+// What shaderc's optimiser (spirv-opt) does before the driver compiles: -O, -Os or nothing.
+enum class SpirvOptimization { kPerformance, kSize, kNone };
 
 class GpuDevice {
   public:
@@ -41,6 +43,10 @@ class GpuDevice {
     // Whether shaders use ray queries here (else they walk a BVH: Run binds no acceleration
     // structure, and the buffers start at binding 0).
     bool RayQueries() const;
+    // Whether shaders may ask that float infinities and NaNs be kept (SPIR-V's
+    // SignedZeroInfNanPreserve for 32 bits): without it a compiler may fold x - x to 0 for an
+    // infinite x (Mesa's NIR does).
+    bool PreservesInfNan() const;
     ~GpuDevice();
     GpuDevice(const GpuDevice &) = delete;
     GpuDevice &operator=(const GpuDevice &) = delete;
@@ -56,7 +62,8 @@ class GpuDevice {
     // include(name) gives the text of a file the source #includes ("name").
     static std::vector<uint32_t> CompileGlsl(
         const std::string &source, const std::string &name,
-        const std::function<std::string(const std::string &)> &include = {});
+        const std::function<std::string(const std::string &)> &include = {},
+        SpirvOptimization optimization = SpirvOptimization::kPerformance);
 
     // Builds (or rebuilds) one bottom-level structure with all triangles (positions: xyz floats
     // per vertex; indices: 3 per triangle) flagged OPAQUE and not culled, and a top-level

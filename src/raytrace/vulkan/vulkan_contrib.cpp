@@ -137,6 +137,7 @@ struct DeviceState {
     std::vector<double> stage_seconds;
     std::vector<core::uvec4> ray_log;
     std::vector<uint32_t> replay_spirv;  // compiled when first asked for
+    vk::SpirvOptimization optimization = vk::SpirvOptimization::kPerformance;
 };
 
 using G = vk::GpuDevice;
@@ -470,7 +471,8 @@ ContribEngine::ReplayResult VulkanContribEngine::ReplayLoggedRays(int passes) {
     if (n == 0) return result;
     if (dev.replay_spirv.empty()) {
         dev.replay_spirv =
-            CompileContribShader(shader_, dev.device->RayQueries(), dev.scratch, true);
+            CompileContribShader(shader_, dev.device->RayQueries(), dev.scratch, true,
+                                 dev.optimization, dev.device->PreservesInfNan());
         CHECK(float64_ || !vk::GpuDevice::UsesFloat64(dev.replay_spirv));
     }
     const int log = dev.device->Resident(Bytes(dev.ray_log));
@@ -545,7 +547,14 @@ std::unique_ptr<ContribEngine> CreateVulkanContribEngine(
         dev.device = std::move(device);
         dev.scratch = engine.scratch == GpuScratch::kOn ||
                       (engine.scratch == GpuScratch::kAuto && !dev.device->IsCpu());
-        dev.spirv = CompileContribShader(shader, dev.device->RayQueries(), dev.scratch);
+        const std::string &opt = engine.gpu_spirv_opt;
+        dev.optimization = opt == "size"   ? vk::SpirvOptimization::kSize
+                           : opt == "none" ? vk::SpirvOptimization::kNone
+                           : opt == "auto" && dev.device->IsCpu()
+                               ? vk::SpirvOptimization::kNone
+                               : vk::SpirvOptimization::kPerformance;
+        dev.spirv = CompileContribShader(shader, dev.device->RayQueries(), dev.scratch, false,
+                                         dev.optimization, dev.device->PreservesInfNan());
         if (engine.accumulators != GpuAccum::kFloat && engine.gpu_slice_sums)
             dev.sum_spirv = CompileSliceSumShader(engine.accumulators);
         // What we generate holds a double only where the run asked for one: the device was
