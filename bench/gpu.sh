@@ -26,7 +26,8 @@
 #   here), OUT (bench/results/gpu), MODELS ("small large"), QUICK (1: every 30th sensor and low
 #   settings, for lavapipe), TESTS (0 skips step 2), TEST_SHARDS (1: test processes side by side,
 #   each compiling its own pipelines: NVIDIA's compiler is most of step 2), CASES ("V Vsub DC
-#   DCsub Cds DSdif DSdifC T"; also D Vd Dd; DCsub: DC with -asub 3, whose probes a GPU slice of
+#   DCsub Cds DSdif DSdifC T"; "" runs none; also D Vd Dd;
+#   DCsub: DC with -asub 3, whose probes a GPU slice of
 #   one row asks for three; Vsub: V with -asub 3, whose surfaces sample the window directly),
 #   FP64 (1: also vulkan-bvh-fp64, the BVH walk with bins and accumulators in double,
 #   -gpu_cal double -gpu_accum double, as the engine was before it went without fp64),
@@ -51,7 +52,7 @@ MODELS=${MODELS:-"small large"}
 QUICK=${QUICK:-0}
 TESTS=${TESTS:-1}
 TEST_SHARDS=${TEST_SHARDS:-1}
-CASES=${CASES:-"V Vsub DC DCsub Cds DSdif DSdifC T"}
+CASES=${CASES-"V Vsub DC DCsub Cds DSdif DSdifC T"}
 FP64=${FP64:-0}
 REPLAY=${REPLAY-"V DC Cds"}
 REPLAY_EVERY=${REPLAY_EVERY:-10}
