@@ -17,7 +17,8 @@
 # share of errors within twice the sensor's estimate.
 # usage: bench/target_error_speed_error.sh   environment: CASE (room), BUILD (build), SEEDS (4),
 # THREADS (2), ANSWER (a file keeping the converged answer between runs), FIXED (the -ad
-# settings; "" for none), TARGETS (the -target_error settings)
+# settings; "" for none), TARGETS (the -target_error settings), EXTRA (options added to every
+# setting but the converged answer, e.g. "-asub 3"; the CSV's name then ends in them)
 # writes bench/results/target_error_speed_error.csv (office: target_error_office.csv); the room
 # also bench/results/target_error_calibration.csv and docs/target_error_calibration.svg
 set -euo pipefail
@@ -34,7 +35,7 @@ case $case in
         csv=$here/results/target_error_speed_error.csv
         cd "$root/test/data/scene/models/room"
         scene="-m skyglow materials.rad room.rad objects/Glazing.rad skyDomes/skyglow.rad"
-        options="-ab 2 -lw 1e-5"
+        options="-ab 2 -lw 1e-5 ${EXTRA:-}"
         converged="-ab 2 -ad 131072 -lw 1e-7"
         cap=32768
         fixed=${FIXED-1024 2048 4096 8192 16384}
@@ -45,7 +46,7 @@ case $case in
         sky=""
         ;;
     office | blinds)
-        csv=$here/results/target_error_$case.csv
+        csv=$here/results/target_error_$case$(tr -d ' ' <<< "${EXTRA:-}" | tr '-' '_').csv
         cd "$tmp"
         python3 "$root/examples/reference-office/make_office.py" --out model \
             $([ "$case" = blinds ] && echo --blinds) > /dev/null
@@ -58,7 +59,7 @@ case $case in
         getinfo_body cumulative.txt > "$tmp/weights.txt"
         scene="-e MF:1 -f reinhart.cal -b rbin -bn Nrbins -m skyglow model/materials.rad
                model/office.rad model/glass.rad model/blinds.rad model/sky.rad"
-        options="-ab 6 -lw 1e-6"
+        options="-ab 6 -lw 1e-6 ${EXTRA:-}"
         converged="-ab 6 -ad 65536 -lw 1e-7"
         cap=16384
         fixed=${FIXED-512 1024 2048 4096 8192}
