@@ -560,19 +560,20 @@ TEST_F(VulkanContrib, DeepTreesAndMirrorLoops) {
     EXPECT_EQ(loop.status, 0) << loop.err;
 }
 
-// Accumulators in float (-gpu_accum float) or double: at -ad 50000 a uniform sky still gives pi
-// within 1e-6 either way (each -I task sums a slice of the hemisphere's rows).
+// Accumulators as float pairs (the default), in float (-gpu_accum float) or double, and bins in
+// double (-gpu_cal double, on a device opened with shaderFloat64): at -ad 50000 a uniform sky
+// still gives pi within 1e-6 every way (each -I task sums a slice of the hemisphere's rows).
 TEST_F(VulkanContrib, FloatAndDoubleAccumulators) {
     WriteFile(tmp_.path() / "rays", "0 0 0 0 0 1\n");
-    for (const char *acc : {"double", "float"}) {
-        const std::vector<double> v =
-            Run("vulkan",
-                std::string("-gpu_accum ") + acc + " -I+ -ab 1 -ad 50000 -lw 1e-9" + kBins +
-                    "-m skyglow sky.rad < rays",
-                tmp_.path());
+    for (const char *variant :
+         {"-gpu_accum pair", "-gpu_accum double", "-gpu_accum float", "-gpu_cal double"}) {
+        const std::vector<double> v = Run("vulkan",
+                                          std::string(variant) + " -I+ -ab 1 -ad 50000 -lw 1e-9" +
+                                              kBins + "-m skyglow sky.rad < rays",
+                                          tmp_.path());
         double total = 0;
         for (size_t b = 0; b < v.size(); b += 3) total += v[b];
-        EXPECT_NEAR(total, M_PI, 1e-6 * M_PI) << acc;
+        EXPECT_NEAR(total, M_PI, 1e-6 * M_PI) << variant;
     }
 }
 

@@ -264,8 +264,8 @@ TEST(Hardening, SourceWhoseMaterialGivesNoLightIsRefused) {
 }
 
 // Issue 41: options cast to integers unchecked (UBSan): a negative seed, and bin counts beyond
-// the int range, directly or through reinhart.cal's Nrbins at MF:1000000. Each is refused with
-// the option named, before the scene is read.
+// the int range, directly or through reinhart.cal's Nrbins at MF:1000000; and values the GPU's
+// options do not know. Each is refused with the option named, before the scene is read.
 TEST(Hardening, OptionsBeyondTheirRangeAreRefused) {
     TempDir tmp;
     for (const auto &[options, said] :
@@ -277,7 +277,11 @@ TEST(Hardening, OptionsBeyondTheirRangeAreRefused) {
           std::pair{"-bn '1e308*10 - 1e308*10' -m sky", "is below 1"},
           std::pair{"-bn 2e8 -m sky -m grey",
                     "the modifiers' bins, 400000000 by 'grey', are "
-                    "above 268435456"}}) {
+                    "above 268435456"},
+          std::pair{"-gpu_accum half -m sky", "-gpu_accum half: pair, float or double"},
+          std::pair{"-gpu_cal half -m sky", "-gpu_cal half: float or double"},
+          std::pair{"-gpu_spirv_opt fast -m sky",
+                    "-gpu_spirv_opt fast: auto, performance, size or none"}}) {
         const CommandResult r = Rcontrib(tmp, "0 0 0 0 0 1\n", options);
         EXPECT_EQ(r.status, 1) << options;
         EXPECT_NE(r.err.find(said), std::string::npos) << options << ": " << r.err;
