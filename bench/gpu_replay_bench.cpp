@@ -23,6 +23,7 @@
 #include "raytrace/engine.h"
 #include "rcontrib/options.h"
 #include "rcontrib/run.h"
+#include "replay_common.h"
 #include "util/errors.h"
 
 namespace dayflux {
@@ -34,9 +35,7 @@ std::unique_ptr<ContribEngine> MakeEngine(const RcontribOptions &o, const FlatSc
                                           uint64_t log_rays) {
     EngineOptions engine = o.engine;
     engine.gpu_ray_log = log_rays;
-    std::unique_ptr<ContribEngine> e = CreateContribEngine(
-        flat, o.contrib, TrackedModifiers(o),
-        [&o](int k) { return MakeCalContext(o, o.modifiers[k].params); }, engine);
+    std::unique_ptr<ContribEngine> e = CreateRunEngine(o, flat, o.contrib, engine);
     if (e->Label().rfind("vulkan", 0) != 0)
         ErrorExit("no Vulkan engine for this run (" + e->Label() + ")");
     return e;
@@ -63,14 +62,6 @@ RunTimes TimedRun(ContribEngine &e, const std::vector<double> &rays) {
     return t;
 }
 
-std::vector<double> ReadRays(std::istream &in) {
-    std::vector<double> rays;
-    double v;
-    while (in >> v) rays.push_back(v);
-    if (rays.empty() || rays.size() % 6) ErrorExit("<stdin>: expected rays of 6 numbers");
-    return rays;
-}
-
 double Total(const std::vector<double> &v) {
     double s = 0;
     for (double x : v) s += x;
@@ -80,18 +71,14 @@ double Total(const std::vector<double> &v) {
 int Main(int argc, char **argv) {
     std::vector<std::string> args(argv, argv + argc);
     size_t every = 1, repeat = 3, log_rays = size_t(1) << 24;
-    while (args.size() > 2 &&
-           (args[1] == "-record_every" || args[1] == "-repeat" || args[1] == "-log_rays")) {
-        size_t &value = args[1] == "-repeat" ? repeat : args[1] == "-log_rays" ? log_rays : every;
-        value = std::max<size_t>(1, std::stoul(args[2]));
-        args.erase(args.begin() + 1, args.begin() + 3);
-    }
+    bench::TakeCounts(&args,
+                      {{"-record_every", &every}, {"-repeat", &repeat}, {"-log_rays", &log_rays}});
     std::vector<std::string> header;
     const RcontribOptions o = ParseRcontribOptions(args, &header);
     if (o.engine.backend != "vulkan") ErrorExit("the replay measures the Vulkan backend");
     std::string octree_header;
     const FlatScene flat = ReadRcontribScene(o.scene, &octree_header);
-    const std::vector<double> rays = ReadRays(std::cin);
+    const std::vector<double> rays = bench::ReadRays(std::cin);
 
     const std::unique_ptr<ContribEngine> engine = MakeEngine(o, flat, 0);
     TimedRun(*engine, std::vector<double>(rays.begin(), rays.begin() + 6));  // compiles
@@ -101,9 +88,7 @@ int Main(int argc, char **argv) {
         if (again.wall < run.wall) run = again;
     }
 
-    std::vector<double> subset;
-    for (size_t i = 0; i < rays.size() / 6; i += every)
-        subset.insert(subset.end(), &rays[6 * i], &rays[6 * i + 6]);
+    const std::vector<double> subset = bench::EveryKth(rays, every);
     const std::unique_ptr<ContribEngine> logging = MakeEngine(o, flat, log_rays);
     TimedRun(*logging, subset);
     const ContribEngine::ReplayResult replay = logging->ReplayLoggedRays(static_cast<int>(repeat));

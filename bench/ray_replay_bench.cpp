@@ -31,6 +31,7 @@
 #include "raytrace/engine.h"
 #include "rcontrib/options.h"
 #include "rcontrib/run.h"
+#include "replay_common.h"
 #include "util/errors.h"
 
 namespace dayflux {
@@ -61,16 +62,14 @@ struct RayLog {
 };
 
 // The caster, counting (and recording) what goes through it.
-class LoggingBackend : public Backend {
+class LoggingBackend : public ForwardingBackend {
   public:
     LoggingBackend(std::unique_ptr<Backend> inner, RayLog *log)
-        : inner_(std::move(inner)), log_(log) {}
-    std::string Name() const override { return inner_->Name(); }
+        : ForwardingBackend(std::move(inner)), log_(log) {}
     void SetBlockers(std::vector<uint32_t> triangles) override {
         log_->blockers = triangles;
         inner_->SetBlockers(std::move(triangles));
     }
-    void Commit(const FlatScene &scene) override { inner_->Commit(scene); }
     void Closest(const TraceRay *rays, TraceHit *hits, size_t n) const override {
         log_->counts.local().closest += n;
         if (log_->record) log_->closest.local().insert(log_->closest.local().end(), rays, rays + n);
@@ -90,7 +89,6 @@ class LoggingBackend : public Backend {
     }
 
   private:
-    std::unique_ptr<Backend> inner_;
     RayLog *log_;
 };
 
@@ -103,9 +101,7 @@ double TimedRun(const RcontribOptions &o, const FlatScene &flat, const std::vect
         engine.wrap_cpu_backend = [log](std::unique_ptr<Backend> b) {
             return std::make_unique<LoggingBackend>(std::move(b), log);
         };
-    const std::unique_ptr<ContribEngine> e = CreateContribEngine(
-        flat, o.contrib, TrackedModifiers(o),
-        [&o](int k) { return MakeCalContext(o, o.modifiers[k].params); }, engine);
+    const std::unique_ptr<ContribEngine> e = CreateRunEngine(o, flat, o.contrib, engine);
     const size_t n = rays.size() / 6;
     std::vector<double> records(n * 3 * static_cast<size_t>(e->Columns()), 0.0);
     const Clock::time_point start = Clock::now();
@@ -135,23 +131,10 @@ double Replay(const FlatScene &flat, const RayLog &log, const std::vector<TraceR
     return Seconds(start);
 }
 
-std::vector<double> ReadRays(std::istream &in) {
-    std::vector<double> rays;
-    double v;
-    while (in >> v) rays.push_back(v);
-    if (rays.empty() || rays.size() % 6) ErrorExit("<stdin>: expected rays of 6 numbers");
-    return rays;
-}
-
 int Main(int argc, char **argv) {
     std::vector<std::string> args(argv, argv + argc);
     size_t every = 1, repeat = 3, paths = EngineOptions().cpu_paths_at_once;
-    while (args.size() > 2 &&
-           (args[1] == "-record_every" || args[1] == "-repeat" || args[1] == "-paths")) {
-        size_t &value = args[1] == "-repeat" ? repeat : args[1] == "-paths" ? paths : every;
-        value = std::max<size_t>(1, std::stoul(args[2]));
-        args.erase(args.begin() + 1, args.begin() + 3);
-    }
+    bench::TakeCounts(&args, {{"-record_every", &every}, {"-repeat", &repeat}, {"-paths", &paths}});
     std::vector<std::string> header;
     RcontribOptions o = ParseRcontribOptions(args, &header);
     if (o.engine.backend != "embree") ErrorExit("the replay measures the CPU (Embree) backend");
@@ -159,7 +142,7 @@ int Main(int argc, char **argv) {
     const std::unique_ptr<tbb::global_control> threads = LimitThreads(o.threads);
     std::string octree_header;
     const FlatScene flat = ReadRcontribScene(o.scene, &octree_header);
-    const std::vector<double> rays = ReadRays(std::cin);
+    const std::vector<double> rays = bench::ReadRays(std::cin);
 
     // The rays are counted in a run of their own: with a fixed seed every run traces the same.
     RayLog counted;
@@ -167,9 +150,7 @@ int Main(int argc, char **argv) {
     const Counts total = counted.Total();
     double run_s = TimedRun(o, flat, rays, nullptr);
 
-    std::vector<double> subset;
-    for (size_t i = 0; i < rays.size() / 6; i += every)
-        subset.insert(subset.end(), &rays[6 * i], &rays[6 * i + 6]);
+    const std::vector<double> subset = bench::EveryKth(rays, every);
     RayLog recorded;
     recorded.record = true;
     TimedRun(o, flat, subset, &recorded);

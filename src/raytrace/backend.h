@@ -51,6 +51,30 @@ class Backend {
     virtual void Blocked(const TraceRay *rays, bool *blocked, size_t n) const = 0;
 };
 
+// A caster that passes every call on to another: the base of EngineOptions::wrap_cpu_backend's
+// wrappers (benchmarks' and tests' counters), which override what they watch.
+class ForwardingBackend : public Backend {
+  public:
+    explicit ForwardingBackend(std::unique_ptr<Backend> inner) : inner_(std::move(inner)) {}
+    std::string Name() const override { return inner_->Name(); }
+    void SetBlockers(std::vector<uint32_t> triangles) override {
+        inner_->SetBlockers(std::move(triangles));
+    }
+    void Commit(const FlatScene &scene) override { inner_->Commit(scene); }
+    void Closest(const TraceRay *rays, TraceHit *hits, size_t n) const override {
+        inner_->Closest(rays, hits, n);
+    }
+    void Occluded(const TraceRay *rays, bool *occluded, size_t n) const override {
+        inner_->Occluded(rays, occluded, n);
+    }
+    void Blocked(const TraceRay *rays, bool *blocked, size_t n) const override {
+        inner_->Blocked(rays, blocked, n);
+    }
+
+  protected:
+    std::unique_ptr<Backend> inner_;
+};
+
 // The CPU ray caster. (The GPU driver finds its hits itself, in the shader.)
 std::unique_ptr<Backend> CreateEmbreeBackend();
 

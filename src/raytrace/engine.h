@@ -31,6 +31,11 @@ enum class GpuScratch { kAuto, kOn, kOff };
 // memory; a sensor's first hemisphere is split between tasks, so their sums are short), or
 // double (needs shaderFloat64). Records are summed in double on the host.
 enum class GpuAccum { kPair, kFloat, kDouble };
+// What spirv-opt does to the GPU's shader before the driver compiles it (issue 42's compile
+// time): -O, -Os, nothing, or auto: nothing on CPU devices, whose LLVM compiles and runs
+// unoptimised SPIR-V sooner (lavapipe: 5 s less a pipeline, traces 1.4-2x sooner), -O on GPUs
+// (until NVIDIA's figures say otherwise).
+enum class GpuSpirvOpt { kAuto, kPerformance, kSize, kNone };
 
 struct EngineOptions {
     std::string backend = "embree";  // "embree" or "vulkan"
@@ -45,11 +50,7 @@ struct EngineOptions {
     // Intel's) and at full rate on consumer GPUs, which run fp64 at 1/32-1/64.
     bool gpu_double_cal = false;
     bool NeedsFloat64() const { return accumulators == GpuAccum::kDouble || gpu_double_cal; }
-    // What spirv-opt does to the GPU's shader before the driver compiles it (issue 42's compile
-    // time): "performance" (-O), "size" (-Os), "none", or "auto": none on CPU devices, whose
-    // LLVM compiles and runs unoptimised SPIR-V sooner (lavapipe: 5 s less a pipeline, traces
-    // 1.4-2x sooner), performance on GPUs (until NVIDIA's figures say otherwise).
-    std::string gpu_spirv_opt = "auto";
+    GpuSpirvOpt spirv_opt = GpuSpirvOpt::kAuto;
     // For tests: false sums a sensor's slices on the host, each task's record read back (as
     // with float accumulators); a bound on the tasks a dispatch takes (0: as memory allows).
     bool gpu_slice_sums = true;

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <initializer_list>
 #include <map>
 #include <set>
 #include <tuple>
@@ -49,11 +50,23 @@ bool Flag(const std::string &a, bool current) {
     return a[2] == '+' || a[2] == '1' || a[2] == 'y' || a[2] == 't';
 }
 
+// The index of value among an option's choices (an enum's order), or an error naming them.
+template <typename Enum>
+Enum Choice(const std::string &option, const std::string &value,
+            std::initializer_list<const char *> choices) {
+    const int n = static_cast<int>(choices.size());
+    int k = 0;
+    std::string names;
+    for (const char *c : choices) {
+        if (value == c) return static_cast<Enum>(k);
+        names += std::string(k == 0 ? "" : k == n - 1 ? " or " : ", ") + c;
+        ++k;
+    }
+    ErrorExit(option + " " + value + ": " + names);
+}
+
 GpuTraversal Traversal(const std::string &option, const std::string &t) {
-    if (t == "auto") return GpuTraversal::kAuto;
-    if (t == "rayquery") return GpuTraversal::kRayQuery;
-    if (t == "bvh") return GpuTraversal::kBvh;
-    ErrorExit(option + " " + t + ": auto, rayquery or bvh");
+    return Choice<GpuTraversal>(option, t, {"auto", "rayquery", "bvh"});
 }
 
 std::string Environment(const char *name) {
@@ -281,33 +294,15 @@ class Parser : public OptionCursor {
             o_.first_record = static_cast<long>(n);
         } else if (a == "-backend") {
             backend_ = Value(a);
-        } else if (a == "-gpu_accum") {
-            // The GPU's per-task accumulators: float pairs (the default), float or double.
-            const std::string t = Value(a);
-            if (t != "pair" && t != "float" && t != "double")
-                ErrorExit("-gpu_accum " + t + ": pair, float or double");
-            o_.engine.accumulators = t == "pair"    ? GpuAccum::kPair
-                                     : t == "float" ? GpuAccum::kFloat
-                                                    : GpuAccum::kDouble;
-        } else if (a == "-gpu_spirv_opt") {
-            // spirv-opt's level for the GPU's shader: auto (the default), performance, size or
-            // none.
-            const std::string t = Value(a);
-            if (t != "auto" && t != "performance" && t != "size" && t != "none")
-                ErrorExit("-gpu_spirv_opt " + t + ": auto, performance, size or none");
-            o_.engine.gpu_spirv_opt = t;
-        } else if (a == "-gpu_cal") {
-            // The GPU's bins and patterns: float (the default) or double.
-            const std::string t = Value(a);
-            if (t != "float" && t != "double") ErrorExit("-gpu_cal " + t + ": float or double");
-            o_.engine.gpu_double_cal = t == "double";
+        } else if (a == "-gpu_accum") {  // the GPU's per-task accumulators
+            o_.engine.accumulators = Choice<GpuAccum>(a, Value(a), {"pair", "float", "double"});
+        } else if (a == "-gpu_spirv_opt") {  // spirv-opt's level for the GPU's shader
+            o_.engine.spirv_opt =
+                Choice<GpuSpirvOpt>(a, Value(a), {"auto", "performance", "size", "none"});
+        } else if (a == "-gpu_cal") {  // the GPU's bins and patterns
+            o_.engine.gpu_double_cal = Choice<int>(a, Value(a), {"float", "double"}) == 1;
         } else if (a == "-gpu_scratch") {
-            const std::string t = Value(a);
-            if (t != "auto" && t != "on" && t != "off")
-                ErrorExit("-gpu_scratch " + t + ": auto, on or off");
-            o_.engine.scratch = t == "on"    ? GpuScratch::kOn
-                                : t == "off" ? GpuScratch::kOff
-                                             : GpuScratch::kAuto;
+            o_.engine.scratch = Choice<GpuScratch>(a, Value(a), {"auto", "on", "off"});
         } else if (a == "-gpu_traversal") {
             o_.engine.traversal = Traversal(a, Value(a));
         } else if (a == "-device") {

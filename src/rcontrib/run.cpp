@@ -63,6 +63,14 @@ std::unique_ptr<tbb::global_control> LimitThreads(int threads) {
                                                  threads);
 }
 
+std::unique_ptr<ContribEngine> CreateRunEngine(const RcontribOptions &o, const FlatScene &flat,
+                                               const ContribOptions &contrib,
+                                               const EngineOptions &engine) {
+    return CreateContribEngine(
+        flat, contrib, TrackedModifiers(o),
+        [&o](int k) { return MakeCalContext(o, o.modifiers[k].params); }, engine);
+}
+
 void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &header_args,
                  const std::string &header_lines, RaySource rays) {
     const std::unique_ptr<tbb::global_control> threads = LimitThreads(o.threads);
@@ -70,9 +78,7 @@ void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &heade
     const FlatScene flat = ReadRcontribScene(o.scene, &header);
     header += header_lines;
     const auto create = [&](const ContribOptions &c) {
-        return CreateContribEngine(
-            flat, c, TrackedModifiers(o),
-            [&o](int k) { return MakeCalContext(o, o.modifiers[k].params); }, o.engine);
+        return CreateRunEngine(o, flat, c, o.engine);
     };
     std::unique_ptr<ContribEngine> engine;
     std::shared_ptr<TargetErrorReport> report;

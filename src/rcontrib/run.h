@@ -21,6 +21,12 @@ namespace dayflux {
 void RunRcontrib(const RcontribOptions &o, const std::vector<std::string> &header_args,
                  const std::string &header_lines = "", RaySource rays = nullptr);
 
+// The engine for a run of o over flat, with contrib (o.contrib, or a variant of it) and the
+// engine options given.
+std::unique_ptr<ContribEngine> CreateRunEngine(const RcontribOptions &o, const FlatScene &flat,
+                                               const ContribOptions &contrib,
+                                               const EngineOptions &engine);
+
 // -n: at most threads threads while the result lives (all cores for 0).
 std::unique_ptr<tbb::global_control> LimitThreads(int threads);
 

@@ -324,29 +324,17 @@ TEST(Engine, SlicesSummedOnTheDeviceAsOnTheHostVulkan) {
 }
 
 // The caster of an engine, counting its nearest-hit queries and their hits.
-class HitCounter : public Backend {
+class HitCounter : public ForwardingBackend {
   public:
     HitCounter(std::unique_ptr<Backend> inner, std::atomic<size_t> *rays, std::atomic<size_t> *hits)
-        : inner_(std::move(inner)), rays_(rays), hits_(hits) {}
-    std::string Name() const override { return inner_->Name(); }
-    void SetBlockers(std::vector<uint32_t> triangles) override {
-        inner_->SetBlockers(std::move(triangles));
-    }
-    void Commit(const FlatScene &scene) override { inner_->Commit(scene); }
+        : ForwardingBackend(std::move(inner)), rays_(rays), hits_(hits) {}
     void Closest(const TraceRay *rays, TraceHit *hits, size_t n) const override {
         inner_->Closest(rays, hits, n);
         *rays_ += n;
         for (size_t i = 0; i < n; ++i) *hits_ += hits[i].hit;
     }
-    void Occluded(const TraceRay *rays, bool *occluded, size_t n) const override {
-        inner_->Occluded(rays, occluded, n);
-    }
-    void Blocked(const TraceRay *rays, bool *blocked, size_t n) const override {
-        inner_->Blocked(rays, blocked, n);
-    }
 
   private:
-    std::unique_ptr<Backend> inner_;
     std::atomic<size_t> *rays_, *hits_;
 };
 
@@ -401,22 +389,17 @@ TEST(Engine, RaysCountedLoggedAndReplayedVulkan) {
 
 // The caster of an engine, counting the shadow rays the blockers stopped; with drop_blockers,
 // given none (every shadow ray then walks through what it meets).
-class BlockerCounter : public Backend {
+class BlockerCounter : public ForwardingBackend {
   public:
     BlockerCounter(std::unique_ptr<Backend> inner, bool drop_blockers, size_t *blockers,
                    std::atomic<size_t> *stopped)
-        : inner_(std::move(inner)), drop_(drop_blockers), blockers_(blockers), stopped_(stopped) {}
-    std::string Name() const override { return inner_->Name(); }
+        : ForwardingBackend(std::move(inner)),
+          drop_(drop_blockers),
+          blockers_(blockers),
+          stopped_(stopped) {}
     void SetBlockers(std::vector<uint32_t> triangles) override {
         *blockers_ = triangles.size();
         if (!drop_) inner_->SetBlockers(std::move(triangles));
-    }
-    void Commit(const FlatScene &scene) override { inner_->Commit(scene); }
-    void Closest(const TraceRay *rays, TraceHit *hits, size_t n) const override {
-        inner_->Closest(rays, hits, n);
-    }
-    void Occluded(const TraceRay *rays, bool *occluded, size_t n) const override {
-        inner_->Occluded(rays, occluded, n);
     }
     void Blocked(const TraceRay *rays, bool *blocked, size_t n) const override {
         inner_->Blocked(rays, blocked, n);
@@ -424,7 +407,6 @@ class BlockerCounter : public Backend {
     }
 
   private:
-    std::unique_ptr<Backend> inner_;
     bool drop_;
     size_t *blockers_;
     std::atomic<size_t> *stopped_;

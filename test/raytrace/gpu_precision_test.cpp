@@ -52,7 +52,7 @@ ContribShader EveryFeature(const EngineOptions &engine) {
 // every feature takes glslang about 25 s.)
 TEST(GpuPrecision, NoDoubleInTheShadersByDefault) {
     EXPECT_FALSE(vk::GpuDevice::UsesFloat64(
-        CompileContribShader(EveryFeature(EngineOptions{}), false, true)));
+        CompileContribShader(EveryFeature(EngineOptions{}), ShaderTarget{false, true})));
     EXPECT_FALSE(vk::GpuDevice::UsesFloat64(CompileSliceSumShader(GpuAccum::kPair)));
 }
 

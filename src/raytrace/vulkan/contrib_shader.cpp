@@ -185,40 +185,12 @@ bool MakeContribShader(const PackedScene &packed, const ContribOptions &options,
 
 std::vector<uint32_t> CompileSliceSumShader(GpuAccum accumulators) {
     CHECK(accumulators != GpuAccum::kFloat);
-    std::string source =
-        "#version 460\n#include \"raytrace/vulkan/shaders/common.h\"\nlayout(local_size_x = " +
-        std::to_string(kSliceSumLocalSize) + ") in;\n";
-    if (accumulators == GpuAccum::kDouble) {
-        source += R"glsl(
-layout(std430, set = 0, binding = kBindingAccum) readonly buffer Accum { double accum[]; };
-layout(std430, set = 0, binding = kBindingTasks) readonly buffer Tasks { GpuTasks tasks; };
-layout(std430, set = 0, binding = kBindingSliceSums) buffer Sums { double sums[]; };
-void main() {
-    uint i = gl_GlobalInvocationID.x +
-             gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    uint record = 3u * uint(tasks.ncols), slices = uint(tasks.slices);
-    uint rays = uint(tasks.count) / slices;
-    if (i >= rays * record) return;
-    uint ray = i / record, j = i - ray * record;
-    precise double sum = 0.0;  // (0 + the first slice, then the others: as the host adds them)
-    for (uint k = 0u; k < slices; ++k) sum += accum[(ray * slices + k) * record + j];
-    sums[i] = sum;
-}
-)glsl";
-    } else {
-        // Pairs (contrib.comp's AddToRecord): the slices' sums added with TwoSum, the lost parts
-        // and the slices' own second floats summed beside, in the slices' order.
-        source += R"glsl(
-layout(std430, set = 0, binding = kBindingAccum) readonly buffer Accum { float accum[]; };
-layout(std430, set = 0, binding = kBindingTasks) readonly buffer Tasks { GpuTasks tasks; };
-layout(std430, set = 0, binding = kBindingSliceSums) buffer Sums { float sums[]; };
-void main() {
-    uint i = gl_GlobalInvocationID.x +
-             gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    uint record = 3u * uint(tasks.ncols), slices = uint(tasks.slices);
-    uint rays = uint(tasks.count) / slices;
-    if (i >= rays * record) return;
-    uint ray = i / record, j = i - ray * record;
+    const bool pairs = accumulators == GpuAccum::kPair;
+    const std::string type = pairs ? "float" : "double";
+    // Entry j of ray `ray`'s record, summed over its slices: doubles as the host adds them (0 +
+    // the first slice, then the others); pairs (contrib.comp's AddToEntry) with TwoSum, the lost
+    // parts and the slices' own second floats summed beside, in the slices' order.
+    const std::string sum = pairs ? R"glsl(
     precise float sum = 0.0, lost = 0.0;
     for (uint k = 0u; k < slices; ++k) {
         uint at = 2u * ((ray * slices + k) * record + j);
@@ -228,36 +200,56 @@ void main() {
     }
     sums[2u * i] = sum;
     sums[2u * i + 1u] = lost;
-}
+)glsl"
+                                  : R"glsl(
+    precise double sum = 0.0;
+    for (uint k = 0u; k < slices; ++k) sum += accum[(ray * slices + k) * record + j];
+    sums[i] = sum;
 )glsl";
-    }
+    const std::string source =
+        "#version 460\n#include \"raytrace/vulkan/shaders/common.h\"\nlayout(local_size_x = " +
+        std::to_string(kSliceSumLocalSize) + ") in;\n" +
+        "layout(std430, set = 0, binding = kBindingAccum) readonly buffer Accum { " + type +
+        " accum[]; };\n" +
+        "layout(std430, set = 0, binding = kBindingTasks) readonly buffer Tasks { GpuTasks tasks; "
+        "};\n" +
+        "layout(std430, set = 0, binding = kBindingSliceSums) buffer Sums { " + type +
+        " sums[]; };\n" + R"glsl(
+void main() {
+    uint i = gl_GlobalInvocationID.x +
+             gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    uint record = 3u * uint(tasks.ncols), slices = uint(tasks.slices);
+    uint rays = uint(tasks.count) / slices;
+    if (i >= rays * record) return;
+    uint ray = i / record, j = i - ray * record;)glsl" +
+        sum + "}\n";
     return vk::GpuDevice::CompileGlsl(source, "slice_sum.comp", IncludedFile);
 }
 
-std::vector<uint32_t> CompileContribShader(const ContribShader &shader, bool ray_queries,
-                                           bool scratch, bool replay,
-                                           vk::SpirvOptimization optimization, bool inf_nan) {
+std::vector<uint32_t> CompileContribShader(const ContribShader &shader, const ShaderTarget &target,
+                                           bool replay) {
     // ([[dont_unroll]] keeps the BSDF's small loops, so its code is not copied.)
     const std::string source =
         std::string("#version 460\n#extension GL_EXT_control_flow_attributes : enable\n") +
         // SignedZeroInfNanPreserve (4461, capability 4466) for 32-bit floats: a bin of inf - inf
         // is NaN, reported and ignored, as calcomp's, not folded to 0
-        (inf_nan ? "#extension GL_EXT_spirv_intrinsics : require\n"
-                   "spirv_execution_mode(extensions = [\"SPV_KHR_float_controls\"], "
-                   "capabilities = [4466], 4461, 32);\n"
-                 : "") +
+        (target.inf_nan ? "#extension GL_EXT_spirv_intrinsics : require\n"
+                          "spirv_execution_mode(extensions = [\"SPV_KHR_float_controls\"], "
+                          "capabilities = [4466], 4461, 32);\n"
+                        : "") +
         (replay ? "#define DAYFLUX_REPLAY 1\n" : "") +
-        (ray_queries ? "#extension GL_EXT_ray_query : require\n" : "#define DAYFLUX_BVH 1\n") +
-        (scratch ? "#define DAYFLUX_SCRATCH 1\n"
-                 : "#define MAXN " + std::to_string(kGpuMaxRows) + "\n") +
+        (target.ray_queries ? "#extension GL_EXT_ray_query : require\n"
+                            : "#define DAYFLUX_BVH 1\n") +
+        (target.scratch ? "#define DAYFLUX_SCRATCH 1\n"
+                        : "#define MAXN " + std::to_string(kGpuMaxRows) + "\n") +
         shader.source;
     // (the cache's key: the source, and the optimiser's level where it is not the default)
-    const int level = static_cast<int>(optimization);
+    const int level = static_cast<int>(target.optimization);
     const fs::path cache = CachePath(level == 0 ? source : source + "// O" + std::to_string(level));
     if (!cache.empty())
         if (std::vector<uint32_t> spirv = ReadSpirv(cache); !spirv.empty()) return spirv;
     std::vector<uint32_t> spirv =
-        vk::GpuDevice::CompileGlsl(source, "contrib.comp", IncludedFile, optimization);
+        vk::GpuDevice::CompileGlsl(source, "contrib.comp", IncludedFile, target.optimization);
     if (!cache.empty()) WriteSpirv(cache, spirv);
     return spirv;
 }

@@ -37,13 +37,18 @@ bool MakeContribShader(const PackedScene &packed, const ContribOptions &options,
                        const std::vector<TrackedModifier> &tracked, const MakeContext &make_context,
                        const EngineOptions &engine, ContribShader *shader, std::string *why);
 
-// SPIR-V for devices with ray queries or without (our BVH walk), with the stack and rows in
-// scratch buffers or private arrays (GpuScratch), from the cache if it is there.
-// replay: the kernel that traces logged rays again for their nearest hits alone (contrib.comp's
-// DAYFLUX_REPLAY); inf_nan: floats keep infinities and NaNs (GpuDevice::PreservesInfNan).
-std::vector<uint32_t> CompileContribShader(
-    const ContribShader &shader, bool ray_queries, bool scratch, bool replay = false,
-    vk::SpirvOptimization optimization = vk::SpirvOptimization::kPerformance, bool inf_nan = false);
+// What a device's SPIR-V depends on besides the run's source.
+struct ShaderTarget {
+    bool ray_queries = false;  // else our BVH walk
+    bool scratch = false;      // the stack and rows in scratch buffers, else private arrays
+    bool inf_nan = false;      // floats keep infinities and NaNs (GpuDevice::PreservesInfNan)
+    vk::SpirvOptimization optimization = vk::SpirvOptimization::kPerformance;
+};
+
+// SPIR-V for a device, from the cache if it is there. replay: the kernel that traces logged rays
+// again for their nearest hits alone (contrib.comp's DAYFLUX_REPLAY).
+std::vector<uint32_t> CompileContribShader(const ContribShader &shader, const ShaderTarget &target,
+                                           bool replay = false);
 
 // SPIR-V of the second stage of a dispatch whose rays' slices it holds whole (GpuTasks: count a
 // multiple of slices): each ray's record summed over its slices in their order, from

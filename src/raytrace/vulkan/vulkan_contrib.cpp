@@ -127,7 +127,7 @@ struct DeviceState {
     std::vector<uint32_t> sum_spirv;  // CompileSliceSumShader's (empty: plain float accumulators)
     int positions = -1, indices = -1, triangles = -1, surfaces = -1, sources = -1, shapes = -1;
     int bvh_nodes = -1, bvh_prims = -1, klems = -1, relays = -1, tracked = -1, receivers = -1;
-    bool scratch = false;     // stack and rows in scratch buffers (GpuScratch)
+    ShaderTarget target;      // what its SPIR-V is compiled for (the stack's place: GpuScratch)
     uint32_t item_bytes = 0;  // the shader's stack item (std430), for its scratch
     uint64_t dropped = 0;     // stack items lost in its last Trace
     uint32_t reports = 0;     // the core's kReport* flags, likewise
@@ -137,7 +137,6 @@ struct DeviceState {
     std::vector<double> stage_seconds;
     std::vector<core::uvec4> ray_log;
     std::vector<uint32_t> replay_spirv;  // compiled when first asked for
-    vk::SpirvOptimization optimization = vk::SpirvOptimization::kPerformance;
 };
 
 using G = vk::GpuDevice;
@@ -369,10 +368,10 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
     const uint64_t stack_bytes = uint64_t(kGpuStackSize + 1) * dev.item_bytes;
     const uint64_t rows_bytes = 16 * uint64_t(2 * max_rows_ + kGpuDeepLevels * 2 * kGpuDeepN);
     const uint64_t scratch_tasks =
-        !dev.scratch ? uint64_t(kMaxTasksPerRun)
-                     : std::min({dev.device->ScratchBudget() / (stack_bytes + rows_bytes),
-                                 dev.device->MaxBufferBytes() / stack_bytes,
-                                 dev.device->MaxBufferBytes() / rows_bytes});
+        !dev.target.scratch ? uint64_t(kMaxTasksPerRun)
+                            : std::min({dev.device->ScratchBudget() / (stack_bytes + rows_bytes),
+                                        dev.device->MaxBufferBytes() / stack_bytes,
+                                        dev.device->MaxBufferBytes() / rows_bytes});
     // The accumulators live in device memory (a whole record a task: 5185 x 3 for C_ds), as
     // much of it as the scratch may take, so that a run holds thousands of tasks.
     const uint64_t accum_budget =
@@ -421,9 +420,9 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         named.Set(core::kBindingParameters, G::In(&parameter_bytes));
         named.Set(core::kBindingStats, G::InOut(&stats));
         named.Set(core::kBindingScratchItems,
-                  dev.scratch ? G::Scratch(count * stack_bytes) : G::In(&none));
+                  dev.target.scratch ? G::Scratch(count * stack_bytes) : G::In(&none));
         named.Set(core::kBindingScratchRows,
-                  dev.scratch ? G::Scratch(count * rows_bytes) : G::In(&none));
+                  dev.target.scratch ? G::Scratch(count * rows_bytes) : G::In(&none));
         named.Set(core::kBindingSliceSums, sum_slices ? G::Accumulator(&accum) : G::In(&none));
         named.Set(core::kBindingRayLog,
                   log_bytes.empty() ? G::In(&none) : G::Accumulator(&log_bytes));
@@ -470,10 +469,8 @@ ContribEngine::ReplayResult VulkanContribEngine::ReplayLoggedRays(int passes) {
     const size_t n = dev.ray_log.size() / 2;
     if (n == 0) return result;
     if (dev.replay_spirv.empty()) {
-        dev.replay_spirv =
-            CompileContribShader(shader_, dev.device->RayQueries(), dev.scratch, true,
-                                 dev.optimization, dev.device->PreservesInfNan());
-        CHECK(float64_ || !vk::GpuDevice::UsesFloat64(dev.replay_spirv));
+        dev.replay_spirv = CompileContribShader(shader_, dev.target, true);
+        CHECK(float64_ || !vk::GpuDevice::UsesFloat64(dev.replay_spirv));  // (as Create's)
     }
     const int log = dev.device->Resident(Bytes(dev.ray_log));
     result.rays = n;
@@ -545,16 +542,17 @@ std::unique_ptr<ContribEngine> CreateVulkanContribEngine(
     for (std::unique_ptr<vk::GpuDevice> &device : opened) {
         DeviceState &dev = devices.emplace_back();
         dev.device = std::move(device);
-        dev.scratch = engine.scratch == GpuScratch::kOn ||
-                      (engine.scratch == GpuScratch::kAuto && !dev.device->IsCpu());
-        const std::string &opt = engine.gpu_spirv_opt;
-        dev.optimization = opt == "size"   ? vk::SpirvOptimization::kSize
-                           : opt == "none" ? vk::SpirvOptimization::kNone
-                           : opt == "auto" && dev.device->IsCpu()
-                               ? vk::SpirvOptimization::kNone
-                               : vk::SpirvOptimization::kPerformance;
-        dev.spirv = CompileContribShader(shader, dev.device->RayQueries(), dev.scratch, false,
-                                         dev.optimization, dev.device->PreservesInfNan());
+        const bool cpu = dev.device->IsCpu();
+        dev.target.ray_queries = dev.device->RayQueries();
+        dev.target.scratch =
+            engine.scratch == GpuScratch::kOn || (engine.scratch == GpuScratch::kAuto && !cpu);
+        dev.target.inf_nan = dev.device->PreservesInfNan();
+        const GpuSpirvOpt opt = engine.spirv_opt;
+        dev.target.optimization = opt == GpuSpirvOpt::kSize ? vk::SpirvOptimization::kSize
+                                  : opt == GpuSpirvOpt::kNone || (opt == GpuSpirvOpt::kAuto && cpu)
+                                      ? vk::SpirvOptimization::kNone
+                                      : vk::SpirvOptimization::kPerformance;
+        dev.spirv = CompileContribShader(shader, dev.target);
         if (engine.accumulators != GpuAccum::kFloat && engine.gpu_slice_sums)
             dev.sum_spirv = CompileSliceSumShader(engine.accumulators);
         // What we generate holds a double only where the run asked for one: the device was
@@ -562,7 +560,7 @@ std::unique_ptr<ContribEngine> CreateVulkanContribEngine(
         CHECK(engine.NeedsFloat64() ||
               (!vk::GpuDevice::UsesFloat64(dev.spirv) &&
                (dev.sum_spirv.empty() || !vk::GpuDevice::UsesFloat64(dev.sum_spirv))));
-        if (dev.scratch) {
+        if (dev.target.scratch) {
             dev.item_bytes =
                 vk::GpuDevice::RuntimeArrayStride(dev.spirv, uint32_t(core::kBindingScratchItems));
             CHECK(dev.item_bytes > 0);  // contrib.comp declares the stack's scratch there
