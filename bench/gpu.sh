@@ -33,6 +33,9 @@
 #   -gpu_cal double -gpu_accum double, as the engine was before it went without fp64),
 #   SPIRV_NONE (1: also vulkan-bvh-O0, the BVH walk with unoptimised SPIR-V, -gpu_spirv_opt
 #   none, which lavapipe runs 1.4-2x sooner: does NVIDIA's compiler too?),
+#   PATHS (1: also vulkan-bvh-paths, the BVH walk on the paths engine, -gpu_engine paths: an
+#   invocation a first-hemisphere cell's path, records in fixed point; and its replay beside the
+#   tasks engine's),
 #   REPLAY (the rcontrib cases also measured by bench/gpu_replay_bench.cpp on each traversal:
 #   rays traced, rays a second, the device's seconds per stage from timestamps, and the GPU
 #   efficiency, run rays/s over the rate of a kernel replaying its rays for their nearest hits
@@ -120,6 +123,11 @@ programs=("embree|-backend embree" "vulkan-rayquery|-device $DEVICE -gpu_travers
     programs+=("vulkan-bvh-fp64|-device $DEVICE -gpu_traversal bvh -gpu_cal double -gpu_accum double")
 [ "${SPIRV_NONE:-0}" = 1 ] &&
     programs+=("vulkan-bvh-O0|-device $DEVICE -gpu_traversal bvh -gpu_spirv_opt none")
+engines=tasks
+if [ "${PATHS:-0}" = 1 ]; then
+    programs+=("vulkan-bvh-paths|-device $DEVICE -gpu_traversal bvh -gpu_engine paths")
+    engines="tasks paths"
+fi
 echo "== reference office (wall s; relative RMS difference from Embree at the same seed)" |
     tee -a "$summary"
 printf "%-6s %-4s %-16s %8s %10s %12s\n" model case program sensors wall_s vs_embree |
@@ -203,18 +211,20 @@ for model in $MODELS; do
         done
         # The GPU efficiency: the run's rays a second over its replay's (gpu_replay_bench.cpp).
         if [[ " $REPLAY " == *" $case "* && $program == "$RCONTRIB" && -x $REPLAY_BENCH ]]; then
-            for traversal in rayquery bvh; do
+            for run in $(for e in $engines; do echo "rayquery,$e bvh,$e"; done); do
+                traversal=${run%,*} engine=${run#*,}
                 (cd "$dir" && "$REPLAY_BENCH" -record_every "$REPLAY_EVERY" -repeat 3 \
-                    -backend vulkan -device "$DEVICE" -gpu_traversal "$traversal" -seed 1 \
-                    $args < sensors.pts > "$dir/replay.csv" 2> "$dir/err") || {
-                    echo "$model $case $traversal replay: $(tail -1 "$dir/err")" |
+                    -backend vulkan -device "$DEVICE" -gpu_traversal "$traversal" \
+                    -gpu_engine "$engine" -seed 1 $args < sensors.pts > "$dir/replay.csv" \
+                    2> "$dir/err") || {
+                    echo "$model $case $traversal $engine replay: $(tail -1 "$dir/err")" |
                         tee -a "$summary"
                     continue
                 }
-                [ -s "$replay_csv" ] || echo "model,case,traversal,$(head -1 "$dir/replay.csv")" \
-                    > "$replay_csv"
-                echo "$model,$case,$traversal,$(tail -1 "$dir/replay.csv")" >> "$replay_csv"
-                tail -1 "$replay_csv" | awk -F, '{ printf "replay %s %s %s: %s rays, run %s Mrays/s (trace %s s, sums %s s), replay %s Mrays/s, efficiency %s\n", $1, $2, $3, $6, $11, $9, $10, $16, $17 }' |
+                [ -s "$replay_csv" ] ||
+                    echo "model,case,traversal+engine,$(head -1 "$dir/replay.csv")" > "$replay_csv"
+                echo "$model,$case,$traversal+$engine,$(tail -1 "$dir/replay.csv")" >> "$replay_csv"
+                tail -1 "$replay_csv" | awk -F, '{ printf "replay %s %s %s: %s rays, run %s Mrays/s (stages %s s, %s s), replay %s Mrays/s, efficiency %s\n", $1, $2, $3, $6, $11, $9, $10, $16, $17 }' |
                     tee -a "$summary"
             done
         fi

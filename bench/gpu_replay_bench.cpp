@@ -4,8 +4,9 @@
 // sensors read from stdin (rcontrib-gpu's options, with -backend vulkan and -device, and scene
 // as arguments, text rays):
 //   1. the run, once to compile its pipeline (not timed), then timed (-repeat N times, the
-//      fastest kept): wall seconds, the device's seconds per stage (timestamps: trace, slice
-//      sums) and the nearest-hit queries it traced (the engine counts them);
+//      fastest kept): wall seconds, the device's seconds per stage (timestamps; the tasks
+//      engine: trace, slice sums; -gpu_engine paths: the tasks' sources and cells, the cells'
+//      paths) and the nearest-hit queries it traced (the engine counts them);
 //   2. the run again over every K-th sensor (-record_every K), logging its rays (at most
 //      -log_rays M), and those rays replayed N times, the fastest pass kept.
 // GPU efficiency = (rays a second of the run) / (rays a second of the replay), both by the
@@ -102,7 +103,7 @@ int Main(int argc, char **argv) {
     std::string device = engine->Label();  // (a CSV field: "llvmpipe (LLVM 15.0.6, 128 bits)")
     std::replace(device.begin(), device.end(), ',', ';');
     std::printf(
-        "device,sensors,rays,run_wall_s,run_device_s,trace_stage_s,sum_stage_s,run_mrays_s,"
+        "device,sensors,rays,run_wall_s,run_device_s,stage1_s,stage2_s,run_mrays_s,"
         "replayed_rays,replay_hits,replay_wall_s,replay_device_s,replay_mrays_s,efficiency\n");
     std::printf("%s,%zu,%llu,%.4f,%.4f,%.4f,%.4f,%.2f,%llu,%llu,%.4f,%.4f,%.2f,%.3f\n",
                 device.c_str(), rays.size() / 6, static_cast<unsigned long long>(run.rays),

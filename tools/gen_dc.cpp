@@ -45,7 +45,7 @@ int Main(int argc, char **argv) {
             value();  // DAYSIM's bin folder: nothing runs outside this process
         } else if (a == "-backend" || a == "-device" || a == "-seed" || a == "-n" ||
                    a == "-gpu_traversal" || a == "-gpu_accum" || a == "-gpu_cal" ||
-                   a == "-gpu_spirv_opt" || a == "-gpu_scratch") {
+                   a == "-gpu_spirv_opt" || a == "-gpu_engine" || a == "-gpu_scratch") {
             g.engine_args.push_back(a);
             g.engine_args.push_back(value());
         } else if (a == "-dds" || a == "-substract" || a == "-add") {

@@ -320,7 +320,7 @@ GenBsdfOptions ParseGenBsdfOptions(const std::vector<std::string> &args) {
         const bool plus = a[0] == '+';
         const std::string name = a.substr(1);
         if (a == "-backend" || a == "-device" || a == "-seed" || a == "-gpu_traversal" ||
-            a == "-gpu_accum" || a == "-gpu_cal" || a == "-gpu_spirv_opt" ||
+            a == "-gpu_accum" || a == "-gpu_cal" || a == "-gpu_spirv_opt" || a == "-gpu_engine" ||
             a == "-gpu_scratch") {  // ours, for rfluxmtx-gpu (before -b...)
             o.engine_options.push_back(a);
             o.engine_options.push_back(value(a));

@@ -129,6 +129,10 @@ void WarnCoreReports(uint32_t reports, uint64_t dropped) {
     if (fresh & core::kReportStackFull)
         Warning("the estimator's ray stack overflowed; " + std::to_string(dropped) +
                 " rays were dropped (results are low)");
+    if (fresh & core::kReportFixedRange)
+        Warning(
+            "a contribution beyond the GPU paths engine's fixed point (8192) or not a "
+            "number was left out; -gpu_engine tasks holds any float");
 }
 
 }  // namespace dayflux

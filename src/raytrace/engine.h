@@ -36,6 +36,16 @@ enum class GpuAccum { kPair, kFloat, kDouble };
 // unoptimised SPIR-V sooner (lavapipe: 5 s less a pipeline, traces 1.4-2x sooner), -O on GPUs
 // (until NVIDIA's figures say otherwise).
 enum class GpuSpirvOpt { kAuto, kPerformance, kSize, kNone };
+// How the GPU shares out a run (issue 42's step 3): tasks, an invocation each walking a sensor's
+// slice of first-hemisphere rows whole, into a record of its own (float pairs, slices summed
+// after); or paths, whose first phase runs the same tasks but keeps each first-hemisphere cell's
+// ray and random state in device memory, and whose second phase walks those cells' paths, each
+// invocation one path after another, every add into the sensor's one record in 64-bit fixed
+// point by 32-bit atomics: exact sums, so the same bytes whatever order the adds come in. Its
+// records hold coefficients up to 32768 (-V+: that times a bound on the tracked sources'
+// radiance; a pattern on one sends the run to the tasks engine); rays without -I have no
+// cells, and the first phase traces them whole.
+enum class GpuEngine { kTasks, kPaths };
 
 struct EngineOptions {
     std::string backend = "embree";  // "embree" or "vulkan"
@@ -51,6 +61,7 @@ struct EngineOptions {
     bool gpu_double_cal = false;
     bool NeedsFloat64() const { return accumulators == GpuAccum::kDouble || gpu_double_cal; }
     GpuSpirvOpt spirv_opt = GpuSpirvOpt::kAuto;
+    GpuEngine gpu_engine = GpuEngine::kTasks;
     // For tests: false sums a sensor's slices on the host, each task's record read back (as
     // with float accumulators); a bound on the tasks a dispatch takes (0: as memory allows).
     bool gpu_slice_sums = true;

@@ -260,7 +260,7 @@ class Parser : public OptionCursor {
     }
 
     // Ours: -seed -first_record -asub -backend -device -gpu_traversal -gpu_accum -gpu_cal
-    // -gpu_scratch -se -progress -no_commands.
+    // -gpu_engine -gpu_spirv_opt -gpu_scratch -se -progress -no_commands.
     bool Ours(const std::string &a) {
         if (a == "-asub") {
             // N x N samples in each cell of the first ambient hemisphere, one of them
@@ -299,6 +299,8 @@ class Parser : public OptionCursor {
         } else if (a == "-gpu_spirv_opt") {  // spirv-opt's level for the GPU's shader
             o_.engine.spirv_opt =
                 Choice<GpuSpirvOpt>(a, Value(a), {"auto", "performance", "size", "none"});
+        } else if (a == "-gpu_engine") {  // how the GPU shares out the run
+            o_.engine.gpu_engine = Choice<GpuEngine>(a, Value(a), {"tasks", "paths"});
         } else if (a == "-gpu_cal") {  // the GPU's bins and patterns
             o_.engine.gpu_double_cal = Choice<int>(a, Value(a), {"float", "double"}) == 1;
         } else if (a == "-gpu_scratch") {

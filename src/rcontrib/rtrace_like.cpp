@@ -65,7 +65,8 @@ std::vector<std::string> RtraceLikeParser::Run() {
                                                          "-target_sky",
                                                          "-target_report",
                                                          "-gpu_cal",
-                                                         "-gpu_spirv_opt"};
+                                                         "-gpu_spirv_opt",
+                                                         "-gpu_engine"};
         const bool flag = a.rfind("-i", 0) == 0 || a.rfind("-I", 0) == 0 || a.rfind("-u", 0) == 0 ||
                           a.rfind("-bv", 0) == 0 || a.rfind("-ld", 0) == 0 ||
                           a.rfind("-w", 0) == 0 || a.rfind("-progress", 0) == 0 ||

@@ -491,28 +491,41 @@ TEST(Engine, ShadowRaysStoppedByBlockersAsByTheWalk) {
 // source, glass), through polygons and an analytic sphere, with packets full and partly full.
 class CellPaths : public ::testing::TestWithParam<int> {};
 
-TEST_P(CellPaths, AtOnceAsOneAfterTheOther) {
-    std::string text = std::string(kSky) +
-                       "void plastic wall 0 0 5 .6 .6 .6 0 0\n"
-                       "void trans veil 0 0 7 .6 .6 .6 0 0 .5 .6\n" +
-                       kRoomOfWalls +
-                       "veil polygon partition 0 0 12 2 1 0  2 3 0  2 3 2  2 1 2\n"
-                       "wall sphere ball 0 0 4 3 2.5 .8 .4\n";
+// The room of walls with a trans partition and a ball, at -I -ab 3 -ad 100; with -asub 2
+// (subsampled), or also glass in its window and a lamp (full); 13 sensors, one aslant.
+struct CellPathsRoom {
+    FlatScene flat;
     ContribOptions options = Irradiance(3, 100, 1e-4, 5);
-    const int variant = GetParam();
-    if (variant == 1) options.ambient_subsamples = 2;
-    if (variant == 2)
-        text +=
-            "void glass pane 0 0 3 .8 .8 .8\n"
-            "pane polygon window 0 0 12 0 0 1  4 0 1  4 0 3  0 0 3\n"
-            "void light bulb 0 0 3 50 50 50\n"
-            "bulb sphere lamp 0 0 4 1 3 2.5 .1\n";
-    const FlatScene flat = SceneOf(text);
     std::vector<double> rays;
-    for (double x : {.5, 1.5, 2.5, 3.5})
-        for (double y : {.5, 2.2, 3.5}) rays.insert(rays.end(), {x, y, .8, 0, 0, 1});
-    rays.insert(rays.end(), {1.2, 1.9, 1.4, 0.6, 0, 0.8});  // aslant, toward the window
-    const size_t n = rays.size() / 6;
+    CellPathsRoom(bool subsampled, bool full) {
+        std::string text = std::string(kSky) +
+                           "void plastic wall 0 0 5 .6 .6 .6 0 0\n"
+                           "void trans veil 0 0 7 .6 .6 .6 0 0 .5 .6\n" +
+                           kRoomOfWalls +
+                           "veil polygon partition 0 0 12 2 1 0  2 3 0  2 3 2  2 1 2\n"
+                           "wall sphere ball 0 0 4 3 2.5 .8 .4\n";
+        if (subsampled) options.ambient_subsamples = 2;
+        if (full)
+            text +=
+                "void glass pane 0 0 3 .8 .8 .8\n"
+                "pane polygon window 0 0 12 0 0 1  4 0 1  4 0 3  0 0 3\n"
+                "void light bulb 0 0 3 50 50 50\n"
+                "bulb sphere lamp 0 0 4 1 3 2.5 .1\n";
+        flat = SceneOf(text);
+        for (double x : {.5, 1.5, 2.5, 3.5})
+            for (double y : {.5, 2.2, 3.5}) rays.insert(rays.end(), {x, y, .8, 0, 0, 1});
+        rays.insert(rays.end(), {1.2, 1.9, 1.4, 0.6, 0, 0.8});  // aslant, toward the window
+    }
+    size_t Rays() const { return rays.size() / 6; }
+};
+
+TEST_P(CellPaths, AtOnceAsOneAfterTheOther) {
+    const int variant = GetParam();
+    const CellPathsRoom room(variant == 1, variant == 2);
+    const FlatScene &flat = room.flat;
+    const ContribOptions &options = room.options;
+    const std::vector<double> &rays = room.rays;
+    const size_t n = room.Rays();
     std::vector<double> records[4];
     const int paths[4] = {1, 3, 8, 16};
     for (int k = 0; k < 4; ++k)
@@ -549,6 +562,93 @@ std::string EstimatorName(const ::testing::TestParamInfo<int> &info) {
     return names[info.param];
 }
 INSTANTIATE_TEST_SUITE_P(Engine, CellPaths, ::testing::Values(0, 1, 2), EstimatorName);
+
+EngineOptions OnVulkan(GpuEngine gpu_engine) {
+    EngineOptions engine;
+    engine.backend = "vulkan";
+    const char *device = std::getenv("DAYFLUX_VULKAN_DEVICE");
+    engine.device = device && *device ? device : "llvmpipe";
+    engine.gpu_engine = gpu_engine;
+    return engine;
+}
+
+// The GPU's paths engine (one invocation a first-hemisphere cell's path, records in fixed point)
+// gives the tasks engine's records, to float rounding, on the room whose cells' paths
+// pass a trans partition and meet a sphere, at -ab 3; and the same bytes
+// however its dispatches fall (tasks of 5: sensors cut between dispatches, fewer walkers) and
+// run after run, since its sums are exact.
+TEST(Engine, PathsEngineAsTasksEngineVulkan) {
+    CellPathsRoom room(false, false);
+    const size_t n = room.Rays();
+    const auto records = [&](const EngineOptions &engine) {
+        const std::unique_ptr<ContribEngine> e =
+            CreateContribEngine(room.flat, room.options, Tracking("skyglow"), RayInit, engine);
+        if (e->Label().rfind("vulkan", 0) != 0) return std::vector<double>();
+        std::vector<double> out(3 * n, 0.0);
+        e->Trace(room.rays.data(), n, 0, 0, out.data());
+        return out;
+    };
+    const std::vector<double> tasks = records(OnVulkan(GpuEngine::kTasks));
+    if (tasks.empty()) GTEST_SKIP() << "no Vulkan engine";
+    const std::vector<double> paths = records(OnVulkan(GpuEngine::kPaths));
+    ASSERT_EQ(paths.size(), tasks.size());
+    for (size_t i = 0; i < tasks.size(); ++i) {
+        // (the two shaders' float arithmetic alike on lavapipe: here within 1e-14; a GPU's
+        // compiler may contract them differently)
+        EXPECT_NEAR(paths[i], tasks[i], 1e-12 + 1e-6 * std::abs(tasks[i])) << i;
+        if (i % 3 == 0) EXPECT_GT(paths[i], 0.1) << i;  // light reaches each sensor
+    }
+    EngineOptions small_dispatches = OnVulkan(GpuEngine::kPaths);
+    small_dispatches.gpu_tasks_per_dispatch = 5;
+    EXPECT_EQ(records(small_dispatches), paths);
+    EXPECT_EQ(records(OnVulkan(GpuEngine::kPaths)), paths);
+}
+
+// The paths engine's records keep the numbers' keys (TraceKeyed) and its slices apart add up
+// (TraceSlices, -target_error's), as the tasks engine's do.
+TEST(Engine, KeyedTraceAsInTheWholeRunPathsVulkan) {
+    ExpectKeyedAsInRun(OnVulkan(GpuEngine::kPaths));
+}
+TEST(Engine, SlicesAddUpToTheWholeHemispherePathsVulkan) {
+    ExpectSlicesAddUp(OnVulkan(GpuEngine::kPaths), 1e-5);
+}
+
+// -V+ contributions: the paths engine's fixed point scaled by the tracked sources' radiance
+// (a sky glow of 3000: units of 2^-36), its records the tasks engine's; where a pattern on the
+// tracked glow leaves that unknown, the run goes to the tasks engine.
+TEST(Engine, PathsEngineScalesContributionsVulkan) {
+    ContribOptions options = Irradiance(1, 16, 1e-4, 1);
+    options.contributions = true;
+    const HalfCoveredSky scene;
+    const auto run = [&](const std::string &sky, GpuEngine gpu_engine, std::vector<double> *out) {
+        const FlatScene flat = SceneOf(sky +
+                                       "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
+                                       "grey polygon roof 0 0 12 .3 -9 1  9 -9 1  9 9 1"
+                                       "  -2 9 1\n");
+        const std::unique_ptr<ContribEngine> e =
+            CreateContribEngine(flat, options, Tracking("skyglow"), RayInit, OnVulkan(gpu_engine));
+        out->assign(scene.rays.size() / 2, 0.0);
+        e->Trace(scene.rays.data(), scene.Rays(), 0, 0, out->data());
+        return e->Label();
+    };
+    const std::string bright =
+        "void glow skyglow 0 0 4 3000 3000 3000 0\n"
+        "skyglow source sky 0 0 4 0 0 1 180\n";
+    std::vector<double> tasks, paths;
+    if (run(bright, GpuEngine::kTasks, &tasks).rfind("vulkan: ", 0) != 0)
+        GTEST_SKIP() << "no Vulkan engine";
+    EXPECT_EQ(run(bright, GpuEngine::kPaths, &paths).rfind("vulkan paths: ", 0), 0u);
+    for (size_t i = 0; i < tasks.size(); ++i)
+        EXPECT_NEAR(paths[i], tasks[i], 1e-9 + 1e-6 * tasks[i]) << i;
+    EXPECT_GT(tasks[0], 0.05 * 3000);  // some sky seen, and some not
+    EXPECT_LT(tasks[0], (M_PI - 0.5) * 3000);
+    const std::string patterned =
+        "void brightfunc dim 2 Dz . 0 0\n"
+        "dim glow skyglow 0 0 4 3000 3000 3000 0\n"
+        "skyglow source sky 0 0 4 0 0 1 180\n";
+    const std::string label = run(patterned, GpuEngine::kPaths, &paths);
+    EXPECT_EQ(label.rfind("vulkan: ", 0), 0u) << label;
+}
 
 // An engine the options name that does not exist is an error, not a silent choice.
 TEST(Engine, UnknownBackendIsAnError) {

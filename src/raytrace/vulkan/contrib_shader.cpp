@@ -100,6 +100,7 @@ std::string Macros(const PackedScene &packed, const ContribOptions &options,
     if (engine.accumulators == GpuAccum::kPair) define("DAYFLUX_ACCUM_PAIR", "1");
     define("cal_real", engine.gpu_double_cal ? "double" : "float");
     if (engine.gpu_ray_log > 0) define("DAYFLUX_RAY_LOG", "1");
+    if (engine.gpu_engine == GpuEngine::kPaths) define("DAYFLUX_PATHS", "1");
     if (options.ambient_subsamples > 1) define("DAYFLUX_ASUB", "1");
     if (packed.bsdf) define("DAYFLUX_BSDF", "1");
     if (packed.aperture) define("DAYFLUX_APERTURE", "1");

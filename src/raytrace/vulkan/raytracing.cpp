@@ -801,6 +801,9 @@ static const Pipeline &PipelineFor(GpuDevice::Impl &d, const std::vector<uint32_
         VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
         plci.setLayoutCount = 1;
         plci.pSetLayouts = &p.set_layout;
+        const VkPushConstantRange phase{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(uint32_t)};
+        plci.pushConstantRangeCount = 1;
+        plci.pPushConstantRanges = &phase;
         VK_CHECK(vkCreatePipelineLayout(dev, &plci, nullptr, &p.layout));
         VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
         smci.codeSize = spirv.size() * sizeof(uint32_t);
@@ -1013,6 +1016,8 @@ void GpuDevice::RunStages(const std::vector<Stage> &stages, const std::vector<Bi
         vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, runs[k].second->pipeline);
         vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, runs[k].second->layout, 0, 1,
                                 &set, 0, nullptr);
+        vkCmdPushConstants(cb, runs[k].second->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                           sizeof(uint32_t), &runs[k].first.phase);
         if (timed && k == 0)  // (once the fills before it are done)
             vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, d.timestamps, 0);
         vkCmdDispatch(cb, gx, gy, 1);

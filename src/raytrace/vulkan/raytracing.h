@@ -116,18 +116,22 @@ class GpuDevice {
     // Runs spirv over `invocations` invocations in groups of local_size_x (which must match the
     // shader's), with the top-level structure at set 0 binding 0 (accelerationStructureEXT) and
     // storage buffers at bindings 1, 2, ... in the order given (without ray queries: no
-    // structure, buffers at 0, 1, ...). No push constants. When the groups needed exceed
-    // maxComputeWorkGroupCount[0] (65535 on lavapipe) they are laid out in y as well, so a shader
-    // that may see that many should index with gl_GlobalInvocationID.x + gl_GlobalInvocationID.y *
-    // gl_NumWorkGroups.x * gl_WorkGroupSize.x (y is 0 otherwise). Every shader must ignore indices
+    // structure, buffers at 0, 1, ...). Push constants: one uint, the stage's phase (RunStages).
+    // When the groups needed exceed maxComputeWorkGroupCount[0] (65535 on lavapipe) they are laid
+    // out in y as well, so a shader that may see that many should index with
+    // gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x
+    // (y is 0 otherwise). Every shader must ignore indices
     // >= invocations. Pipelines are cached by code, so running the same spirv again is cheap.
     void Run(const std::vector<uint32_t> &spirv, uint32_t invocations, uint32_t local_size_x,
              const std::vector<Binding> &bindings);
     // Several shaders, one after the other in one submission over the same bindings (each
     // stage sees what the stages before it wrote), the accumulators copied back after the last.
+    // phase: a push constant (`layout(push_constant) uniform ... { uint phase; }`), so that one
+    // shader, one pipeline, may run as several stages.
     struct Stage {
         const std::vector<uint32_t> *spirv;
         uint32_t invocations, local_size_x;
+        uint32_t phase = 0;
     };
     void RunStages(const std::vector<Stage> &stages, const std::vector<Binding> &bindings);
     // The device's time for each stage (with invocations) of the last Run or RunStages, from

@@ -21,7 +21,7 @@ namespace dayflux {
 namespace {
 
 // std430's layouts of these are their C++ layouts: no padding between their members.
-static_assert(sizeof(core::GpuTasks) == 48 && offsetof(core::GpuTasks, tmin) == 32);
+static_assert(sizeof(core::GpuTasks) == 52 && offsetof(core::GpuTasks, tmin) == 32);
 static_assert(sizeof(core::GpuParameters) == 84 && offsetof(core::GpuParameters, lw) == 24 &&
               offsetof(core::GpuParameters, ab) == 44 && offsetof(core::GpuParameters, seed) == 80);
 
@@ -129,8 +129,9 @@ struct DeviceState {
     int bvh_nodes = -1, bvh_prims = -1, klems = -1, relays = -1, tracked = -1, receivers = -1;
     ShaderTarget target;      // what its SPIR-V is compiled for (the stack's place: GpuScratch)
     uint32_t item_bytes = 0;  // the shader's stack item (std430), for its scratch
-    uint64_t dropped = 0;     // stack items lost in its last Trace
-    uint32_t reports = 0;     // the core's kReport* flags, likewise
+    uint32_t path_start_bytes = 0;  // the paths engine's PathStart (std430)
+    uint64_t dropped = 0;           // stack items lost in its last Trace
+    uint32_t reports = 0;           // the core's kReport* flags, likewise
     // For benchmarks: nearest-hit queries traced, the device's seconds per stage (trace, slice
     // sums), and the rays logged (EngineOptions::gpu_ray_log), since the engine was made.
     uint64_t rays_traced = 0;
@@ -198,6 +199,29 @@ bool Upload(const PackedScene &packed, const std::vector<core::ivec4> &tracked, 
     return true;
 }
 
+// For the paths engine's -V+ runs: 2^e at least the radiance of every tracked modifier's
+// surfaces and sources (its contributions are coefficients times that), e >= 0; -1 where a
+// pattern or a mixfunc makes it unknown.
+int RadianceExponent(const PackedScene &packed) {
+    double most = 1;
+    const auto take = [&most](const core::vec4 &colour) {
+        for (int c = 0; c < 3; ++c) most = std::max(most, std::fabs(double(colour[c])));
+    };
+    for (const core::PackedSurface &m : packed.surfaces) {
+        if (m.tracked < 0) continue;
+        if (m.pattern >= 0 || m.kind == core::kMatMix) return -1;
+        take(m.color);
+    }
+    for (const core::PackedSource &s : packed.sources) {
+        if (s.tracked < 0) continue;
+        if (s.pattern >= 0) return -1;
+        take(s.colour);
+    }
+    int e;
+    std::frexp(most, &e);
+    return most == std::ldexp(0.5, e) ? e - 1 : e;
+}
+
 vk::Traversal DeviceTraversal(GpuTraversal t) {
     return t == GpuTraversal::kRayQuery ? vk::Traversal::kRayQuery
            : t == GpuTraversal::kBvh    ? vk::Traversal::kBvh
@@ -213,6 +237,9 @@ class VulkanContribEngine : public ContribEngine {
           o_(options),
           accumulators_(engine.accumulators),
           tasks_per_dispatch_(engine.gpu_tasks_per_dispatch),
+          paths_(engine.gpu_engine == GpuEngine::kPaths),
+          path_units_(std::ldexp(
+              1.0, core::kPathFixedBits - (options.contributions ? RadianceExponent(packed) : 0))),
           ray_log_capacity_(engine.gpu_ray_log),
           float64_(engine.NeedsFloat64()),
           shader_(std::move(shader)),
@@ -220,13 +247,16 @@ class VulkanContribEngine : public ContribEngine {
           parameters_(Bytes(std::vector<core::GpuParameters>{
               MakeParameters<core::GpuParameters>(packed, options)})),
           extent_(packed.extent),
-          max_rows_(std::max(1, static_cast<int>(std::sqrt(double(o_.ambient_divisions)) + 1.5))) {
+          max_rows_(std::max(1, static_cast<int>(std::sqrt(double(o_.ambient_divisions)) + 1.5))),
+          nsources_(packed.sources.size()) {
         std::copy(packed.centre, packed.centre + 3, centre_);
         for (const DeviceState &d : devices_)
             names_ += (names_.empty() ? "" : " + ") + d.device->Name();
     }
 
-    std::string Label() const override { return "vulkan: " + names_; }
+    std::string Label() const override {
+        return std::string(paths_ ? "vulkan paths: " : "vulkan: ") + names_;
+    }
     int Columns() const override { return columns_; }
     // Many rays per dispatch, within a bound on the records' memory.
     size_t BatchRays() const override {
@@ -313,19 +343,27 @@ class VulkanContribEngine : public ContribEngine {
     core::GpuTasks Tasks(size_t n, int slices, uint64_t first_index, int replica) const;
     void TraceOn(DeviceState &dev, const double *rays, size_t n, uint64_t first_index,
                  const uint64_t *keys, int replica, double *records, int slices_apart) const;
+    void TracePathsOn(DeviceState &dev, std::vector<uint8_t> &ray_bytes, size_t n, int slices,
+                      uint64_t first_index, int replica, double *records, int slices_apart) const;
+    uint64_t LogRoom(const DeviceState &dev) const;
+    static void TakeStats(DeviceState &dev, const std::vector<uint8_t> &stats,
+                          const std::vector<uint8_t> &log_bytes);
 
     std::vector<DeviceState> devices_;
     std::string names_;
     ContribOptions o_;
     GpuAccum accumulators_;
     int tasks_per_dispatch_;     // EngineOptions::gpu_tasks_per_dispatch
+    bool paths_;                 // EngineOptions::gpu_engine: the paths engine
+    double path_units_;          // its fixed point's units to 1 (GpuTasks::path_scale)
     uint64_t ray_log_capacity_;  // EngineOptions::gpu_ray_log
     bool float64_;               // the run asked for doubles (EngineOptions::NeedsFloat64)
     ContribShader shader_;
     int columns_;
     std::vector<uint8_t> parameters_;  // the core's (kBindingParameters)
     double centre_[3], extent_;
-    int max_rows_;  // divisions along one side of the first hemisphere (slices are rows)
+    int max_rows_;     // divisions along one side of the first hemisphere (slices are rows)
+    size_t nsources_;  // the light sources (slices share them out too)
     std::mutex mutex_;
 };
 
@@ -353,15 +391,24 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         in[2 * i] = core::vec4(r[0] - centre_[0], r[1] - centre_[1], r[2] - centre_[2], 0);
         in[2 * i + 1] = core::vec4(r[3], r[4], r[5], zero ? -1.f : float(offset));
     }
-    // -I rays split their first hemisphere's rows between several tasks, enough to keep the
-    // device busy; other rays are one task each.
-    const size_t want_tasks = 1 << 16;
+    // -I rays split their first hemisphere's rows and the light sources between several tasks,
+    // enough to keep the device busy; other rays are one task each. The paths engine's tasks
+    // need no record of their own, so on a GPU it makes more, and splits thousands of sources
+    // (C_ds's suns) beyond the rows, 16 a task at least.
     int slices = 1;
-    if (slices_apart > 0)
+    if (slices_apart > 0) {
         slices = slices_apart;
-    else if (o_.irradiance)
-        slices = static_cast<int>(
-            std::clamp<size_t>((want_tasks + n - 1) / n, 1, static_cast<size_t>(max_rows_)));
+    } else if (o_.irradiance) {
+        const size_t want_tasks = paths_ && !dev.device->IsCpu() ? 1 << 18 : 1 << 16;
+        const size_t most =
+            paths_ ? std::max<size_t>(max_rows_, (nsources_ + 15) / 16) : size_t(max_rows_);
+        slices = static_cast<int>(std::clamp<size_t>((want_tasks + n - 1) / n, 1, most));
+    }
+    std::vector<uint8_t> ray_bytes = Bytes(in);
+    if (paths_) {
+        TracePathsOn(dev, ray_bytes, n, slices, first_index, replica, records, slices_apart);
+        return;
+    }
     const size_t record = 3 * static_cast<size_t>(columns_);
     const size_t total = n * static_cast<size_t>(slices);
     // Each task's scratch: its stack and its rows (shaders/common.h), within the device's budget.
@@ -391,7 +438,7 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
     const bool sum_slices =
         slices > 1 && slices_apart == 0 && !dev.sum_spirv.empty() && per_run >= size_t(slices);
     if (sum_slices) per_run -= per_run % slices;
-    std::vector<uint8_t> ray_bytes = Bytes(in), accum, parameter_bytes = parameters_;
+    std::vector<uint8_t> accum, parameter_bytes = parameters_;
     for (size_t offset = 0; offset < total; offset += per_run) {
         const size_t count = std::min(per_run, total - offset);
         core::GpuTasks tasks = Tasks(n, slices, first_index, replica);
@@ -403,13 +450,7 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         // zeroed on the device; with sum_slices, the rays' sums
         accum.resize((sum_slices ? count / slices : count) * record * AccumBytes());
         std::vector<uint8_t> stats(20, 0), none;
-        // The rays this dispatch may log: what the log has room for (the whole log is one
-        // buffer for the replay, so within a buffer's range).
-        const uint64_t log_capacity = std::min<uint64_t>(
-            ray_log_capacity_, dev.device->MaxBufferBytes() / (2 * sizeof(core::uvec4)));
-        const uint64_t log_room =
-            log_capacity - std::min<uint64_t>(log_capacity, dev.ray_log.size() / 2);
-        tasks.log_capacity = static_cast<int>(std::min<uint64_t>(log_room, INT32_MAX));
+        tasks.log_capacity = static_cast<int>(LogRoom(dev));
         std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
         std::vector<uint8_t> log_bytes(size_t(tasks.log_capacity) * 2 * sizeof(core::uvec4));
         NamedBindings named = SceneBindings(dev, &none);
@@ -426,23 +467,15 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         named.Set(core::kBindingSliceSums, sum_slices ? G::Accumulator(&accum) : G::In(&none));
         named.Set(core::kBindingRayLog,
                   log_bytes.empty() ? G::In(&none) : G::Accumulator(&log_bytes));
+        named.Set(core::kBindingPathStarts, G::In(&none));
+        named.Set(core::kBindingPathCount, G::In(&none));
         const std::vector<G::Binding> buffers = named.InOrder(dev.device->RayQueries());
         std::vector<G::Stage> stages = {{&dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize}};
         if (sum_slices)
             stages.push_back({&dev.sum_spirv, static_cast<uint32_t>(count / slices * record),
                               kSliceSumLocalSize});
         dev.device->RunStages(stages, buffers);
-        uint32_t stat[5];
-        std::memcpy(stat, stats.data(), sizeof stat);
-        dev.dropped += stat[0];
-        dev.reports |= stat[1];
-        dev.rays_traced += stat[2] + (uint64_t{stat[4]} << 32);
-        const std::vector<double> &seconds = dev.device->LastStageSeconds();
-        dev.stage_seconds.resize(std::max(dev.stage_seconds.size(), seconds.size()));
-        for (size_t k = 0; k < seconds.size(); ++k) dev.stage_seconds[k] += seconds[k];
-        const size_t logged = std::min<size_t>(stat[3], size_t(tasks.log_capacity));
-        const auto *log = reinterpret_cast<const core::uvec4 *>(log_bytes.data());
-        dev.ray_log.insert(dev.ray_log.end(), log, log + 2 * logged);
+        TakeStats(dev, stats, log_bytes);
         // entry(i): entry i of the records read back, in double
         const auto add = [&](const auto &entry) {
             const size_t step = sum_slices ? slices : 1;  // tasks a record read back stands for
@@ -461,6 +494,133 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         else
             add([&accum](size_t i) { return reinterpret_cast<const double *>(accum.data())[i]; });
     }
+}
+
+// The rays a dispatch may log: what the log has room for (the whole log is one buffer for the
+// replay, so within a buffer's range).
+uint64_t VulkanContribEngine::LogRoom(const DeviceState &dev) const {
+    const uint64_t log_capacity = std::min<uint64_t>(
+        ray_log_capacity_, dev.device->MaxBufferBytes() / (2 * sizeof(core::uvec4)));
+    const uint64_t room = log_capacity - std::min<uint64_t>(log_capacity, dev.ray_log.size() / 2);
+    return std::min<uint64_t>(room, INT32_MAX);
+}
+
+// A dispatch's counts (shaders/common.h's kBindingStats), stage times and logged rays, added to
+// the device's.
+void VulkanContribEngine::TakeStats(DeviceState &dev, const std::vector<uint8_t> &stats,
+                                    const std::vector<uint8_t> &log_bytes) {
+    uint32_t stat[5];
+    std::memcpy(stat, stats.data(), sizeof stat);
+    dev.dropped += stat[0];
+    dev.reports |= stat[1];
+    dev.rays_traced += stat[2] + (uint64_t{stat[4]} << 32);
+    const std::vector<double> &seconds = dev.device->LastStageSeconds();
+    dev.stage_seconds.resize(std::max(dev.stage_seconds.size(), seconds.size()));
+    for (size_t k = 0; k < seconds.size(); ++k) dev.stage_seconds[k] += seconds[k];
+    const size_t logged = std::min<size_t>(stat[3], log_bytes.size() / (2 * sizeof(core::uvec4)));
+    const auto *log = reinterpret_cast<const core::uvec4 *>(log_bytes.data());
+    dev.ray_log.insert(dev.ray_log.end(), log, log + 2 * logged);
+}
+
+// The paths engine (EngineOptions::gpu_engine): each dispatch runs the shader twice in one
+// submission, phase 0 an invocation a task (its sources, and its cells' rays and random states
+// kept on the device), phase 1 over those cells' paths; the records, in fixed point, come back
+// one a ray (or a slice, with slices_apart) and are added to records as doubles.
+void VulkanContribEngine::TracePathsOn(DeviceState &dev, std::vector<uint8_t> &ray_bytes, size_t n,
+                                       int slices, uint64_t first_index, int replica,
+                                       double *records, int slices_apart) const {
+    const size_t record = 3 * static_cast<size_t>(columns_);
+    const size_t total = n * static_cast<size_t>(slices);
+    // The cells a ray may start, over all its slices: its first hemisphere's, each cell's steps
+    // with -asub (none at -ab 0). A dispatch's tasks span at most one ray more than they fill.
+    const uint64_t asub = static_cast<uint64_t>(std::max(1, o_.ambient_subsamples));
+    const uint64_t ray_cells = o_.irradiance && o_.ambient_bounces > 0
+                                   ? uint64_t(max_rows_) * uint64_t(max_rows_) * asub * asub
+                                   : 0;
+    const auto cells_for = [&](uint64_t count) {
+        return ((count + slices - 1) / slices + 1) * ray_cells;
+    };
+    const uint64_t stack_bytes = uint64_t(kGpuStackSize + 1) * dev.item_bytes;
+    const uint64_t rows_bytes = 16 * uint64_t(2 * max_rows_ + kGpuDeepLevels * 2 * kGpuDeepN);
+    const uint64_t slot_bytes = dev.target.scratch ? stack_bytes + rows_bytes : 0;
+    // Device memory: an eighth of the budget for the records, a quarter for the cells, half for
+    // the invocations' stacks and rows, as many of them as can walk at once (lavapipe's: the
+    // machine's memory, so a fixed share).
+    const uint64_t budget = dev.device->IsCpu() ? 4 * kAccumBudget : dev.device->ScratchBudget();
+    const uint64_t buffer = dev.device->MaxBufferBytes();
+    const uint64_t records_room = std::min(budget / 8, buffer) / (record * sizeof(uint64_t));
+    const uint64_t slots_room =
+        slot_bytes > 0 ? std::min(budget / 2, buffer) / slot_bytes : uint64_t(1) << 16;
+    const uint64_t rays_room =
+        ray_cells > 0 ? std::min(budget / 4, buffer) / (ray_cells * dev.path_start_bytes) : n + 1;
+    uint64_t per_run = std::min<uint64_t>({records_room * slices, slots_room, kMaxTasksPerRun,
+                                           rays_room > 1 ? (rays_room - 1) * slices : 0});
+    if (tasks_per_dispatch_ > 0) per_run = std::min<uint64_t>(per_run, tasks_per_dispatch_);
+    // The tasks adding to one record: a ray's slices where a dispatch holds them whole (else
+    // a record a task, the host adding a ray's up: exact integers either way).
+    const size_t per_record = slices_apart == 0 && per_run >= size_t(slices) ? slices : 1;
+    per_run = std::min(per_run - per_run % per_record, records_room * per_record);
+    // Phase 1's invocations: as many as the scratch holds (each walks paths in turn), in whole
+    // groups along x (their number is the shader's stride).
+    const uint64_t walker_cap =
+        std::min<uint64_t>(slots_room, kMaxTasksPerRun) / kGpuLocalSize * kGpuLocalSize;
+    if (per_run == 0 || walker_cap == 0)
+        ErrorExit("the GPU paths engine cannot hold one sensor's record and cells on " +
+                  dev.device->Name() + "; -gpu_engine tasks needs less");
+    std::vector<uint8_t> parameter_bytes = parameters_, accum, none;
+    // The call's sums in fixed point, a record a ray (or a slice, with slices_apart)
+    std::vector<int64_t> sums((slices_apart > 0 ? total : n) * record, 0);
+    for (size_t offset = 0; offset < total; offset += per_run) {
+        const size_t count = std::min<size_t>(per_run, total - offset);
+        const uint64_t cells = cells_for(count);
+        const uint64_t walkers =
+            (std::min(cells, walker_cap) + kGpuLocalSize - 1) / kGpuLocalSize * kGpuLocalSize;
+        CHECK(walkers <= walker_cap && walkers <= kMaxTasksPerRun);
+        core::GpuTasks tasks = Tasks(n, slices, first_index, replica);
+        tasks.maxn = max_rows_;
+        tasks.task_offset = static_cast<int>(offset);
+        tasks.count = static_cast<int>(count);
+        tasks.path_capacity = static_cast<int>(cells);
+        tasks.tasks_per_record = static_cast<int>(per_record);
+        tasks.path_scale = static_cast<float>(path_units_);
+        tasks.log_capacity = static_cast<int>(LogRoom(dev));
+        std::vector<uint8_t> task_bytes(sizeof tasks), stats(20, 0);
+        std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
+        std::vector<uint8_t> log_bytes(size_t(tasks.log_capacity) * 2 * sizeof(core::uvec4));
+        accum.resize(count / per_record * record * sizeof(uint64_t));  // zeroed on the device
+        const uint64_t slots = std::max<uint64_t>(count, walkers);
+        NamedBindings named = SceneBindings(dev, &none);
+        named.Set(core::kBindingRays, G::In(&ray_bytes));
+        named.Set(core::kBindingAccum, G::Accumulator(&accum));
+        named.Set(core::kBindingTasks, G::In(&task_bytes));
+        named.Set(core::kBindingParameters, G::In(&parameter_bytes));
+        named.Set(core::kBindingStats, G::InOut(&stats));
+        named.Set(core::kBindingScratchItems,
+                  slot_bytes > 0 ? G::Scratch(slots * stack_bytes) : G::In(&none));
+        named.Set(core::kBindingScratchRows,
+                  slot_bytes > 0 ? G::Scratch(slots * rows_bytes) : G::In(&none));
+        named.Set(core::kBindingSliceSums, G::In(&none));
+        named.Set(core::kBindingRayLog,
+                  log_bytes.empty() ? G::In(&none) : G::Accumulator(&log_bytes));
+        named.Set(core::kBindingPathStarts,
+                  cells > 0 ? G::Scratch(cells * dev.path_start_bytes) : G::In(&none));
+        named.Set(core::kBindingPathCount, G::ZeroedScratch(sizeof(uint32_t)));
+        dev.device->RunStages({{&dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize, 0},
+                               {&dev.spirv, static_cast<uint32_t>(walkers), kGpuLocalSize, 1}},
+                              named.InOrder(dev.device->RayQueries()));
+        TakeStats(dev, stats, log_bytes);
+        for (size_t r = 0; r < count / per_record; ++r) {
+            const size_t task = offset + r * per_record;
+            int64_t *dst = sums.data() + (slices_apart > 0 ? task : task / slices) * record;
+            for (size_t j = 0; j < record; ++j) {
+                uint64_t bits;  // (two's complement: added as unsigned, which wraps alike)
+                std::memcpy(&bits, accum.data() + (r * record + j) * sizeof bits, sizeof bits);
+                dst[j] = static_cast<int64_t>(static_cast<uint64_t>(dst[j]) + bits);
+            }
+        }
+    }
+    for (size_t i = 0; i < sums.size(); ++i)
+        records[i] += static_cast<double>(sums[i]) / path_units_;
 }
 
 ContribEngine::ReplayResult VulkanContribEngine::ReplayLoggedRays(int passes) {
@@ -496,6 +656,8 @@ ContribEngine::ReplayResult VulkanContribEngine::ReplayLoggedRays(int passes) {
             named.Set(core::kBindingScratchRows, G::In(&none));
             named.Set(core::kBindingSliceSums, G::In(&none));
             named.Set(core::kBindingRayLog, G::OnDevice(log));
+            named.Set(core::kBindingPathStarts, G::In(&none));
+            named.Set(core::kBindingPathCount, G::In(&none));
             const auto start = std::chrono::steady_clock::now();
             dev.device->Run(dev.replay_spirv, static_cast<uint32_t>(count), kGpuLocalSize,
                             named.InOrder(dev.device->RayQueries()));
@@ -526,7 +688,15 @@ ContribEngine::ReplayResult VulkanContribEngine::ReplayLoggedRays(int passes) {
 std::unique_ptr<ContribEngine> CreateVulkanContribEngine(
     const FlatScene &scene, const PackedScene &packed, const ContribOptions &options,
     const std::vector<TrackedModifier> &tracked, const MakeContext &make_context,
-    const EngineOptions &engine, std::string *why) {
+    const EngineOptions &engine_options, std::string *why) {
+    EngineOptions engine = engine_options;
+    if (engine.gpu_engine == GpuEngine::kPaths && options.contributions &&
+        RadianceExponent(packed) < 0) {
+        Warning(
+            "the GPU's paths engine cannot bound these -V+ contributions (a tracked modifier "
+            "with a pattern or a mixfunc); using its tasks engine");
+        engine.gpu_engine = GpuEngine::kTasks;
+    }
     ContribShader shader;
     if (!MakeContribShader(packed, options, tracked, make_context, engine, &shader, why))
         return nullptr;
@@ -553,8 +723,14 @@ std::unique_ptr<ContribEngine> CreateVulkanContribEngine(
                                       ? vk::SpirvOptimization::kNone
                                       : vk::SpirvOptimization::kPerformance;
         dev.spirv = CompileContribShader(shader, dev.target);
-        if (engine.accumulators != GpuAccum::kFloat && engine.gpu_slice_sums)
+        if (engine.accumulators != GpuAccum::kFloat && engine.gpu_slice_sums &&
+            engine.gpu_engine == GpuEngine::kTasks)
             dev.sum_spirv = CompileSliceSumShader(engine.accumulators);
+        if (engine.gpu_engine == GpuEngine::kPaths) {
+            dev.path_start_bytes =
+                vk::GpuDevice::RuntimeArrayStride(dev.spirv, uint32_t(core::kBindingPathStarts));
+            CHECK(dev.path_start_bytes > 0);  // contrib.comp's DAYFLUX_PATHS declares them
+        }
         // What we generate holds a double only where the run asked for one: the device was
         // opened without shaderFloat64 otherwise.
         CHECK(engine.NeedsFloat64() ||

@@ -42,12 +42,22 @@ CONST int kBindingParameters = 19;  // GpuParameters (core/parameters.h): the ru
 // For benchmarks: 2 uvec4 a ray (org's float bits, from; dir's float bits): the rays a run logs
 // (DAYFLUX_RAY_LOG, up to tasks.log_capacity), or those a replay traces (DAYFLUX_REPLAY).
 CONST int kBindingRayLog = 20;
-CONST int kBindingCount = 21;
+// The paths engine (EngineOptions::gpu_engine, contrib.comp's DAYFLUX_PATHS), on the device
+// only: up to path_capacity PathStarts (a first-hemisphere cell's ray, the random state its path
+// goes on from, the task that made it), and how many the dispatch's tasks made (a uint, zeroed).
+CONST int kBindingPathStarts = 21;
+CONST int kBindingPathCount = 22;
+CONST int kBindingCount = 23;
+// The paths engine's records in fixed point: an entry counts units of 2^-kPathFixedBits (3.6e-15,
+// so that an add below 1.8e-15 is lost), up to 2^63 of them (32768); a single add at most 2^61
+// (8192), so that sums of a few do not wrap. -V+ runs scale these by their sources' radiance.
+CONST int kPathFixedBits = 48;
 
 // One dispatch: tasks [task_offset, task_offset + count) of rays x slices; a slice traces a
 // share of the rows of the first hemisphere (the rest of a path follows the cell that started
-// it). Results: count x columns x 3 accumulators. What the core reads of the run is in the
-// parameters (kBindingParameters); these are the driver's own.
+// it). Results: count x columns x 3 accumulators (the paths engine: count / tasks_per_record
+// records, each entry a 64-bit fixed-point number as two uints, low word first). What the core
+// reads of the run is in the parameters (kBindingParameters); these are the driver's own.
 struct GpuTasks {
     int rays;          // input rays in the batch (the rays buffer)
     int slices;        // tasks per ray
@@ -59,7 +69,14 @@ struct GpuTasks {
     int maxn;          // first-hemisphere cells a side the rows hold: at least any -ad gives
     float tmin;        // the ray start offset
     int log_capacity;  // rays kBindingRayLog holds (DAYFLUX_RAY_LOG)
-    int pad1, pad2;
+    // The paths engine: the cells the dispatch's tasks may start (kBindingPathStarts), and the
+    // tasks whose paths add to one record (slices, or 1 where each slice has a record of its
+    // own: TraceSlices, or a dispatch cutting a ray's slices).
+    int path_capacity;
+    int tasks_per_record;
+    // and its fixed point's units a unit of the records (kPathFixedScale, or less for -V+ runs
+    // whose sources' radiance is above 1: a power of 2)
+    float path_scale;
 };
 
 #ifdef __cplusplus

@@ -1,7 +1,11 @@
 // rcontrib's estimator on the GPU: the driver around the estimator core (src/raytrace/core),
 // which it includes. What is its own: the bindings, our BVH walk or ray queries for the nearest
-// hit (Intersect), where contributions go (AddToRecord, one record per task), and main(), which
-// maps a task to an input ray and a slice of its first hemisphere.
+// hit (Intersect), where contributions go (AddToRecord), and main(), which maps an invocation to
+// its work. Two engines (EngineOptions::gpu_engine): tasks, an invocation a task (an input ray
+// and a slice of its first hemisphere) traced whole into a record of its own; and paths
+// (DAYFLUX_PATHS), in two phases of one pipeline (a push constant), an invocation a task making
+// its sources' part and its cells' rays, then invocations walking the cells' paths, every add
+// into the ray's one record, in fixed point by integer atomics.
 //
 // The host prepends: #version and extensions, its sizes (DEEP_N DEEP_LEVELS STACK_SIZE
 // MIX_STACK LOCAL_SIZE), ACCUM_T (DAYFLUX_ACCUM_PAIR: two an entry), cal_real (the calcomp
@@ -9,6 +13,11 @@
 // shaders/common.h (the bindings, GpuTasks, and the core's Parameters); the generated calcomp
 // functions, EvalBin(j), which runs bin function j, and PatternRGB(k). The run's options are
 // read from the parameters buffer, so that runs differing only in them share one shader.
+
+// (the replay kernel traces logged rays alone, whichever engine logged them)
+#if defined(DAYFLUX_PATHS) && defined(DAYFLUX_REPLAY)
+#undef DAYFLUX_PATHS
+#endif
 
 #include "raytrace/core/tables.h"
 #include "raytrace/core/random.h"
@@ -28,7 +37,11 @@ layout(std430, set = 0, binding = kBindingIndices) readonly buffer Indices { uin
 layout(std430, set = 0, binding = kBindingTriangles) readonly buffer Triangles { PackedTriangle triangles[]; };
 layout(std430, set = 0, binding = kBindingSurfaces) readonly buffer Surfaces { PackedSurface surfaces[]; };
 layout(std430, set = 0, binding = kBindingSources) readonly buffer Sources { PackedSource sources[]; };
+#ifdef DAYFLUX_PATHS
+layout(std430, set = 0, binding = kBindingAccum) buffer Accum { uint accum[]; };
+#else
 layout(std430, set = 0, binding = kBindingAccum) buffer Accum { ACCUM_T accum[]; };
+#endif
 layout(std430, set = 0, binding = kBindingTasks) readonly buffer Tasks { GpuTasks tasks; };
 layout(std430, set = 0, binding = kBindingParameters) readonly buffer RunParameters { Parameters params; };
 layout(std430, set = 0, binding = kBindingStats) buffer Stats {
@@ -60,8 +73,30 @@ uint stack_base, rows_base;
 // ---- what the core asks of its driver (raytrace/core/README.md)
 cal_real BinOf(int k, int source) { return EvalBin(tracked[k][kTrackedFunction]); }
 
-uint acc_base;  // this task's record
-#ifdef DAYFLUX_ACCUM_PAIR
+uint acc_base;  // the record adds go to: the task's (the paths engine: its ray's, or slice's)
+#if defined(DAYFLUX_PATHS)
+// A sensor's record gets the adds of all its cells' paths at once: 64-bit fixed point
+// (kPathFixedBits, tasks.path_scale units to 1), added by two 32-bit atomics, the carry out of the low word into the high
+// one. Integer sums are exact, so a record is the same bytes whatever order its adds came in.
+bool fixed_range_lost;  // (main reports it: kReportFixedRange)
+void AddToEntry(uint at, float v) {
+    float x = abs(v) * tasks.path_scale;
+    if (!(x < 2305843009213693952.0)) {  // 2^61 units, or NaN: left out, reported
+        fixed_range_lost = true;
+        return;
+    }
+    // hi units of 2^32 and the rest, exactly (x has 24 bits, the rest is theirs below 2^32)
+    float hi = floor(x * (1.0 / 4294967296.0));
+    uint low = uint(roundEven(x - hi * 4294967296.0)), high = uint(hi);
+    if (v < 0.) {  // two's complement
+        low = ~low + 1u;
+        high = ~high + (low == 0u ? 1u : 0u);
+    }
+    uint before = atomicAdd(accum[2u * at], low);
+    high += before + low < before ? 1u : 0u;
+    if (high != 0u) atomicAdd(accum[2u * at + 1u], high);
+}
+#elif defined(DAYFLUX_ACCUM_PAIR)
 // Two floats an entry: the sum, and what its rounding lost (TwoSum, exact in float), summed
 // beside it: double's precision without shaderFloat64.
 void AddToEntry(uint at, float v) {
@@ -85,6 +120,18 @@ bool Blocked(vec3 org, vec3 dir, int from, int source) { return false; }
 void BlockersAhead(vec3 org, vec3 normal, int from, bool front, bool back, int first, int end) {}
 
 #include "raytrace/core/rays.inl"
+#ifdef DAYFLUX_PATHS
+// A first-hemisphere cell's path, as the first phase leaves it for the second (the core's
+// NextCell and StartCellPath).
+struct PathStart {
+    Ray r;
+    uint state;
+    int last;
+    uint task;  // the dispatch's task that made it
+};
+layout(std430, set = 0, binding = kBindingPathStarts) buffer PathStarts { PathStart path_starts[]; };
+layout(std430, set = 0, binding = kBindingPathCount) buffer PathCount { uint path_count; };
+#endif
 // (defined below; -asub's probes in hemisphere.inl ask it first)
 bool Intersect(Ray r, out Hit h);
 #include "raytrace/core/hemisphere.inl"
@@ -263,28 +310,100 @@ void main() {
     accum[i] = ACCUM_T(Intersect(r, h) ? h.t + abs(h.normal.x) : -1.0);
 }
 #else
+// Invocation `slot`'s stack and rows, in scratch.
+void UseScratch(uint slot) {
+#ifdef DAYFLUX_SCRATCH
+    stack_base = slot * uint(STACK_SIZE + 1);
+    rows_base = slot * uint(2 * MAXN + DEEP_LEVELS * 2 * DEEP_N);
+#endif
+}
+
+// Task `local_task`'s input ray: false for a zero direction (counted, contributes nothing).
+bool InputRay(uint local_task, out vec3 org, out vec3 dir, out uint index, out uint slice) {
+    uint task = uint(tasks.task_offset) + local_task;
+    uint ray_in = task / uint(tasks.slices);
+    slice = task % uint(tasks.slices);
+    // dir.w: the ray's key less first_ray, or -1 for a zero direction
+    float key_offset = rays[2 * ray_in + 1].w;
+    org = rays[2 * ray_in].xyz;
+    dir = normalize(rays[2 * ray_in + 1].xyz);
+    index = uint(tasks.first_ray) + uint(max(key_offset, 0.));
+    return key_offset >= 0;
+}
+
+#ifdef DAYFLUX_PATHS
+layout(push_constant) uniform Phase { uint phase; };  // 0: the tasks' cells, 1: their paths
+
+uint RecordOf(uint local_task) {
+    return local_task / uint(tasks.tasks_per_record) * uint(tasks.ncols * 3);
+}
+
+// Phase 0, an invocation a task: its share of the sources and the cells of its rows of the
+// first hemisphere, each cell's ray and random state kept for phase 1, in the next free slot
+// (the slots' order is the atomics', which the sums do not depend on).
+void StartPaths(uint local_task) {
+    acc_base = RecordOf(local_task);
+    UseScratch(local_task);
+    vec3 org, dir;
+    uint index, slice;
+    Item cells;
+    if (!InputRay(local_task, org, dir, index, slice) ||
+        !TraceAllButCells(org, dir, index, uint(tasks.replica), slice, uint(tasks.slices), cells))
+        return;
+    Ray r;
+    uint state;
+    bool last;
+    while (NextCell(cells, r, state, last)) {
+        uint at = atomicAdd(path_count, 1u);
+        if (at >= uint(tasks.path_capacity)) {  // (never: the host's capacity is a bound)
+            ++dropped;
+            reports |= kReportStackFull;
+            continue;
+        }
+        path_starts[at].r = r;
+        path_starts[at].state = state;
+        path_starts[at].last = last ? 1 : 0;
+        path_starts[at].task = local_task;
+    }
+}
+
+// Phase 1: the paths, taken in turn by the dispatch's invocations (the host lays its groups
+// all along x, so that their number is the stride).
+void WalkPaths(uint walker) {
+    UseScratch(walker);
+    uint walkers = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    uint total = min(path_count, uint(tasks.path_capacity));
+    for (uint g = walker; g < total; g += walkers) {
+        acc_base = RecordOf(path_starts[g].task);
+        StartCellPath(path_starts[g].r, path_starts[g].state, path_starts[g].last != 0);
+        RunStack();
+    }
+}
+#endif
+
 void main() {
     top = 0;
     dropped = 0u;
     reports = 0u;
     rays_traced = 0u;
     uint local_task = gl_GlobalInvocationID.x;
-    if (local_task < uint(tasks.count)) {
-        uint task = uint(tasks.task_offset) + local_task;
-        uint ray_in = task / uint(tasks.slices), slice = task % uint(tasks.slices);
-        acc_base = local_task * uint(tasks.ncols * 3);
-#ifdef DAYFLUX_SCRATCH
-        stack_base = local_task * uint(STACK_SIZE + 1);
-        rows_base = local_task * uint(2 * MAXN + DEEP_LEVELS * 2 * DEEP_N);
-#endif
-        // dir.w: the ray's key less first_ray, or -1 for a zero direction (counts, contributes
-        // nothing)
-        float key_offset = rays[2 * ray_in + 1].w;
-        if (key_offset >= 0)
-            TraceInput(rays[2 * ray_in].xyz, normalize(rays[2 * ray_in + 1].xyz),
-                       uint(tasks.first_ray) + uint(key_offset), uint(tasks.replica), slice,
-                       uint(tasks.slices));
+#ifdef DAYFLUX_PATHS
+    fixed_range_lost = false;
+    if (phase == 0u) {
+        if (local_task < uint(tasks.count)) StartPaths(local_task);
+    } else {
+        WalkPaths(local_task);
     }
+    if (fixed_range_lost) reports |= kReportFixedRange;
+#else
+    vec3 org, dir;
+    uint index, slice;
+    if (local_task < uint(tasks.count) && InputRay(local_task, org, dir, index, slice)) {
+        acc_base = local_task * uint(tasks.ncols * 3);
+        UseScratch(local_task);
+        TraceInput(org, dir, index, uint(tasks.replica), slice, uint(tasks.slices));
+    }
+#endif
     // Items that did not fit the stack are lost: the host says how many.
     if (dropped > 0u) atomicAdd(stats_dropped, dropped);
     if (reports != 0u) atomicOr(stats_reports, reports);
