@@ -105,6 +105,7 @@ void TraceReplicas(ContribEngine &engine, const double *rays, size_t n, uint64_t
         engine.Trace(rays, n, first_index, 0, sums);
         return;
     }
+    if (variances && engine.TraceWithVariances(rays, n, first_index, sums, variances)) return;
     std::vector<double> one(len), mean(len, 0.0), squares(len, 0.0);
     for (int k = 0; k < replicas; ++k) {
         std::fill(one.begin(), one.end(), 0.0);

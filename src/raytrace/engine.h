@@ -109,6 +109,15 @@ class ContribEngine {
         return false;
     }
 
+    // As Trace, and adds to variances (as records) each entry's variance, where the engine
+    // estimates it itself (-target_error's, from its passes' replicas); false where it does not
+    // (nothing is traced): -se then traces replicas (TraceReplicas).
+    virtual bool TraceWithVariances(const double *rays, size_t n, uint64_t first_index,
+                                    double *records, double *variances) {
+        (void)rays, (void)n, (void)first_index, (void)records, (void)variances;
+        return false;
+    }
+
     // For benchmarks (bench/gpu_replay_bench.cpp), the GPU engine's: the nearest-hit queries
     // traced since it was made (0 where not counted), and the device's seconds in each stage of
     // its dispatches (trace, slice sums; empty without timestamps).
@@ -145,7 +154,8 @@ std::string DescribeGpuDevices();
 
 // -se: every input ray traced as `replicas` independent replicas (each with -ad / replicas, set
 // by the caller); sums gets each ray's mean record added, variances (when not null) the
-// variance of that mean, estimated from the replicas' spread.
+// variance of that mean, estimated from the replicas' spread; or, by an engine that estimates
+// them itself (TraceWithVariances), the record and its variances from one trace.
 void TraceReplicas(ContribEngine &engine, const double *rays, size_t n, uint64_t first_index,
                    int replicas, double *sums, double *variances);
 

@@ -23,7 +23,8 @@ int FirstPassSamples(int cap) { return std::min(cap, std::max(8 * kPassReplicas,
 
 // A pass's result for each of its rays: the mean record, and its illuminance's mean and variance.
 struct PassResult {
-    std::vector<double> records;  // rays x width
+    std::vector<double> records;         // rays x width
+    std::vector<double> entry_variance;  // rays x width: each entry's mean's variance
     std::vector<double> mean, variance;
     // the variance's effective degrees of freedom: few where a few slices hold most of it
     std::vector<double> dof;
@@ -44,17 +45,21 @@ double UpperBoundFactor(double dof) {
 // A ray's passes so far.
 struct RayState {
     int samples = 0, passes = 0;
-    int next = 0;             // the samples of its next pass (0: done)
-    double sum = 0, var = 0;  // sums of samples x pass mean, samples^2 x its variance
-    double var_spread = 0;    // sum of (samples^2 x variance)^2 / dof (Satterthwaite)
-    std::vector<double> record;
+    int next = 0;                           // the samples of its next pass (0: done)
+    double sum = 0, var = 0;                // sums of samples x pass mean, samples^2 x its variance
+    double var_spread = 0;                  // sum of (samples^2 x variance)^2 / dof (Satterthwaite)
+    std::vector<double> record, entry_var;  // sums of samples x mean, samples^2 x its variance
 
     // The relative standard error of sum / samples: 0 for a ray that saw no light at all (in
     // all the samples of the cap).
     double Error() const { return sum == 0 ? 0 : std::sqrt(var) / std::fabs(sum); }
     double Dof() const { return var_spread > 0 ? var * var / var_spread : 0; }
     void Add(const PassResult &r, size_t k, int pass_samples, size_t width) {
-        for (size_t j = 0; j < width; ++j) record[j] += pass_samples * r.records[width * k + j];
+        const double s2 = double(pass_samples) * pass_samples;
+        for (size_t j = 0; j < width; ++j) {
+            record[j] += pass_samples * r.records[width * k + j];
+            entry_var[j] += s2 * r.entry_variance[width * k + j];
+        }
         samples += pass_samples;
         ++passes;
         sum += pass_samples * r.mean[k];
@@ -95,12 +100,25 @@ class TargetErrorEngine : public ContribEngine {
 
     void Trace(const double *rays, size_t n, uint64_t first_index, int replica,
                double *records) override {
+        TraceWith(rays, n, first_index, replica, records, nullptr);
+    }
+    // -se: each entry's variance, that of the passes' weighted mean (their replicas' spread).
+    bool TraceWithVariances(const double *rays, size_t n, uint64_t first_index, double *records,
+                            double *variances) override {
+        TraceWith(rays, n, first_index, 0, records, variances);
+        return true;
+    }
+
+  private:
+    void TraceWith(const double *rays, size_t n, uint64_t first_index, int replica, double *records,
+                   double *variances) {
         const size_t width = Width();
         std::vector<RayState> state(n);
         for (size_t i = 0; i < n; ++i) {
             const double *d = rays + 6 * i + 3;
             if (d[0] == 0 && d[1] == 0 && d[2] == 0) continue;  // a flush: nothing traced
             state[i].record.assign(width, 0.0);
+            state[i].entry_var.assign(width, 0.0);
             state[i].next = FirstPassSamples(o_.max_samples);
         }
         // Rays at the same pass wanting as many samples go together (what each gets does not
@@ -117,13 +135,16 @@ class TargetErrorEngine : public ContribEngine {
         for (size_t i = 0; i < n; ++i) {
             RayState &s = state[i];
             if (s.record.empty()) continue;
-            for (size_t j = 0; j < width; ++j) records[width * i + j] += s.record[j] / s.samples;
+            const double samples2 = double(s.samples) * s.samples;
+            for (size_t j = 0; j < width; ++j) {
+                records[width * i + j] += s.record[j] / s.samples;
+                if (variances) variances[width * i + j] += s.entry_var[j] / samples2;
+            }
             done.push_back({first_index + i, s.samples, s.Error(), s.AtTarget(o_.target)});
         }
         if (report_) report_->Add(done);
     }
 
-  private:
     size_t Width() const { return 3 * static_cast<size_t>(Columns()); }
 
     // One pass of `samples` for the rays `members` of this batch, all at pass id.
@@ -151,7 +172,7 @@ class TargetErrorEngine : public ContribEngine {
                      int samples, PassResult &out) {
         const size_t width = Width(), n = keys.size();
         ContribEngine &engine = *Engine(std::max(1, samples / kPassReplicas));
-        std::vector<double> one(width * n), v(n, 0.0), v2(n, 0.0);
+        std::vector<double> one(width * n), v(n, 0.0), v2(n, 0.0), squares(width * n, 0.0);
         out.records.assign(width * n, 0.0);
         for (int r = 0; r < kPassReplicas; ++r) {
             std::fill(one.begin(), one.end(), 0.0);
@@ -159,9 +180,19 @@ class TargetErrorEngine : public ContribEngine {
             for (size_t k = 0; k < n; ++k) {
                 const double value = Illuminance(&one[width * k]);
                 v[k] += value, v2[k] += value * value;
-                for (size_t j = 0; j < width; ++j)
-                    out.records[width * k + j] += one[width * k + j] / kPassReplicas;
+                for (size_t j = 0; j < width; ++j) {
+                    const double x = one[width * k + j];
+                    out.records[width * k + j] += x / kPassReplicas;
+                    squares[width * k + j] += x * x;
+                }
             }
+        }
+        out.entry_variance.resize(width * n);
+        for (size_t j = 0; j < width * n; ++j) {
+            const double m = out.records[j];
+            out.entry_variance[j] =
+                std::max(0.0, (squares[j] - kPassReplicas * m * m) / (kPassReplicas - 1)) /
+                kPassReplicas;
         }
         out.mean.resize(n);
         out.variance.resize(n);
@@ -188,6 +219,7 @@ class TargetErrorEngine : public ContribEngine {
         const size_t chunk = std::max<size_t>(1, kSliceBytes / (2 * sizeof(double) * per_ray));
         const uint32_t pair = core::kPairedReplicas + 2u * static_cast<uint32_t>(id);
         out.records.assign(width * n, 0.0);
+        out.entry_variance.assign(width * n, 0.0);
         out.mean.assign(n, 0.0);
         out.variance.assign(n, 0.0);
         out.dof.assign(n, 0.0);
@@ -208,8 +240,12 @@ class TargetErrorEngine : public ContribEngine {
                     sum += ia + ib;
                     squares += (ia - ib) * (ia - ib);
                     fourths += (ia - ib) * (ia - ib) * (ia - ib) * (ia - ib);
-                    double *record = &out.records[width * (lo + k)];
-                    for (size_t j = 0; j < width; ++j) record[j] += 0.5 * (sa[j] + sb[j]);
+                    double *record = &out.records[width * (lo + k)],
+                           *var = &out.entry_variance[width * (lo + k)];
+                    for (size_t j = 0; j < width; ++j) {
+                        record[j] += 0.5 * (sa[j] + sb[j]);
+                        var[j] += 0.25 * (sa[j] - sb[j]) * (sa[j] - sb[j]);
+                    }
                 }
                 out.mean[lo + k] = 0.5 * sum;
                 out.variance[lo + k] = 0.25 * squares;

@@ -362,8 +362,8 @@ RcontribOptions ParseRcontribOptions(const std::vector<std::string> &args,
         ErrorExit(
             "-sensor_cache with -first_record or -r: shards would share records otherwise "
             "than the whole run");
-    if (o.target_error > 0 && (o.sensor_cache > 0 || !o.stderr_file.empty()))
-        ErrorExit("-target_error with -sensor_cache or -se: not yet");
+    if (o.target_error > 0 && o.sensor_cache > 0)
+        ErrorExit("-target_error with -sensor_cache: not yet");
     if (o.target_error <= 0 && (o.max_samples || !o.target_sky.empty() || !o.target_report.empty()))
         ErrorExit("-max_samples, -target_sky and -target_report go with -target_error");
     if (o.target_error > 0 && !o.max_samples)
@@ -379,7 +379,8 @@ RcontribOptions ParseRcontribOptions(const std::vector<std::string> &args,
                       "', are above " + std::to_string(kMaxBins) +
                       " (more columns than a record can hold)");
     }
-    if (!o.stderr_file.empty())
+    // (-target_error's passes estimate the errors themselves, with divisions of their own)
+    if (!o.stderr_file.empty() && o.target_error <= 0)
         o.contrib.ambient_divisions = std::max(1, o.contrib.ambient_divisions / kReplicas);
     return o;
 }

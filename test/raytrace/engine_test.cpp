@@ -614,8 +614,8 @@ TEST(Engine, SlicesAddUpToTheWholeHemispherePathsVulkan) {
 }
 
 // -V+ contributions: the paths engine's fixed point scaled by the tracked sources' radiance
-// (a sky glow of 3000: units of 2^-36), its records the tasks engine's; where a pattern on the
-// tracked glow leaves that unknown, the run goes to the tasks engine.
+// (a sky glow of 3000: units of 2^-36), its records the tasks engine's, negative ones too; where
+// a pattern on the tracked glow leaves that unknown, the run goes to the tasks engine.
 TEST(Engine, PathsEngineScalesContributionsVulkan) {
     ContribOptions options = Irradiance(1, 16, 1e-4, 1);
     options.contributions = true;
@@ -642,6 +642,12 @@ TEST(Engine, PathsEngineScalesContributionsVulkan) {
         EXPECT_NEAR(paths[i], tasks[i], 1e-9 + 1e-6 * tasks[i]) << i;
     EXPECT_GT(tasks[0], 0.05 * 3000);  // some sky seen, and some not
     EXPECT_LT(tasks[0], (M_PI - 0.5) * 3000);
+    // A sky of negative radiance: every add negative (two's complement in the fixed point), each
+    // rounded as its magnitude is, so the records are exactly the negated ones.
+    std::vector<double> negative;
+    run("void glow skyglow 0 0 4 -3000 -3000 -3000 0\nskyglow source sky 0 0 4 0 0 1 180\n",
+        GpuEngine::kPaths, &negative);
+    for (size_t i = 0; i < paths.size(); ++i) EXPECT_EQ(negative[i], -paths[i]) << i;
     const std::string patterned =
         "void brightfunc dim 2 Dz . 0 0\n"
         "dim glow skyglow 0 0 4 3000 3000 3000 0\n"
