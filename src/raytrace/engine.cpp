@@ -132,8 +132,8 @@ void WarnCoreReports(uint32_t reports, uint64_t dropped) {
                 " rays were dropped (results are low)");
     if (fresh & core::kReportFixedRange)
         Warning(
-            "a contribution beyond the GPU paths engine's fixed point (8192) or not a "
-            "number was left out; -gpu_engine tasks holds any float");
+            "a contribution beyond the GPU paths engine's fixed point (8192 times its "
+            "sources' radiance) or not a number was left out; -gpu_engine tasks holds any float");
 }
 
 }  // namespace dayflux

@@ -203,8 +203,8 @@ CONST int kBasisSolidAngles = 3;
 CONST uint kReportBadBin = 1u;     // a bin beyond -bn (RADIANCE: "bad bin number")
 CONST uint kReportBsdfFrame = 2u;  // a BSDF's up vector along its normal
 CONST uint kReportStackFull = 4u;  // items that did not fit the ray stack (`dropped`)
-// A contribution the GPU's paths engine could not hold in its fixed point (beyond 8192, or NaN),
-// left out; set by that driver alone.
+// A contribution the GPU's paths engine could not hold in its fixed point (beyond 8192 times its
+// scale, or NaN), left out; set by that driver alone.
 CONST uint kReportFixedRange = 8u;
 
 #ifdef __cplusplus

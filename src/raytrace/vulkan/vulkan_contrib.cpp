@@ -199,16 +199,22 @@ bool Upload(const PackedScene &packed, const std::vector<core::ivec4> &tracked, 
     return true;
 }
 
-// For the paths engine's -V+ runs: 2^e at least the radiance of every tracked modifier's
-// surfaces and sources (its contributions are coefficients times that), e >= 0; -1 where a
-// pattern or a mixfunc makes it unknown.
+// For the paths engine's -V+ runs (rtrace-gpu's and rtrace_dc-gpu's too): 2^e at least the
+// radiance of every tracked modifier's surfaces and sources (its contributions are coefficients
+// times that), e >= 0; -1 where a pattern or a mixfunc makes it unknown, or where the radiances
+// spread over more than 2^16 (the dimmest's adds would be rounded to the brightest's units).
 int RadianceExponent(const PackedScene &packed) {
-    double most = 1;
-    const auto take = [&most](const core::vec4 &colour) {
-        for (int c = 0; c < 3; ++c) most = std::max(most, std::fabs(double(colour[c])));
+    double most = 1, least = HUGE_VAL;
+    const auto take = [&](const core::vec4 &colour) {
+        for (int c = 0; c < 3; ++c) {
+            const double x = std::fabs(double(colour[c]));
+            most = std::max(most, x);
+            if (x > 0) least = std::min(least, x);
+        }
     };
     for (const core::PackedSurface &m : packed.surfaces) {
-        if (m.tracked < 0) continue;
+        // (antimatter keeps its counters in `pattern`, and contributes nothing of its own)
+        if (m.tracked < 0 || m.kind == core::kMatAntimatter) continue;
         if (m.pattern >= 0 || m.kind == core::kMatMix) return -1;
         take(m.color);
     }
@@ -217,6 +223,7 @@ int RadianceExponent(const PackedScene &packed) {
         if (s.pattern >= 0) return -1;
         take(s.colour);
     }
+    if (least < HUGE_VAL && most > 65536 * least) return -1;
     int e;
     std::frexp(most, &e);
     return most == std::ldexp(0.5, e) ? e - 1 : e;
@@ -537,8 +544,11 @@ void VulkanContribEngine::TracePathsOn(DeviceState &dev, std::vector<uint8_t> &r
     const uint64_t ray_cells = o_.irradiance && o_.ambient_bounces > 0
                                    ? uint64_t(max_rows_) * uint64_t(max_rows_) * asub * asub
                                    : 0;
+    // (a dispatch's tasks span at most one ray more than they fill; a task walks only its rows)
+    const uint64_t task_cells =
+        ray_cells / max_rows_ * ((uint64_t(max_rows_) + slices - 1) / slices);
     const auto cells_for = [&](uint64_t count) {
-        return ((count + slices - 1) / slices + 1) * ray_cells;
+        return std::min(((count + slices - 1) / slices + 1) * ray_cells, count * task_cells);
     };
     const uint64_t stack_bytes = uint64_t(kGpuStackSize + 1) * dev.item_bytes;
     const uint64_t rows_bytes = 16 * uint64_t(2 * max_rows_ + kGpuDeepLevels * 2 * kGpuDeepN);
@@ -551,10 +561,15 @@ void VulkanContribEngine::TracePathsOn(DeviceState &dev, std::vector<uint8_t> &r
     const uint64_t records_room = std::min(budget / 8, buffer) / (record * sizeof(uint64_t));
     const uint64_t slots_room =
         slot_bytes > 0 ? std::min(budget / 2, buffer) / slot_bytes : uint64_t(1) << 16;
-    const uint64_t rays_room =
-        ray_cells > 0 ? std::min(budget / 4, buffer) / (ray_cells * dev.path_start_bytes) : n + 1;
-    uint64_t per_run = std::min<uint64_t>({records_room * slices, slots_room, kMaxTasksPerRun,
-                                           rays_room > 1 ? (rays_room - 1) * slices : 0});
+    // The tasks whose cells the buffer holds: whole rays, or (where not two fit) single tasks.
+    const uint64_t starts_room = std::min(budget / 4, buffer) / dev.path_start_bytes;
+    const uint64_t cells_room =
+        ray_cells == 0
+            ? uint64_t(kMaxTasksPerRun)
+            : std::max(starts_room / ray_cells > 1 ? (starts_room / ray_cells - 1) * slices : 0,
+                       starts_room / task_cells);
+    uint64_t per_run =
+        std::min<uint64_t>({records_room * slices, slots_room, kMaxTasksPerRun, cells_room});
     if (tasks_per_dispatch_ > 0) per_run = std::min<uint64_t>(per_run, tasks_per_dispatch_);
     // The tasks adding to one record: a ray's slices where a dispatch holds them whole (else
     // a record a task, the host adding a ray's up: exact integers either way).
@@ -692,9 +707,13 @@ std::unique_ptr<ContribEngine> CreateVulkanContribEngine(
     EngineOptions engine = engine_options;
     if (engine.gpu_engine == GpuEngine::kPaths && options.contributions &&
         RadianceExponent(packed) < 0) {
-        Warning(
-            "the GPU's paths engine cannot bound these -V+ contributions (a tracked modifier "
-            "with a pattern or a mixfunc); using its tasks engine");
+        static std::once_flag said;  // (a run may make several engines)
+        std::call_once(said, [] {
+            Warning(
+                "the GPU's paths engine cannot scale these contributions to its fixed point (a "
+                "tracked modifier with a pattern or a mixfunc, or radiances 2^16 apart); using "
+                "its tasks engine");
+        });
         engine.gpu_engine = GpuEngine::kTasks;
     }
     ContribShader shader;

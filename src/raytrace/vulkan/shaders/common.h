@@ -74,7 +74,7 @@ struct GpuTasks {
     // own: TraceSlices, or a dispatch cutting a ray's slices).
     int path_capacity;
     int tasks_per_record;
-    // and its fixed point's units a unit of the records (kPathFixedScale, or less for -V+ runs
+    // and its fixed point's units a unit of the records (2^kPathFixedBits, or less for -V+ runs
     // whose sources' radiance is above 1: a power of 2)
     float path_scale;
 };
