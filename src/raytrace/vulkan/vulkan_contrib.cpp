@@ -235,6 +235,8 @@ vk::Traversal DeviceTraversal(GpuTraversal t) {
                                         : vk::Traversal::kAuto;
 }
 
+struct PathsPlan;
+
 class VulkanContribEngine : public ContribEngine {
   public:
     VulkanContribEngine(const PackedScene &packed, const ContribOptions &options,
@@ -350,6 +352,7 @@ class VulkanContribEngine : public ContribEngine {
     core::GpuTasks Tasks(size_t n, int slices, uint64_t first_index, int replica) const;
     void TraceOn(DeviceState &dev, const double *rays, size_t n, uint64_t first_index,
                  const uint64_t *keys, int replica, double *records, int slices_apart) const;
+    PathsPlan PlanPaths(const DeviceState &dev, int slices, int slices_apart) const;
     void TracePathsOn(DeviceState &dev, std::vector<uint8_t> &ray_bytes, size_t n, int slices,
                       uint64_t first_index, int replica, double *records, int slices_apart) const;
     uint64_t LogRoom(const DeviceState &dev) const;
@@ -529,68 +532,83 @@ void VulkanContribEngine::TakeStats(DeviceState &dev, const std::vector<uint8_t>
     dev.ray_log.insert(dev.ray_log.end(), log, log + 2 * logged);
 }
 
-// The paths engine (EngineOptions::gpu_engine): each dispatch runs the shader twice in one
-// submission, phase 0 an invocation a task (its sources, and its cells' rays and random states
-// kept on the device), phase 1 over those cells' paths; the records, in fixed point, come back
-// one a ray (or a slice, with slices_apart) and are added to records as doubles.
-void VulkanContribEngine::TracePathsOn(DeviceState &dev, std::vector<uint8_t> &ray_bytes, size_t n,
-                                       int slices, uint64_t first_index, int replica,
-                                       double *records, int slices_apart) const {
-    const size_t record = 3 * static_cast<size_t>(columns_);
-    const size_t total = n * static_cast<size_t>(slices);
-    // The cells a ray may start, over all its slices: its first hemisphere's, each cell's steps
-    // with -asub (none at -ab 0). A dispatch's tasks span at most one ray more than they fill.
-    const uint64_t asub = static_cast<uint64_t>(std::max(1, o_.ambient_subsamples));
-    const uint64_t ray_cells = o_.irradiance && o_.ambient_bounces > 0
-                                   ? uint64_t(max_rows_) * uint64_t(max_rows_) * asub * asub
-                                   : 0;
-    // (a dispatch's tasks span at most one ray more than they fill; a task walks only its rows)
-    const uint64_t task_cells =
-        ray_cells / max_rows_ * ((uint64_t(max_rows_) + slices - 1) / slices);
-    const auto cells_for = [&](uint64_t count) {
+// How the paths engine shares a call out between dispatches: the tasks each takes, whose adds
+// go to one record, its cells' room and its walkers.
+struct PathsPlan {
+    int slices = 1;
+    uint64_t ray_cells = 0;   // a ray's cells, over all its slices (-asub: each cell's steps)
+    uint64_t task_cells = 0;  // a task's (its rows')
+    uint64_t stack_bytes = 0, rows_bytes = 0, slot_bytes = 0;  // an invocation's scratch
+    uint64_t per_run = 0;                                      // tasks a dispatch
+    size_t per_record = 1;                                     // tasks adding to one record
+    uint64_t walker_cap = 0;  // phase 1's invocations at most, whole groups
+    // The cells `count` tasks may start: they span at most one ray more than they fill, and a
+    // task starts only its rows' cells.
+    uint64_t Cells(uint64_t count) const {
         return std::min(((count + slices - 1) / slices + 1) * ray_cells, count * task_cells);
-    };
-    const uint64_t stack_bytes = uint64_t(kGpuStackSize + 1) * dev.item_bytes;
-    const uint64_t rows_bytes = 16 * uint64_t(2 * max_rows_ + kGpuDeepLevels * 2 * kGpuDeepN);
-    const uint64_t slot_bytes = dev.target.scratch ? stack_bytes + rows_bytes : 0;
+    }
+};
+
+PathsPlan VulkanContribEngine::PlanPaths(const DeviceState &dev, int slices,
+                                         int slices_apart) const {
+    PathsPlan p;
+    p.slices = slices;
+    const uint64_t asub = static_cast<uint64_t>(std::max(1, o_.ambient_subsamples));
+    if (o_.irradiance && o_.ambient_bounces > 0)  // (else no hemisphere: no cells)
+        p.ray_cells = uint64_t(max_rows_) * uint64_t(max_rows_) * asub * asub;
+    p.task_cells = p.ray_cells / max_rows_ * ((uint64_t(max_rows_) + slices - 1) / slices);
+    p.stack_bytes = uint64_t(kGpuStackSize + 1) * dev.item_bytes;
+    p.rows_bytes = 16 * uint64_t(2 * max_rows_ + kGpuDeepLevels * 2 * kGpuDeepN);
+    p.slot_bytes = dev.target.scratch ? p.stack_bytes + p.rows_bytes : 0;
     // Device memory: an eighth of the budget for the records, a quarter for the cells, half for
     // the invocations' stacks and rows, as many of them as can walk at once (lavapipe's: the
     // machine's memory, so a fixed share).
     const uint64_t budget = dev.device->IsCpu() ? 4 * kAccumBudget : dev.device->ScratchBudget();
     const uint64_t buffer = dev.device->MaxBufferBytes();
+    const uint64_t record = 3 * static_cast<uint64_t>(columns_);
     const uint64_t records_room = std::min(budget / 8, buffer) / (record * sizeof(uint64_t));
     const uint64_t slots_room =
-        slot_bytes > 0 ? std::min(budget / 2, buffer) / slot_bytes : uint64_t(1) << 16;
+        p.slot_bytes > 0 ? std::min(budget / 2, buffer) / p.slot_bytes : uint64_t(1) << 16;
     // The tasks whose cells the buffer holds: whole rays, or (where not two fit) single tasks.
     const uint64_t starts_room = std::min(budget / 4, buffer) / dev.path_start_bytes;
+    const uint64_t rays_room = p.ray_cells > 0 ? starts_room / p.ray_cells : 0;
     const uint64_t cells_room =
-        ray_cells == 0
+        p.ray_cells == 0
             ? uint64_t(kMaxTasksPerRun)
-            : std::max(starts_room / ray_cells > 1 ? (starts_room / ray_cells - 1) * slices : 0,
-                       starts_room / task_cells);
-    uint64_t per_run =
+            : std::max(rays_room > 1 ? (rays_room - 1) * slices : 0, starts_room / p.task_cells);
+    p.per_run =
         std::min<uint64_t>({records_room * slices, slots_room, kMaxTasksPerRun, cells_room});
-    if (tasks_per_dispatch_ > 0) per_run = std::min<uint64_t>(per_run, tasks_per_dispatch_);
-    // The tasks adding to one record: a ray's slices where a dispatch holds them whole (else
-    // a record a task, the host adding a ray's up: exact integers either way).
-    const size_t per_record = slices_apart == 0 && per_run >= size_t(slices) ? slices : 1;
-    per_run = std::min(per_run - per_run % per_record, records_room * per_record);
-    // Phase 1's invocations: as many as the scratch holds (each walks paths in turn), in whole
-    // groups along x (their number is the shader's stride).
-    const uint64_t walker_cap =
-        std::min<uint64_t>(slots_room, kMaxTasksPerRun) / kGpuLocalSize * kGpuLocalSize;
-    if (per_run == 0 || walker_cap == 0)
+    if (tasks_per_dispatch_ > 0) p.per_run = std::min<uint64_t>(p.per_run, tasks_per_dispatch_);
+    // A ray's slices add to one record where a dispatch holds them whole (else a record a task,
+    // the host adding a ray's up: exact integers either way).
+    p.per_record = slices_apart == 0 && p.per_run >= uint64_t(slices) ? slices : 1;
+    p.per_run = std::min(p.per_run - p.per_run % p.per_record, records_room * p.per_record);
+    p.walker_cap = std::min<uint64_t>(slots_room, kMaxTasksPerRun) / kGpuLocalSize * kGpuLocalSize;
+    if (p.per_run == 0 || p.walker_cap == 0)
         ErrorExit("the GPU paths engine cannot hold one sensor's record and cells on " +
                   dev.device->Name() + "; -gpu_engine tasks needs less");
+    return p;
+}
+
+// The paths engine (EngineOptions::gpu_engine): each dispatch runs the shader twice in one
+// submission, phase 0 an invocation a task (its sources, and its cells' rays and random states
+// kept on the device), phase 1 over those cells' paths; the records, in fixed point, come back
+// one a ray (or a slice, with slices_apart), summed as integers, then added to records as doubles.
+void VulkanContribEngine::TracePathsOn(DeviceState &dev, std::vector<uint8_t> &ray_bytes, size_t n,
+                                       int slices, uint64_t first_index, int replica,
+                                       double *records, int slices_apart) const {
+    const PathsPlan plan = PlanPaths(dev, slices, slices_apart);
+    const size_t record = 3 * static_cast<size_t>(columns_), per_record = plan.per_record;
+    const size_t total = n * static_cast<size_t>(slices);
     std::vector<uint8_t> parameter_bytes = parameters_, accum, none;
-    // The call's sums in fixed point, a record a ray (or a slice, with slices_apart)
     std::vector<int64_t> sums((slices_apart > 0 ? total : n) * record, 0);
-    for (size_t offset = 0; offset < total; offset += per_run) {
-        const size_t count = std::min<size_t>(per_run, total - offset);
-        const uint64_t cells = cells_for(count);
+    for (size_t offset = 0; offset < total; offset += plan.per_run) {
+        const size_t count = std::min<size_t>(plan.per_run, total - offset);
+        const uint64_t cells = plan.Cells(count);
+        // (the walkers' number is the shader's stride: whole groups, all along x)
         const uint64_t walkers =
-            (std::min(cells, walker_cap) + kGpuLocalSize - 1) / kGpuLocalSize * kGpuLocalSize;
-        CHECK(walkers <= walker_cap && walkers <= kMaxTasksPerRun);
+            (std::min(cells, plan.walker_cap) + kGpuLocalSize - 1) / kGpuLocalSize * kGpuLocalSize;
+        CHECK(walkers <= plan.walker_cap && walkers <= kMaxTasksPerRun);
         core::GpuTasks tasks = Tasks(n, slices, first_index, replica);
         tasks.maxn = max_rows_;
         tasks.task_offset = static_cast<int>(offset);
@@ -611,9 +629,9 @@ void VulkanContribEngine::TracePathsOn(DeviceState &dev, std::vector<uint8_t> &r
         named.Set(core::kBindingParameters, G::In(&parameter_bytes));
         named.Set(core::kBindingStats, G::InOut(&stats));
         named.Set(core::kBindingScratchItems,
-                  slot_bytes > 0 ? G::Scratch(slots * stack_bytes) : G::In(&none));
+                  plan.slot_bytes > 0 ? G::Scratch(slots * plan.stack_bytes) : G::In(&none));
         named.Set(core::kBindingScratchRows,
-                  slot_bytes > 0 ? G::Scratch(slots * rows_bytes) : G::In(&none));
+                  plan.slot_bytes > 0 ? G::Scratch(slots * plan.rows_bytes) : G::In(&none));
         named.Set(core::kBindingSliceSums, G::In(&none));
         named.Set(core::kBindingRayLog,
                   log_bytes.empty() ? G::In(&none) : G::Accumulator(&log_bytes));
