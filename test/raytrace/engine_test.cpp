@@ -615,7 +615,8 @@ TEST(Engine, SlicesAddUpToTheWholeHemispherePathsVulkan) {
 
 // -V+ contributions: the paths engine's fixed point scaled by the tracked sources' radiance
 // (a sky glow of 3000: units of 2^-36), its records the tasks engine's, negative ones too; where
-// a pattern on the tracked glow leaves that unknown, the run goes to the tasks engine.
+// a pattern on the tracked glow leaves that unknown, the run goes to the tasks engine, and so
+// does one whose radiances lie more than 2^16 apart.
 TEST(Engine, PathsEngineScalesContributionsVulkan) {
     ContribOptions options = Irradiance(1, 16, 1e-4, 1);
     options.contributions = true;
@@ -654,6 +655,11 @@ TEST(Engine, PathsEngineScalesContributionsVulkan) {
         "skyglow source sky 0 0 4 0 0 1 180\n";
     const std::string label = run(patterned, GpuEngine::kPaths, &paths);
     EXPECT_EQ(label.rfind("vulkan: ", 0), 0u) << label;
+    // so does one whose radiances lie more than 2^16 apart (one scale serves them all)
+    const std::string spread =
+        "void glow skyglow 0 0 4 3000 3000 .001 0\nskyglow source sky 0 0 4 0 0 1 180\n";
+    EXPECT_EQ(run(spread, GpuEngine::kPaths, &paths).rfind("vulkan: ", 0), 0u);
+    EXPECT_EQ(run(bright, GpuEngine::kPaths, &paths).rfind("vulkan paths: ", 0), 0u);
 }
 
 // An engine the options name that does not exist is an error, not a silent choice.
