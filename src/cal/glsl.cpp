@@ -11,214 +11,144 @@ namespace dayflux::cal {
 
 namespace {
 
-// Double-precision math for GLSL, written from the series definitions: each function reduces its
-// argument to a small interval where a Taylor (or atanh) series converges to double precision.
-constexpr const char *kMathLibrary = R"GLSL(
-const double cal_PI = 3.14159265358979323846LF;
-const double cal_LN2 = 0.693147180559945309417LF;
-double cal_exp(double x) {
-    if (x > 709.782712893384LF) return 1.0LF / 0.0LF;  // ln of the largest double
-    if (x < -745.0LF) return 0.0LF;
-    double k = floor(x / cal_LN2 + 0.5LF);
-    // ln 2 in two parts, so that x - k ln2 keeps its accuracy.
-    double r = (x - k * 0.693145751953125LF) - k * 1.42860682030941723212e-6LF;
-    double term = 1.0LF, sum = 1.0LF;
-    for (int i = 1; i < 20; ++i) { term *= r / double(i); sum += term; }
-    // 2^1024 is no double: the largest results are scaled in two steps.
-    return k > 1023.0LF ? ldexp(sum * 2.0LF, int(k) - 1) : ldexp(sum, int(k));
+// calcomp's library in GLSL, written once from the series definitions for both precisions: each
+// function reduces its argument to a small interval where a Taylor (or atanh) series converges.
+// GLSL's own float functions may be thousands of ulps out (Vulkan allows atan 4096 ulps), and it
+// has none in double. The template's REAL is float or double, a literal's `@` its suffix ("" or
+// LF), and {NAME} what the precisions differ in (MathLibrary): term counts, range limits, and
+// ln 2 and pi/2 split in parts so that k times the first part is exact.
+constexpr const char *kMathTemplate = R"GLSL(
+const REAL cal_PI = 3.14159265358979323846@;
+const REAL cal_LN2 = 0.693147180559945309417@;
+REAL cal_exp(REAL x) {
+    if (x > {EXP_MAX}@) return 1.0@ / 0.0@;  // ln of the largest REAL
+    if (x < {EXP_MIN}@) return 0.0@;
+    REAL k = floor(x / cal_LN2 + 0.5@);
+    REAL r = (x - k * 0.693145751953125@) - k * {LN2_LOW}@;
+    REAL term = 1.0@, sum = 1.0@;
+    for (int i = 1; i < {EXP_TERMS}; ++i) { term *= r / REAL(i); sum += term; }
+    // 2^(largest exponent + 1) is no REAL: the largest results are scaled in two steps.
+    return k > {EXP_TOP}@ ? ldexp(sum * 2.0@, int(k) - 1) : ldexp(sum, int(k));
 }
-double cal_log(double x) {
-    if (x <= 0.0LF) return x == 0.0LF ? -1.0LF / 0.0LF : 0.0LF / 0.0LF;
+REAL cal_log(REAL x) {
+    if (x <= 0.0@) return x == 0.0@ ? -1.0@ / 0.0@ : 0.0@ / 0.0@;
+    if (isinf(x)) return x;
     int e;
-    double m = frexp(x, e);
-    if (m < 0.70710678118654752440LF) { m *= 2.0LF; e -= 1; }
-    double s = (m - 1.0LF) / (m + 1.0LF), s2 = s * s, term = s, sum = 0.0LF;
-    for (int i = 0; i < 20; ++i) { sum += term / double(2 * i + 1); term *= s2; }
-    return 2.0LF * sum + double(e) * cal_LN2;
+    REAL m = frexp(x, e);
+    if (m < 0.70710678118654752440@) { m *= 2.0@; e -= 1; }
+    REAL s = (m - 1.0@) / (m + 1.0@), s2 = s * s, term = s, sum = 0.0@;
+    for (int i = 0; i < {LOG_TERMS}; ++i) { sum += term / REAL(2 * i + 1); term *= s2; }
+    return 2.0@ * sum + REAL(e) * cal_LN2;
 }
-double cal_log10(double x) { return cal_log(x) / 2.30258509299404568402LF; }
-double cal_sin_series(double r) {
-    double r2 = r * r, term = r, sum = r;
-    for (int i = 1; i < 12; ++i) { term *= -r2 / double((2 * i) * (2 * i + 1)); sum += term; }
+REAL cal_log10(REAL x) { return cal_log(x) / 2.30258509299404568402@; }
+REAL cal_sin_series(REAL r) {
+    REAL r2 = r * r, term = r, sum = r;
+    for (int i = 1; i < {SIN_TERMS}; ++i) { term *= -r2 / REAL((2 * i) * (2 * i + 1)); sum += term; }
     return sum;
 }
-double cal_cos_series(double r) {
-    double r2 = r * r, term = 1.0LF, sum = 1.0LF;
-    for (int i = 1; i < 12; ++i) { term *= -r2 / double((2 * i - 1) * (2 * i)); sum += term; }
+REAL cal_cos_series(REAL r) {
+    REAL r2 = r * r, term = 1.0@, sum = 1.0@;
+    for (int i = 1; i < {SIN_TERMS}; ++i) { term *= -r2 / REAL((2 * i - 1) * (2 * i)); sum += term; }
     return sum;
 }
 // x = q pi/2 + r with |r| <= pi/4; pi/2 in three parts for the reduction.
-double cal_reduce(double x, out int q) {
-    double k = floor(x / (cal_PI / 2.0LF) + 0.5LF);
-    q = int(k - 4.0LF * floor(k / 4.0LF));
-    return ((x - k * 1.5707963267341256LF) - k * 6.077100506506192e-11LF) - k * 2.0222662487959506e-21LF;
+REAL cal_reduce(REAL x, out int q) {
+    REAL k = floor(x / (cal_PI / 2.0@) + 0.5@);
+    q = int(k - 4.0@ * floor(k / 4.0@));
+    return ((x - k * {PIO2_1}@) - k * {PIO2_2}@) - k * {PIO2_3}@;
 }
-double cal_sin(double x) {
-    int q; double r = cal_reduce(x, q);
+REAL cal_sin(REAL x) {
+    int q; REAL r = cal_reduce(x, q);
     return q == 0 ? cal_sin_series(r) : q == 1 ? cal_cos_series(r) : q == 2 ? -cal_sin_series(r) : -cal_cos_series(r);
 }
-double cal_cos(double x) {
-    int q; double r = cal_reduce(x, q);
+REAL cal_cos(REAL x) {
+    int q; REAL r = cal_reduce(x, q);
     return q == 0 ? cal_cos_series(r) : q == 1 ? -cal_sin_series(r) : q == 2 ? -cal_cos_series(r) : cal_sin_series(r);
 }
-double cal_tan(double x) { return cal_sin(x) / cal_cos(x); }
+REAL cal_tan(REAL x) { return cal_sin(x) / cal_cos(x); }
 // atan for |x| <= 1: halve the angle twice (atan x = 2 atan(x / (1 + sqrt(1 + x^2)))), then the series.
-double cal_atan_unit(double x) {
-    double y = x / (1.0LF + sqrt(1.0LF + x * x));
-    y = y / (1.0LF + sqrt(1.0LF + y * y));
-    double y2 = y * y, term = y, sum = 0.0LF;
-    for (int i = 0; i < 18; ++i) { sum += term / double(2 * i + 1); term *= -y2; }
-    return 4.0LF * sum;
+REAL cal_atan_unit(REAL x) {
+    REAL y = x / (1.0@ + sqrt(1.0@ + x * x));
+    y = y / (1.0@ + sqrt(1.0@ + y * y));
+    REAL y2 = y * y, term = y, sum = 0.0@;
+    for (int i = 0; i < {ATAN_TERMS}; ++i) { sum += term / REAL(2 * i + 1); term *= -y2; }
+    return 4.0@ * sum;
 }
-double cal_atan(double x) {
-    if (abs(x) <= 1.0LF) return cal_atan_unit(x);
-    return (x > 0.0LF ? cal_PI / 2.0LF : -cal_PI / 2.0LF) - cal_atan_unit(1.0LF / x);
+REAL cal_atan(REAL x) {
+    if (abs(x) <= 1.0@) return cal_atan_unit(x);
+    return (x > 0.0@ ? cal_PI / 2.0@ : -cal_PI / 2.0@) - cal_atan_unit(1.0@ / x);
 }
-double cal_atan2(double y, double x) {
-    if (x == 0.0LF && y == 0.0LF) return 0.0LF;
+REAL cal_atan2(REAL y, REAL x) {
+    if (x == 0.0@ && y == 0.0@) return 0.0@;
     if (abs(y) <= abs(x)) {
-        double a = cal_atan_unit(y / x);
-        if (x > 0.0LF) return a;
-        return y >= 0.0LF ? a + cal_PI : a - cal_PI;
+        REAL a = cal_atan_unit(y / x);
+        if (x > 0.0@) return a;
+        return y >= 0.0@ ? a + cal_PI : a - cal_PI;
     }
-    double a = cal_atan_unit(x / y);
-    return y > 0.0LF ? cal_PI / 2.0LF - a : -cal_PI / 2.0LF - a;
+    REAL a = cal_atan_unit(x / y);
+    return y > 0.0@ ? cal_PI / 2.0@ - a : -cal_PI / 2.0@ - a;
 }
 // GLSL leaves sqrt of a negative number undefined: outside [-1, 1] these are NaN, as in C.
-double cal_asin(double x) {
-    if (!(abs(x) <= 1.0LF)) return 0.0LF / 0.0LF;
-    return cal_atan2(x, sqrt((1.0LF - x) * (1.0LF + x)));
+REAL cal_asin(REAL x) {
+    if (!(abs(x) <= 1.0@)) return 0.0@ / 0.0@;
+    return cal_atan2(x, sqrt((1.0@ - x) * (1.0@ + x)));
 }
-double cal_acos(double x) {
-    if (!(abs(x) <= 1.0LF)) return 0.0LF / 0.0LF;
-    return cal_atan2(sqrt((1.0LF - x) * (1.0LF + x)), x);
+REAL cal_acos(REAL x) {
+    if (!(abs(x) <= 1.0@)) return 0.0@ / 0.0@;
+    return cal_atan2(sqrt((1.0@ - x) * (1.0@ + x)), x);
 }
-double cal_sqrt(double x) { return !(x >= 0.0LF) ? 0.0LF / 0.0LF : sqrt(x); }
+REAL cal_sqrt(REAL x) { return !(x >= 0.0@) ? 0.0@ / 0.0@ : sqrt(x); }
 // libfunc()'s and epow()'s rule: a NaN or infinite result is a domain or range error, and 0.
-double cal_ok(double v) { return isnan(v) || isinf(v) ? 0.0LF : v; }
-double cal_pow(double x, double y) {
-    if (y == 0.0LF) return 1.0LF;
-    if (x == 0.0LF) return y > 0.0LF ? 0.0LF : 1.0LF / 0.0LF;
-    if (x < 0.0LF) {
-        if (y != floor(y)) return 0.0LF / 0.0LF;
-        double m = cal_exp(y * cal_log(-x));
-        return y - 2.0LF * floor(y / 2.0LF) == 0.0LF ? m : -m;
+REAL cal_ok(REAL v) { return isnan(v) || isinf(v) ? 0.0@ : v; }
+REAL cal_pow(REAL x, REAL y) {
+    if (y == 0.0@) return 1.0@;
+    if (x == 0.0@) return y > 0.0@ ? 0.0@ : 1.0@ / 0.0@;
+    if (x < 0.0@) {
+        if (y != floor(y)) return 0.0@ / 0.0@;
+        REAL m = cal_exp(y * cal_log(-x));
+        return y - 2.0@ * floor(y / 2.0@) == 0.0@ ? m : -m;
     }
     return cal_exp(y * cal_log(x));
 }
-double cal_div(double a, double b) { return b == 0.0LF ? 0.0LF : a / b; }
-double cal_rand(double x) {
-    x *= 1.0LF / (1.0LF + x * x) + 2.71828182845904LF;
-    x += 0.785398163397447LF - floor(x);
-    x = 1e5LF / x;
-    return x - floor(x);
+REAL cal_div(REAL a, REAL b) { return b == 0.0@ ? 0.0@ : a / b; }
+REAL cal_rand(REAL x) {
+    x *= 1.0@ / (1.0@ + x * x) + 2.71828182845904@;
+    x += 0.785398163397447@ - floor(x);
+{RAND_FRACTION}
 }
 )GLSL";
 
-// The same in single precision, for devices without shaderFloat64 (and every device by default):
-// GLSL's own float functions may be thousands of ulps out (Vulkan allows atan 4096), so the
-// series stay, shorter, with float constants (ln 2 and pi/2 split so that k times the first part
-// is exact), accurate to a few ulps.
-constexpr const char *kFloatMathLibrary = R"GLSL(
-const float cal_PI = 3.14159265358979323846;
-const float cal_LN2 = 0.693147180559945309417;
-float cal_exp(float x) {
-    if (x > 88.7228390) return 1.0 / 0.0;  // ln of the largest float
-    if (x < -104.0) return 0.0;
-    float k = floor(x / cal_LN2 + 0.5);
-    float r = (x - k * 0.693145751953125) - k * 1.428606765330187e-6;
-    float term = 1.0, sum = 1.0;
-    for (int i = 1; i < 10; ++i) { term *= r / float(i); sum += term; }
-    return k > 127.0 ? ldexp(sum * 2.0, int(k) - 1) : ldexp(sum, int(k));
+// The library for one precision: kMathTemplate filled in.
+std::string MathLibrary(bool single) {
+    // rand()'s frac(1e5 / x): in double as calcomp has it; in float from the remainder of 1e5 by
+    // x, exact by fma, rather than from the quotient, whose float keeps 7 or 8 bits of fraction.
+    const std::map<std::string, std::string> fill = {
+        {"{EXP_MAX}", single ? "88.7228390" : "709.782712893384"},
+        {"{EXP_MIN}", single ? "-104.0" : "-745.0"},
+        {"{LN2_LOW}", single ? "1.428606765330187e-6" : "1.42860682030941723212e-6"},
+        {"{EXP_TERMS}", single ? "10" : "20"},
+        {"{EXP_TOP}", single ? "127.0" : "1023.0"},
+        {"{LOG_TERMS}", single ? "8" : "20"},
+        {"{SIN_TERMS}", single ? "7" : "12"},
+        {"{PIO2_1}", single ? "1.5703125" : "1.5707963267341256"},
+        {"{PIO2_2}", single ? "4.837512969970703125e-4" : "6.077100506506192e-11"},
+        {"{PIO2_3}", single ? "7.54978995489188216e-8" : "2.0222662487959506e-21"},
+        {"{ATAN_TERMS}", single ? "9" : "18"},
+        {"{RAND_FRACTION}", single ? "    REAL q = floor(1e5@ / x);\n"
+                                     "    precise REAL r = fma(-q, x, 1e5@);\n"
+                                     "    r = r < 0.0@ ? r + x : r >= x ? r - x : r;\n"
+                                     "    return r / x;"
+                                   : "    x = 1e5@ / x;\n    return x - floor(x);"}};
+    std::string s = kMathTemplate;
+    for (const auto &[key, value] : fill)
+        for (size_t at; (at = s.find(key)) != std::string::npos;) s.replace(at, key.size(), value);
+    const std::pair<std::string, std::string> words[] = {{"REAL", single ? "float" : "double"},
+                                                         {"@", single ? "" : "LF"}};
+    for (const auto &[key, value] : words)
+        for (size_t at = 0; (at = s.find(key, at)) != std::string::npos; at += value.size())
+            s.replace(at, key.size(), value);
+    return s;
 }
-float cal_log(float x) {
-    if (x <= 0.0) return x == 0.0 ? -1.0 / 0.0 : 0.0 / 0.0;
-    if (isinf(x)) return x;
-    int e;
-    float m = frexp(x, e);
-    if (m < 0.70710678118654752440) { m *= 2.0; e -= 1; }
-    float s = (m - 1.0) / (m + 1.0), s2 = s * s, term = s, sum = 0.0;
-    for (int i = 0; i < 8; ++i) { sum += term / float(2 * i + 1); term *= s2; }
-    return 2.0 * sum + float(e) * cal_LN2;
-}
-float cal_log10(float x) { return cal_log(x) / 2.30258509299404568402; }
-float cal_sin_series(float r) {
-    float r2 = r * r, term = r, sum = r;
-    for (int i = 1; i < 7; ++i) { term *= -r2 / float((2 * i) * (2 * i + 1)); sum += term; }
-    return sum;
-}
-float cal_cos_series(float r) {
-    float r2 = r * r, term = 1.0, sum = 1.0;
-    for (int i = 1; i < 7; ++i) { term *= -r2 / float((2 * i - 1) * (2 * i)); sum += term; }
-    return sum;
-}
-float cal_reduce(float x, out int q) {
-    float k = floor(x / (cal_PI / 2.0) + 0.5);
-    q = int(k - 4.0 * floor(k / 4.0));
-    return ((x - k * 1.5703125) - k * 4.837512969970703125e-4) - k * 7.54978995489188216e-8;
-}
-float cal_sin(float x) {
-    int q; float r = cal_reduce(x, q);
-    return q == 0 ? cal_sin_series(r) : q == 1 ? cal_cos_series(r) : q == 2 ? -cal_sin_series(r) : -cal_cos_series(r);
-}
-float cal_cos(float x) {
-    int q; float r = cal_reduce(x, q);
-    return q == 0 ? cal_cos_series(r) : q == 1 ? -cal_sin_series(r) : q == 2 ? -cal_cos_series(r) : cal_sin_series(r);
-}
-float cal_tan(float x) { return cal_sin(x) / cal_cos(x); }
-float cal_atan_unit(float x) {
-    float y = x / (1.0 + sqrt(1.0 + x * x));
-    y = y / (1.0 + sqrt(1.0 + y * y));
-    float y2 = y * y, term = y, sum = 0.0;
-    for (int i = 0; i < 9; ++i) { sum += term / float(2 * i + 1); term *= -y2; }
-    return 4.0 * sum;
-}
-float cal_atan(float x) {
-    if (abs(x) <= 1.0) return cal_atan_unit(x);
-    return (x > 0.0 ? cal_PI / 2.0 : -cal_PI / 2.0) - cal_atan_unit(1.0 / x);
-}
-float cal_atan2(float y, float x) {
-    if (x == 0.0 && y == 0.0) return 0.0;
-    if (abs(y) <= abs(x)) {
-        float a = cal_atan_unit(y / x);
-        if (x > 0.0) return a;
-        return y >= 0.0 ? a + cal_PI : a - cal_PI;
-    }
-    float a = cal_atan_unit(x / y);
-    return y > 0.0 ? cal_PI / 2.0 - a : -cal_PI / 2.0 - a;
-}
-float cal_asin(float x) {
-    if (!(abs(x) <= 1.0)) return 0.0 / 0.0;
-    return cal_atan2(x, sqrt((1.0 - x) * (1.0 + x)));
-}
-float cal_acos(float x) {
-    if (!(abs(x) <= 1.0)) return 0.0 / 0.0;
-    return cal_atan2(sqrt((1.0 - x) * (1.0 + x)), x);
-}
-float cal_sqrt(float x) { return !(x >= 0.0) ? 0.0 / 0.0 : sqrt(x); }
-float cal_ok(float v) { return isnan(v) || isinf(v) ? 0.0 : v; }
-float cal_pow(float x, float y) {
-    if (y == 0.0) return 1.0;
-    if (x == 0.0) return y > 0.0 ? 0.0 : 1.0 / 0.0;
-    if (x < 0.0) {
-        if (y != floor(y)) return 0.0 / 0.0;
-        float m = cal_exp(y * cal_log(-x));
-        return y - 2.0 * floor(y / 2.0) == 0.0 ? m : -m;
-    }
-    return cal_exp(y * cal_log(x));
-}
-float cal_div(float a, float b) { return b == 0.0 ? 0.0 : a / b; }
-// frac(1e5 / x) from the remainder of 1e5 by x, exact by fma, rather than from the quotient,
-// whose float keeps 7 or 8 bits of fraction.
-float cal_rand(float x) {
-    x *= 1.0 / (1.0 + x * x) + 2.71828182845904;
-    x += 0.785398163397447 - floor(x);
-    float q = floor(1e5 / x);
-    precise float r = fma(-q, x, 1e5);
-    r = r < 0.0 ? r + x : r >= x ? r - x : r;
-    return r / x;
-}
-)GLSL";
 
 // A literal of the generated code's type: double (LF, 17 digits) or float (9 digits).
 std::string Literal(double v, bool single) {
@@ -433,7 +363,7 @@ std::string GenerateGlsl(const Context &cx, const std::vector<GlslEntry> &entrie
         const bool single = options.precision == GlslPrecision::kFloat;
         const std::string t = single ? "float" : "double", zero = single ? "0.0" : "0.0LF";
         s += t + " cal_chan[" + std::to_string(options.channels + 1) + "];\n";
-        s += single ? kFloatMathLibrary : kMathLibrary;
+        s += MathLibrary(single);
         s += "int cal_sel_i(" + t + " a) { return int(floor(a + 0.5" + (single ? "" : "LF") +
              ")); }\n";
         // A pattern's real arguments: cal_arg[0] is their count, as arg(0).
