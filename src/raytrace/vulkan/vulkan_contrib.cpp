@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <initializer_list>
 #include <mutex>
 #include <thread>
 
@@ -38,6 +39,18 @@ class NamedBindings {
         CHECK(binding >= 0 && binding < core::kBindingCount && !set_[binding]);
         bindings_[binding] = b;
         set_[binding] = true;
+    }
+    // What every dispatch binds besides the scene: its tasks record, the run's parameters and
+    // its counts (host vectors).
+    void SetDispatch(std::vector<uint8_t> *tasks, std::vector<uint8_t> *parameters,
+                     std::vector<uint8_t> *stats) {
+        Set(core::kBindingTasks, vk::GpuDevice::In(tasks));
+        Set(core::kBindingParameters, vk::GpuDevice::In(parameters));
+        Set(core::kBindingStats, vk::GpuDevice::InOut(stats));
+    }
+    // Bindings this dispatch's shader does not read: an empty host vector each.
+    void SetUnused(std::initializer_list<int> bindings, std::vector<uint8_t> *none) {
+        for (int b : bindings) Set(b, vk::GpuDevice::In(none));
     }
     std::vector<vk::GpuDevice::Binding> InOrder(bool ray_queries) const {
         const int first = ray_queries ? core::kBindingScene + 1 : core::kBindingScene;
@@ -456,7 +469,6 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         tasks.task_offset = static_cast<int>(offset);
         tasks.count = static_cast<int>(count);
         std::vector<uint8_t> task_bytes(sizeof tasks);
-        std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
         // zeroed on the device; with sum_slices, the rays' sums
         accum.resize((sum_slices ? count / slices : count) * record * AccumBytes());
         std::vector<uint8_t> stats(20, 0), none;
@@ -467,9 +479,7 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         named.Set(core::kBindingRays, G::In(&ray_bytes));
         named.Set(core::kBindingAccum, sum_slices ? G::ZeroedScratch(count * record * AccumBytes())
                                                   : G::Accumulator(&accum));
-        named.Set(core::kBindingTasks, G::In(&task_bytes));
-        named.Set(core::kBindingParameters, G::In(&parameter_bytes));
-        named.Set(core::kBindingStats, G::InOut(&stats));
+        named.SetDispatch(&task_bytes, &parameter_bytes, &stats);
         named.Set(core::kBindingScratchItems,
                   dev.target.scratch ? G::Scratch(count * stack_bytes) : G::In(&none));
         named.Set(core::kBindingScratchRows,
@@ -477,8 +487,7 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         named.Set(core::kBindingSliceSums, sum_slices ? G::Accumulator(&accum) : G::In(&none));
         named.Set(core::kBindingRayLog,
                   log_bytes.empty() ? G::In(&none) : G::Accumulator(&log_bytes));
-        named.Set(core::kBindingPathStarts, G::In(&none));
-        named.Set(core::kBindingPathCount, G::In(&none));
+        named.SetUnused({core::kBindingPathStarts, core::kBindingPathCount}, &none);
         const std::vector<G::Binding> buffers = named.InOrder(dev.device->RayQueries());
         std::vector<G::Stage> stages = {{&dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize}};
         if (sum_slices)
@@ -625,14 +634,12 @@ void VulkanContribEngine::TracePathsOn(DeviceState &dev, std::vector<uint8_t> &r
         NamedBindings named = SceneBindings(dev, &none);
         named.Set(core::kBindingRays, G::In(&ray_bytes));
         named.Set(core::kBindingAccum, G::Accumulator(&accum));
-        named.Set(core::kBindingTasks, G::In(&task_bytes));
-        named.Set(core::kBindingParameters, G::In(&parameter_bytes));
-        named.Set(core::kBindingStats, G::InOut(&stats));
+        named.SetDispatch(&task_bytes, &parameter_bytes, &stats);
         named.Set(core::kBindingScratchItems,
                   plan.slot_bytes > 0 ? G::Scratch(slots * plan.stack_bytes) : G::In(&none));
         named.Set(core::kBindingScratchRows,
                   plan.slot_bytes > 0 ? G::Scratch(slots * plan.rows_bytes) : G::In(&none));
-        named.Set(core::kBindingSliceSums, G::In(&none));
+        named.SetUnused({core::kBindingSliceSums}, &none);
         named.Set(core::kBindingRayLog,
                   log_bytes.empty() ? G::In(&none) : G::Accumulator(&log_bytes));
         named.Set(core::kBindingPathStarts,
@@ -678,19 +685,15 @@ ContribEngine::ReplayResult VulkanContribEngine::ReplayLoggedRays(int passes) {
                 parameter_bytes = parameters_, distances(pass == 0 ? count * AccumBytes() : 0);
             std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
             NamedBindings named = SceneBindings(dev, &none);
-            named.Set(core::kBindingRays, G::In(&none));
             // the first pass's distances come back, to count hits; the others' stay there
             named.Set(core::kBindingAccum,
                       pass == 0 ? G::Accumulator(&distances) : G::Scratch(count * AccumBytes()));
-            named.Set(core::kBindingTasks, G::In(&task_bytes));
-            named.Set(core::kBindingParameters, G::In(&parameter_bytes));
-            named.Set(core::kBindingStats, G::InOut(&stats));
-            named.Set(core::kBindingScratchItems, G::In(&none));
-            named.Set(core::kBindingScratchRows, G::In(&none));
-            named.Set(core::kBindingSliceSums, G::In(&none));
+            named.SetDispatch(&task_bytes, &parameter_bytes, &stats);
             named.Set(core::kBindingRayLog, G::OnDevice(log));
-            named.Set(core::kBindingPathStarts, G::In(&none));
-            named.Set(core::kBindingPathCount, G::In(&none));
+            named.SetUnused(
+                {core::kBindingRays, core::kBindingScratchItems, core::kBindingScratchRows,
+                 core::kBindingSliceSums, core::kBindingPathStarts, core::kBindingPathCount},
+                &none);
             const auto start = std::chrono::steady_clock::now();
             dev.device->Run(dev.replay_spirv, static_cast<uint32_t>(count), kGpuLocalSize,
                             named.InOrder(dev.device->RayQueries()));
