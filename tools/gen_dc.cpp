@@ -7,6 +7,7 @@
 #include <cstring>
 #include <string>
 
+#include "rcontrib/options.h"
 #include "util/errors.h"
 
 namespace dayflux {
@@ -43,9 +44,7 @@ int Main(int argc, char **argv) {
             g.extension = value();
         } else if (a == "-f") {
             value();  // DAYSIM's bin folder: nothing runs outside this process
-        } else if (a == "-backend" || a == "-device" || a == "-seed" || a == "-n" ||
-                   a == "-gpu_traversal" || a == "-gpu_accum" || a == "-gpu_cal" ||
-                   a == "-gpu_spirv_opt" || a == "-gpu_engine" || a == "-gpu_scratch") {
+        } else if (a == "-seed" || a == "-n" || IsEngineOption(a)) {
             g.engine_args.push_back(a);
             g.engine_args.push_back(value());
         } else if (a == "-dds" || a == "-substract" || a == "-add") {

@@ -16,6 +16,7 @@
 #include "matrix/bsdf_xml.h"
 #include "matrix/matrices.h"
 #include "matrix/operations.h"
+#include "rcontrib/options.h"
 #include "rfluxmtx/run.h"
 #include "scene/flatten.h"
 #include "scene/reader.h"
@@ -319,9 +320,7 @@ GenBsdfOptions ParseGenBsdfOptions(const std::vector<std::string> &args) {
         if (a.size() < 2 || (a[0] != '-' && a[0] != '+') || a == "-") break;
         const bool plus = a[0] == '+';
         const std::string name = a.substr(1);
-        if (a == "-backend" || a == "-device" || a == "-seed" || a == "-gpu_traversal" ||
-            a == "-gpu_accum" || a == "-gpu_cal" || a == "-gpu_spirv_opt" || a == "-gpu_engine" ||
-            a == "-gpu_scratch") {  // ours, for rfluxmtx-gpu (before -b...)
+        if (a == "-seed" || IsEngineOption(a)) {  // ours, for rfluxmtx-gpu (before -b...)
             o.engine_options.push_back(a);
             o.engine_options.push_back(value(a));
         } else if (name[0] == 'm') {

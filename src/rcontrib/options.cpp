@@ -385,6 +385,13 @@ RcontribOptions ParseRcontribOptions(const std::vector<std::string> &args,
     return o;
 }
 
+bool IsEngineOption(const std::string &option) {
+    static const std::set<std::string> names = {"-backend",    "-device",     "-gpu_traversal",
+                                                "-gpu_accum",  "-gpu_cal",    "-gpu_spirv_opt",
+                                                "-gpu_engine", "-gpu_scratch"};
+    return names.count(option) > 0;
+}
+
 std::unique_ptr<cal::Context> MakeCalContext(const RcontribOptions &o, const std::string &params) {
     auto cx = std::make_unique<cal::Context>();
     cx->LoadRayInit();

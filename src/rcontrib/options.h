@@ -1,8 +1,7 @@
 // rcontrib's command line, read as RADIANCE's rcontrib reads it, and ours beside it: -backend,
-// -device, -gpu_traversal, -gpu_accum and -gpu_cal (the engine), -seed, -asub, -se (standard
-// errors) and -progress. Options it does not know are errors, as in RADIANCE; options that rcontrib
-// forces
-// (-aa 0 -as 0 -dt 0) are accepted and ignored.
+// -device and -gpu_* (the engine: IsEngineOption), -seed, -asub, -se (standard errors),
+// -target_error and -progress. Options it does not know are errors, as in RADIANCE; options that
+// rcontrib forces (-aa 0 -as 0 -dt 0) are accepted and ignored.
 #pragma once
 
 #include <memory>
@@ -76,6 +75,11 @@ RcontribOptions ParseRcontribOptions(const std::vector<std::string> &args,
 
 // A calcomp context with rayinit.cal, every -e and -f in order, and -p parameters params.
 std::unique_ptr<cal::Context> MakeCalContext(const RcontribOptions &o, const std::string &params);
+
+// Whether `option` is one of ours that choose the engine (-backend, -device, -gpu_*: each with
+// one value), which the programs building rcontrib's engine pass on to this parser (rfluxmtx-gpu,
+// genBSDF, gen_dc, rtrace-gpu and rtrace_dc-gpu): adding one touches the parser and this list.
+bool IsEngineOption(const std::string &option);
 
 // The tracked modifiers, each evaluated in the context of the first with the same -p.
 std::vector<TrackedModifier> TrackedModifiers(const RcontribOptions &o);

@@ -43,35 +43,16 @@ std::vector<std::string> RtraceLikeParser::Run() {
         if (Own(a) || Ignored(a)) continue;
         // Rendering options and ours, for rcontrib's parser (which checks their values);
         // nothing else, so that no value is taken for a scene file.
-        static const std::set<std::string> with_value = {"-ab",
-                                                         "-ad",
-                                                         "-lw",
-                                                         "-lr",
-                                                         "-st",
-                                                         "-ss",
-                                                         "-dj",
-                                                         "-ds",
-                                                         "-dr",
-                                                         "-n",
-                                                         "-asub",
-                                                         "-seed",
-                                                         "-backend",
-                                                         "-gpu_accum",
-                                                         "-gpu_scratch",
-                                                         "-gpu_traversal",
-                                                         "-device",
-                                                         "-target_error",
-                                                         "-max_samples",
-                                                         "-target_sky",
-                                                         "-target_report",
-                                                         "-gpu_cal",
-                                                         "-gpu_spirv_opt",
-                                                         "-gpu_engine"};
+        static const std::set<std::string> with_value = {
+            "-ab",           "-ad",          "-lw",         "-lr",
+            "-st",           "-ss",          "-dj",         "-ds",
+            "-dr",           "-n",           "-asub",       "-seed",
+            "-target_error", "-max_samples", "-target_sky", "-target_report"};
         const bool flag = a.rfind("-i", 0) == 0 || a.rfind("-I", 0) == 0 || a.rfind("-u", 0) == 0 ||
                           a.rfind("-bv", 0) == 0 || a.rfind("-ld", 0) == 0 ||
                           a.rfind("-w", 0) == 0 || a.rfind("-progress", 0) == 0 ||
                           a == "-no_commands";
-        if (with_value.count(a)) {
+        if (with_value.count(a) || IsEngineOption(a)) {
             pass.push_back(a);
             pass.push_back(Value(a));
         } else if (a.size() <= 4 && (a[1] == 'I' || a[1] == 'i' || a.rfind("-ld", 0) == 0)) {

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <set>
 
+#include "rcontrib/options.h"
 #include "util/errors.h"
 #include "util/files.h"
 #include "util/options.h"
@@ -20,10 +21,8 @@ namespace {
 
 // dayflux's own options with their number of values, passed to rcontrib-gpu as they are.
 int OursWithValues(const std::string &a) {
-    static const std::set<std::string> with_value = {
-        "-backend", "-device", "-gpu_traversal", "-gpu_accum", "-gpu_scratch",   "-seed",
-        "-asub",    "-se",     "-first_record",  "-gpu_cal",   "-gpu_spirv_opt", "-gpu_engine"};
-    if (with_value.count(a)) return 1;
+    static const std::set<std::string> with_value = {"-seed", "-asub", "-se", "-first_record"};
+    if (with_value.count(a) || IsEngineOption(a)) return 1;
     if (a.rfind("-progress", 0) == 0 || a == "-no_commands") return 0;
     return -1;
 }
