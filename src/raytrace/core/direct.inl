@@ -447,7 +447,7 @@ bool DirectItemStep(INOUT(Item) it) {
     DONT_UNROLL while (it.next < it.end && top == before) {
         int i = it.next, nparts = 1;
         // Each sample's numbers keyed by its source and part, not by the samples before it: the
-        // sources may be split between tasks (TraceInput) and give the same matrix.
+        // sources may be split between tasks (StartInput) and give the same matrix.
         rng = Pcg(it.turn ^ Pcg(uint(i) * 64u + uint(it.part)));  // parts: 64 at most
 #ifdef DAYFLUX_LOCAL_SOURCES
         if (int(sources[i].u.w) != kSourceDistant && sources[i].colour.w < 0.5) {

@@ -85,45 +85,46 @@ void RunStack() {
     }
 }
 
-// Traces input ray `index` (org, dir of unit length) of replica `replica` (-se), adding its
-// contributions through AddToRecord, all but its first hemisphere's cells (-I), which it gives
-// back in `cells` (false where there are none left to trace). A sensor's first hemisphere may be
-// shared between tasks: this one traces its rows of slice `slice` of `slices`, replaying the
-// directions of the rows before them without tracing them, and its share of the light sources
-// (thousands of suns for C_ds), their samples keyed as in one task.
-bool TraceAllButCells(real3 org, real3 dir, uint index, uint replica, uint slice, uint slices,
-                      OUT(Item) cells) {
+// Input ray `index` (org, dir of unit length) of replica `replica` (-se) is traced in two steps,
+// the stack walked (RunStack) after each, its contributions added through AddToRecord: StartInput
+// readies its keys and pushes its share of the light sources (thousands of suns for C_ds), or,
+// without -I, the ray itself; InputCells then pushes its first hemisphere (-I) and gives back
+// the cells still to trace. A sensor's first hemisphere may be shared between tasks: this one
+// traces its rows of slice `slice` of `slices`, replaying the directions of the rows before them
+// without tracing them, and its share of the sources, their samples keyed as in one task. The
+// steps are apart because a GPU compiler inlines every call of RunStack, and all the shading
+// code with it: the GPU's driver walks from one place (contrib.comp), TraceAllButCells does both.
+void StartInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint slices) {
     top = 0;
     pushed0 = 0u;
     hemispheres0 = 0u;
     cell_key = Key(params.seed, index, replica, 0x2545f491u);
     turn_key = Key(params.seed, index, TurnReplica(replica), 0x2545f491u);
-    rng = Key(cell_key, slice, 17u, 5u);
     Ray r = PrimaryRay(org, dir);
     if (params.irradiance == 0) {
-        if (slice == 0u) {
-            PushTrace(r);
-            RunStack();
-        }
-        return false;
+        rng = Key(cell_key, slice, 17u, 5u);
+        if (slice == 0u) PushTrace(r);
+        return;
     }
     // -I: a Lambertian surface of reflectance pi at the origin, facing the ray direction, so
     // that the ambient value is irradiance (RADIANCE offsets it by 1e-4 along the normal).
-    real3 point = org + 1e-4 * dir;
-    real3 lamb = real3(kPi);
     int per_slice = (params.nsources + int(slices) - 1) / int(slices);
     int source_first = int(slice) * per_slice;
-    if (source_first < params.nsources) {
-        rng = Key(cell_key, 0u, 17u, 5u);  // slice 0's: the direct item turns alike in all
-        PushDirect(r, lamb, 1.0, 0.0, 0.0, 0, point, dir, real3(0), 0.0);
-        if (top > 0) {
-            STACK(top - 1).next = source_first;
-            STACK(top - 1).end = min(params.nsources, source_first + per_slice);
-            RunStack();
-        }
-        rng = Key(cell_key, slice, 17u, 5u);
+    if (source_first >= params.nsources) return;
+    rng = Key(cell_key, 0u, 17u, 5u);  // slice 0's: the direct item turns alike in all
+    PushDirect(r, real3(kPi), 1.0, 0.0, 0.0, 0, org + 1e-4 * dir, dir, real3(0), 0.0);
+    if (top > 0) {
+        STACK(top - 1).next = source_first;
+        STACK(top - 1).end = min(params.nsources, source_first + per_slice);
     }
-    PushHemisphere(r, lamb, point, dir);
+}
+
+// The second step (StartInput's stack walked): the first hemisphere's cells of this slice's rows
+// in `cells`, false where there are none left to trace.
+bool InputCells(real3 org, real3 dir, uint slice, uint slices, OUT(Item) cells) {
+    if (params.irradiance == 0) return false;
+    rng = Key(cell_key, slice, 17u, 5u);
+    PushHemisphere(PrimaryRay(org, dir), real3(kPi), org + 1e-4 * dir, dir);
     if (top == 0) return false;
     // This slice's share of the rows; the rows before it are replayed without tracing.
     Item h = STACK(--top);
@@ -152,20 +153,20 @@ bool TraceAllButCells(real3 org, real3 dir, uint index, uint replica, uint slice
     return true;
 }
 
-// The whole of input ray `index` (TraceAllButCells), its first hemisphere's cells one after
-// the other.
-void TraceInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint slices) {
-    Item cells;
-    if (!TraceAllButCells(org, dir, index, replica, slice, slices, cells)) return;
-    PushItem(cells);
+// Both steps: all of input ray `index` but its first hemisphere's cells, which it gives back in
+// `cells` (false where there are none left to trace).
+bool TraceAllButCells(real3 org, real3 dir, uint index, uint replica, uint slice, uint slices,
+                      OUT(Item) cells) {
+    StartInput(org, dir, index, replica, slice, slices);
     RunStack();
+    return InputCells(org, dir, slice, slices, cells);
 }
 
 // For a driver that traces several cells' paths at once (the CPU's, in packets): the next ray
 // of the first hemisphere `cells` (from TraceAllButCells) in r, with the random state its path
 // goes on from in state, and whether it is the hemisphere's last; false once no cell is left. A
 // cell's path draws only from that state and touches no state of the first level, so each may
-// run on a stack of its own (StartCellPath) and give the same numbers as in TraceInput.
+// run on a stack of its own (StartCellPath) and give the same numbers as `cells` pushed whole.
 bool NextCell(INOUT(Item) cells, OUT(Ray) r, OUT(uint) state, OUT(bool) last) {
     top = 0;
     while (cells.next < cells.end) {
@@ -178,10 +179,10 @@ bool NextCell(INOUT(Item) cells, OUT(Ray) r, OUT(uint) state, OUT(bool) last) {
     return false;
 }
 
-// Starts cell ray r's path (from NextCell) on this stack, with the room TraceInput leaves it:
-// the hemisphere's item holds the bottom slot under every cell's path but the last one's (so a
-// path that fills the stack drops what it drops there); here a spent item holds it, which
-// NextRay takes off once the path is done. NextRay and ShadeMet walk it.
+// Starts cell ray r's path (from NextCell) on this stack, with the room `cells` pushed whole
+// leaves it: the hemisphere's item holds the bottom slot under every cell's path but the last
+// one's (so a path that fills the stack drops what it drops there); here a spent item holds it,
+// which NextRay takes off once the path is done. NextRay and ShadeMet walk it.
 void StartCellPath(IN(Ray) r, uint state, bool last) {
     top = 0;
     if (!last) {

@@ -338,18 +338,12 @@ uint RecordOf(uint local_task) {
     return local_task / uint(tasks.tasks_per_record) * uint(tasks.ncols * 3);
 }
 
-// Phase 0, an invocation a task: its share of the sources and the cells of its rows of the
-// first hemisphere, each cell's ray and random state kept for phase 1, in the next free slot
-// (the slots' order is the atomics', which the sums do not depend on).
-void StartPaths(uint local_task) {
-    acc_base = RecordOf(local_task);
-    UseScratch(local_task);
-    vec3 org, dir;
-    uint index, slice;
+// Phase 0's task: after its input's sources are walked (walk.inl's StartInput), the cells of its
+// rows of the first hemisphere, each cell's ray and random state kept for phase 1 in the next
+// free slot (the slots' order is the atomics', which the sums do not depend on).
+void KeepCells(uint local_task, vec3 org, vec3 dir, uint slice) {
     Item cells;
-    if (!InputRay(local_task, org, dir, index, slice) ||
-        !TraceAllButCells(org, dir, index, uint(tasks.replica), slice, uint(tasks.slices), cells))
-        return;
+    if (!InputCells(org, dir, slice, uint(tasks.slices), cells)) return;
     Ray r;
     uint state;
     bool last;
@@ -367,16 +361,56 @@ void StartPaths(uint local_task) {
     }
 }
 
-// Phase 1: the paths, taken in turn by the dispatch's invocations (the host lays its groups
-// all along x, so that their number is the stride).
-void WalkPaths(uint walker) {
-    UseScratch(walker);
-    uint walkers = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    uint total = min(path_count, uint(tasks.path_capacity));
-    for (uint g = walker; g < total; g += walkers) {
-        acc_base = RecordOf(path_starts[g].task);
-        StartCellPath(path_starts[g].r, path_starts[g].state, path_starts[g].last != 0);
+// Phase 1's path g, started on the stack (false once g is past the last).
+bool StartPath(uint g) {
+    if (g >= min(path_count, uint(tasks.path_capacity))) return false;
+    acc_base = RecordOf(path_starts[g].task);
+    StartCellPath(path_starts[g].r, path_starts[g].state, path_starts[g].last != 0);
+    return true;
+}
+
+// Invocation `invocation`'s work, phase 0: a task's sources, then its cells kept; phase 1: the
+// paths, taken in turn by the dispatch's invocations (the host lays its groups all along x, so
+// that their number is the stride). One call of RunStack walks them all (walk.inl's StartInput).
+void Run(uint invocation) {
+    UseScratch(invocation);
+    vec3 org, dir;
+    uint index, slice, g = invocation, walkers = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    if (phase == 0u) {
+        if (invocation >= uint(tasks.count) || !InputRay(invocation, org, dir, index, slice))
+            return;
+        acc_base = RecordOf(invocation);
+        StartInput(org, dir, index, uint(tasks.replica), slice, uint(tasks.slices));
+    } else if (!StartPath(g)) {
+        return;
+    }
+    DONT_UNROLL while (true) {
         RunStack();
+        if (phase == 0u) {
+            KeepCells(invocation, org, dir, slice);
+            return;
+        }
+        g += walkers;
+        if (!StartPath(g)) return;
+    }
+}
+#else
+// Task `local_task`'s input ray, traced whole: its sources, then its first hemisphere's cells,
+// one call of RunStack walking both (walk.inl's StartInput).
+void Run(uint local_task) {
+    vec3 org, dir;
+    uint index, slice;
+    if (local_task >= uint(tasks.count) || !InputRay(local_task, org, dir, index, slice)) return;
+    acc_base = local_task * uint(tasks.ncols * 3);
+    UseScratch(local_task);
+    StartInput(org, dir, index, uint(tasks.replica), slice, uint(tasks.slices));
+    bool cells_pushed = false;
+    DONT_UNROLL while (true) {
+        RunStack();
+        Item cells;
+        if (cells_pushed || !InputCells(org, dir, slice, uint(tasks.slices), cells)) return;
+        PushItem(cells);
+        cells_pushed = true;
     }
 }
 #endif
@@ -386,23 +420,12 @@ void main() {
     dropped = 0u;
     reports = 0u;
     rays_traced = 0u;
-    uint local_task = gl_GlobalInvocationID.x;
 #ifdef DAYFLUX_PATHS
     fixed_range_lost = false;
-    if (phase == 0u) {
-        if (local_task < uint(tasks.count)) StartPaths(local_task);
-    } else {
-        WalkPaths(local_task);
-    }
+    Run(gl_GlobalInvocationID.x);
     if (fixed_range_lost) reports |= kReportFixedRange;
 #else
-    vec3 org, dir;
-    uint index, slice;
-    if (local_task < uint(tasks.count) && InputRay(local_task, org, dir, index, slice)) {
-        acc_base = local_task * uint(tasks.ncols * 3);
-        UseScratch(local_task);
-        TraceInput(org, dir, index, uint(tasks.replica), slice, uint(tasks.slices));
-    }
+    Run(gl_GlobalInvocationID.x);
 #endif
     // Items that did not fit the stack are lost: the host says how many.
     if (dropped > 0u) atomicAdd(stats_dropped, dropped);
