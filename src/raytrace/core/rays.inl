@@ -128,10 +128,10 @@ double cal_chan[28];  // GLSL: declared by the generated calcomp code
 
 // The ray variables $1..$27 (rayinit.cal) for the bins and patterns: direction, normal, point
 // (world), distance, Rdot, scale, identity transform.
-void SetRayVariables(IN(Ray) r, real3 point, real3 normal, real t) {
-    cal_chan[1] = r.dir.x;
-    cal_chan[2] = r.dir.y;
-    cal_chan[3] = r.dir.z;
+void SetRayVariablesAlong(real3 dir, real3 point, real3 normal, real t) {
+    cal_chan[1] = dir.x;
+    cal_chan[2] = dir.y;
+    cal_chan[3] = dir.z;
     cal_chan[4] = normal.x;
     cal_chan[5] = normal.y;
     cal_chan[6] = normal.z;
@@ -140,12 +140,15 @@ void SetRayVariables(IN(Ray) r, real3 point, real3 normal, real t) {
     cal_chan[8] = cal_real(point.y) + (cal_real(params.centre_rest_y) + cal_real(params.centre_y));
     cal_chan[9] = cal_real(point.z) + (cal_real(params.centre_rest_z) + cal_real(params.centre_z));
     cal_chan[10] = t;
-    cal_chan[11] = -dot(r.dir, normal);
+    cal_chan[11] = -dot(dir, normal);
     cal_chan[12] = 1;
     for (int i = 13; i <= 27; ++i) cal_chan[i] = 0;
     cal_chan[16] = 1;
     cal_chan[20] = 1;
     cal_chan[24] = 1;
+}
+void SetRayVariables(IN(Ray) r, real3 point, real3 normal, real t) {
+    SetRayVariablesAlong(r.dir, point, normal, t);
 }
 
 // A material's colour at a hit, times its pattern. (Antimatter keeps its inside counters where
@@ -156,24 +159,49 @@ real3 Colour(IN(PackedSurface) m, IN(Ray) r, real3 point, real3 normal, real t) 
     return XYZ(m.color) * real3(PatternRGB(m.pattern));
 }
 
-// Adds a ray's coefficient (times radiance with -V) to the bin tracked modifier k's bin
-// expression gives (source: the distant source it reached, or -1). Negative bins are ignored, as
-// RADIANCE ignores them; one beyond -bn, or NaN, is reported and ignored, checked before int()
-// because int() of one beyond the int range is undefined (INT_MIN on x86, a write before the
-// record).
+// A shaded ray's contribution, kept until its shading is done (AddContribution): a ray makes one
+// at most, and adding it from one place evaluates the bins in one place, where a GPU compiler
+// would copy every bin function into each call of Contribute.
+struct PendingContribution {
+    int k, source;  // the tracked modifier, and the distant source reached (or -1)
+    real3 dir, point, normal, value;
+    real t;
+};
+PendingContribution pending_contribution;
+bool contribution_pending = false;
+
+// Ray r's contribution to tracked modifier k's bin (AddContribution adds it): its coefficient,
+// times radiance with -V.
 void Contribute(int k, IN(Ray) r, IN(real3) point, IN(real3) normal, real t, int source,
                 IN(real3) radiance) {
-    SetRayVariables(r, point, normal, t);
-    ivec4 entry = tracked[k];
-    cal_real b = BinOf(k, source);
+    pending_contribution.k = k;
+    pending_contribution.source = source;
+    pending_contribution.dir = r.dir;
+    pending_contribution.point = point;
+    pending_contribution.normal = normal;
+    pending_contribution.value = params.contributions != 0 ? r.coef * radiance : r.coef;
+    pending_contribution.t = t;
+    contribution_pending = true;
+}
+
+// Adds the pending contribution to the bin its modifier's bin expression gives. Negative bins
+// are ignored, as RADIANCE ignores them; one beyond -bn, or NaN, is reported and ignored, checked
+// before int() because int() of one beyond the int range is undefined (INT_MIN on x86, a write
+// before the record).
+void AddContribution() {
+    if (!contribution_pending) return;
+    contribution_pending = false;
+    PendingContribution c = pending_contribution;
+    SetRayVariablesAlong(c.dir, c.point, c.normal, c.t);
+    ivec4 entry = tracked[c.k];
+    cal_real b = BinOf(c.k, c.source);
     if (b <= -0.5) return;
     if (!(b < cal_real(entry[kTrackedBins]) - 0.5)) {
         reports |= kReportBadBin;
         return;
     }
     int bin = int(floor(b + 0.5));
-    AddToRecord(entry[kTrackedColumn] + bin,
-                params.contributions != 0 ? r.coef * radiance : r.coef);
+    AddToRecord(entry[kTrackedColumn] + bin, c.value);
 }
 
 #ifdef DAYFLUX_INSIDE

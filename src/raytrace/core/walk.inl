@@ -39,8 +39,8 @@ bool NextRay(OUT(int) at) {
 
 // Ray r (a copy of the one NextRay popped: what r spawns is pushed over its slot) meets what the
 // driver's Intersect found (met, in h) or else a distant source (sourcehit()), and that is
-// shaded, pushing what it spawns.
-void ShadeMet(INOUT(Ray) r, bool met, INOUT(Hit) h) {
+// shaded, pushing what it spawns; its contribution, if any, is left pending (ShadeMet adds it).
+void ShadeHit(INOUT(Ray) r, bool met, INOUT(Hit) h) {
 #ifdef DAYFLUX_ASUB
     if (r.target > 0.) {
         ReceiverSampleMet(r, met, h);
@@ -72,6 +72,12 @@ void ShadeMet(INOUT(Ray) r, bool met, INOUT(Hit) h) {
         return;
     }
     Shade(r, h);
+}
+
+// A traced ray shaded (ShadeHit), then its contribution added.
+void ShadeMet(INOUT(Ray) r, bool met, INOUT(Hit) h) {
+    ShadeHit(r, met, h);
+    AddContribution();
 }
 
 // The walk: each ray the stack gives traced (the driver's Intersect) and shaded.
