@@ -364,10 +364,15 @@ void ShadeBasic(IN(Ray) r, IN(PackedSurface) m, IN(ShadingPoint) sp) {
                (pure && spec >= kFresnelThreshold ? kDirectFresnel : 0) |
                    (rough_trans ? kDirectRoughTransmission : 0) | (sp.planar ? kDirectFlat : 0),
                point, normal, sc, pure ? 0.0 : real(m.alpha2));
-    if (tdiff > kTiny)  // the hemisphere behind
-        PushHemisphere(r, c * (rough_trans_below_threshold ? trans : tdiff), point, -normal);
-    if (rdiff > kTiny)
-        PushHemisphere(r, c * rdiff + (rough_below_threshold ? sc : real3(0)), point, normal);
+    // the hemisphere behind, then the one in front, from one call (as above)
+    DONT_UNROLL for (int side = 0; side < 2; ++side) {
+        bool behind = side == 0;
+        if (behind ? tdiff > kTiny : rdiff > kTiny)
+            PushHemisphere(r,
+                           behind ? c * (rough_trans_below_threshold ? trans : tdiff)
+                                  : c * rdiff + (rough_below_threshold ? sc : real3(0)),
+                           point, behind ? -normal : normal);
+    }
 }
 
 // m_clip(): entering antimatter adds its modifiers to the clip set of the rays passed on,
