@@ -4,6 +4,8 @@
 // checks its SPIR-V, on its own traversal and stack, before it starts.)
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -48,8 +50,8 @@ ContribShader EveryFeature(const EngineOptions &engine) {
     return shader;
 }
 
-// (One compile: the traversals and the stack's places add no arithmetic, and each compile of
-// every feature takes glslang about 25 s.)
+// (One compile: the traversals and the stack's places add no arithmetic, and spirv-opt's -O on
+// every feature takes about 7 s, cold.)
 TEST(GpuPrecision, NoDoubleInTheShadersByDefault) {
     EXPECT_FALSE(vk::GpuDevice::UsesFloat64(
         CompileContribShader(EveryFeature(EngineOptions{}), ShaderTarget{false, true})));
@@ -64,6 +66,64 @@ TEST(GpuPrecision, DoublesAreFound) {
         "layout(std430, binding = 0) buffer Out { float v[]; };\n"
         "void main() { double d = double(v[0]); v[0] = float(d * d); }\n",
         "double")));
+}
+
+// How many times each named function would be compiled once every call is inlined, as GPU
+// compilers inline them: the SPIR-V's call graph from its entry point (spirv-opt's "none" keeps
+// the functions and their OpNames).
+std::map<std::string, uint64_t> InlinedCopies(const std::vector<uint32_t> &spirv) {
+    constexpr uint32_t kOpName = 5, kOpFunction = 54, kOpFunctionEnd = 56, kOpFunctionCall = 57,
+                       kOpEntryPoint = 15;
+    std::map<uint32_t, std::string> names;
+    std::map<uint32_t, std::vector<uint32_t>> calls;  // a function's callees, once a call
+    uint32_t entry = 0, function = 0;
+    for (size_t i = 5; i < spirv.size();) {
+        const uint32_t op = spirv[i] & 0xffff, words = spirv[i] >> 16;
+        if (words == 0 || i + words > spirv.size()) break;
+        if (op == kOpName) {
+            names[spirv[i + 1]] = reinterpret_cast<const char *>(&spirv[i + 2]);
+        } else if (op == kOpEntryPoint) {
+            entry = spirv[i + 2];
+        } else if (op == kOpFunction) {
+            function = spirv[i + 2];
+        } else if (op == kOpFunctionEnd) {
+            function = 0;
+        } else if (op == kOpFunctionCall && function != 0) {
+            calls[function].push_back(spirv[i + 3]);
+        }
+        i += words;
+    }
+    std::map<std::string, uint64_t> copies;
+    // (the graph has no cycles: GLSL has no recursion)
+    std::vector<uint32_t> todo{entry};
+    while (!todo.empty()) {
+        const uint32_t f = todo.back();
+        todo.pop_back();
+        const std::string name = names[f].substr(0, names[f].find('('));
+        ++copies[name];
+        for (uint32_t callee : calls[f]) todo.push_back(callee);
+    }
+    return copies;
+}
+
+// GPU compilers inline every call, so the shading code must be reached from one call of the walk
+// and the bins from one call of their evaluation, on both engines: three walks made NVIDIA
+// compile for 15-35 s and lavapipe's test suite take 610 s (core/README.md).
+TEST(GpuPrecision, OneWalkAndOneBinEvaluationInTheShader) {
+    for (GpuEngine engine : {GpuEngine::kTasks, GpuEngine::kPaths}) {
+        EngineOptions options;
+        options.gpu_engine = engine;
+        ShaderTarget target{false, true};
+        target.optimization = vk::SpirvOptimization::kNone;
+        std::map<std::string, uint64_t> copies =
+            InlinedCopies(CompileContribShader(EveryFeature(options), target));
+        const char *what = engine == GpuEngine::kTasks ? "tasks" : "paths";
+        EXPECT_EQ(copies["main"], 1u) << what;  // (the reader found the entry point)
+        EXPECT_EQ(copies["RunStack"], 1u) << what;
+        EXPECT_EQ(copies["AddContribution"], 1u) << what;
+        EXPECT_EQ(copies["EvalBin"], 1u) << what;
+        EXPECT_GE(copies["Spawn"], 1u) << what;
+    }
 }
 
 }  // namespace
