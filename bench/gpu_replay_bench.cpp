@@ -11,8 +11,10 @@
 //      -log_rays M), and those rays replayed N times, the fastest pass kept.
 // GPU efficiency = (rays a second of the run) / (rays a second of the replay), both by the
 // device's own timestamps where it has them (else wall time).
-// usage: gpu_replay_bench [-record_every K] [-repeat N] [-log_rays M] rcontrib-gpu-options...
-//        scene... < sensors
+// -scratch_mib S gives the engine S MiB of device memory a dispatch (EngineOptions::
+// gpu_scratch_bytes; the paths engine's walkers half of it) in place of the device's budget.
+// usage: gpu_replay_bench [-record_every K] [-repeat N] [-log_rays M] [-scratch_mib S]
+//        rcontrib-gpu-options... scene... < sensors
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -33,9 +35,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 std::unique_ptr<ContribEngine> MakeEngine(const RcontribOptions &o, const FlatScene &flat,
-                                          uint64_t log_rays) {
+                                          uint64_t log_rays, uint64_t scratch_mib) {
     EngineOptions engine = o.engine;
     engine.gpu_ray_log = log_rays;
+    engine.gpu_scratch_bytes = scratch_mib << 20;
     std::unique_ptr<ContribEngine> e = CreateRunEngine(o, flat, o.contrib, engine);
     if (e->Label().rfind("vulkan", 0) != 0)
         ErrorExit("no Vulkan engine for this run (" + e->Label() + ")");
@@ -71,9 +74,11 @@ double Total(const std::vector<double> &v) {
 
 int Main(int argc, char **argv) {
     std::vector<std::string> args(argv, argv + argc);
-    size_t every = 1, repeat = 3, log_rays = size_t(1) << 24;
-    bench::TakeCounts(&args,
-                      {{"-record_every", &every}, {"-repeat", &repeat}, {"-log_rays", &log_rays}});
+    size_t every = 1, repeat = 3, log_rays = size_t(1) << 24, scratch_mib = 0;
+    bench::TakeCounts(&args, {{"-record_every", &every},
+                              {"-repeat", &repeat},
+                              {"-log_rays", &log_rays},
+                              {"-scratch_mib", &scratch_mib}});
     std::vector<std::string> header;
     const RcontribOptions o = ParseRcontribOptions(args, &header);
     if (o.engine.backend != "vulkan") ErrorExit("the replay measures the Vulkan backend");
@@ -81,7 +86,7 @@ int Main(int argc, char **argv) {
     const FlatScene flat = ReadRcontribScene(o.scene, &octree_header);
     const std::vector<double> rays = bench::ReadRays(std::cin);
 
-    const std::unique_ptr<ContribEngine> engine = MakeEngine(o, flat, 0);
+    const std::unique_ptr<ContribEngine> engine = MakeEngine(o, flat, 0, scratch_mib);
     TimedRun(*engine, std::vector<double>(rays.begin(), rays.begin() + 6));  // compiles
     RunTimes run = TimedRun(*engine, rays);
     for (size_t k = 1; k < repeat; ++k) {
@@ -90,7 +95,7 @@ int Main(int argc, char **argv) {
     }
 
     const std::vector<double> subset = bench::EveryKth(rays, every);
-    const std::unique_ptr<ContribEngine> logging = MakeEngine(o, flat, log_rays);
+    const std::unique_ptr<ContribEngine> logging = MakeEngine(o, flat, log_rays, scratch_mib);
     TimedRun(*logging, subset);
     const ContribEngine::ReplayResult replay = logging->ReplayLoggedRays(static_cast<int>(repeat));
     if (replay.rays == 0) ErrorExit("no rays logged");

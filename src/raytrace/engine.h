@@ -66,6 +66,11 @@ struct EngineOptions {
     // with float accumulators); a bound on the tasks a dispatch takes (0: as memory allows).
     bool gpu_slice_sums = true;
     int gpu_tasks_per_dispatch = 0;
+    // For benchmarks (bench/gpu_replay_bench.cpp's -scratch_mib): the device memory a dispatch
+    // may take for its invocations' stacks and rows, its records and the paths engine's cells
+    // (0: a quarter of the GPU's, at most 2 GiB; fixed shares on CPU devices). The paths
+    // engine's walkers get half of it.
+    uint64_t gpu_scratch_bytes = 0;
     // For benchmarks (bench/gpu_replay_bench.cpp): the GPU logs up to this many of the rays it
     // traces (nearest-hit queries), for ContribEngine::ReplayLoggedRays.
     uint64_t gpu_ray_log = 0;

@@ -575,8 +575,8 @@ EngineOptions OnVulkan(GpuEngine gpu_engine) {
 // The GPU's paths engine (one invocation a first-hemisphere cell's path, records in fixed point)
 // gives Embree's records, to float rounding, on the room whose cells' paths pass a trans
 // partition and meet a sphere, at -ab 3; and the same bytes however its dispatches fall (tasks
-// of 5: sensors cut between dispatches, fewer walkers) and run after run, since its sums are
-// exact. (Against the tasks engine to 1e-6: PathsEngineScalesContributionsVulkan.)
+// of 5: sensors cut between dispatches, fewer walkers; or 1 MiB of device memory) and run
+// after run, since its sums are exact. (Against the tasks engine to 1e-6: PathsEngineScalesContributionsVulkan.)
 TEST(Engine, PathsEngineAsEmbreeVulkan) {
     CellPathsRoom room(false, false);
     const size_t n = room.Rays();
@@ -594,12 +594,18 @@ TEST(Engine, PathsEngineAsEmbreeVulkan) {
     ASSERT_EQ(paths.size(), cpu.size());
     for (size_t i = 0; i < cpu.size(); ++i) {
         EXPECT_NEAR(paths[i], cpu[i], 1e-5 * std::abs(cpu[i])) << i;  // (here 5e-8 at most)
-        if (i % 3 == 0) EXPECT_GT(paths[i], 0.1) << i;  // light reaches each sensor
+        if (i % 3 == 0) {
+            EXPECT_GT(paths[i], 0.1) << i;  // light reaches each sensor
+        }
     }
     EngineOptions small_dispatches = OnVulkan(GpuEngine::kPaths);
     small_dispatches.gpu_tasks_per_dispatch = 5;
     EXPECT_EQ(records(small_dispatches), paths);
     EXPECT_EQ(records(OnVulkan(GpuEngine::kPaths)), paths);
+    // (a benchmark's budget of device memory: fewer cells a dispatch, the same sums)
+    EngineOptions tight_memory = OnVulkan(GpuEngine::kPaths);
+    tight_memory.gpu_scratch_bytes = uint64_t(1) << 20;
+    EXPECT_EQ(records(tight_memory), paths);
 }
 
 // The paths engine's records keep the numbers' keys (TraceKeyed) and its slices apart add up

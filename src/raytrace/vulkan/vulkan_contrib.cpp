@@ -259,6 +259,7 @@ class VulkanContribEngine : public ContribEngine {
           o_(options),
           accumulators_(engine.accumulators),
           tasks_per_dispatch_(engine.gpu_tasks_per_dispatch),
+          scratch_bytes_(engine.gpu_scratch_bytes),
           paths_(engine.gpu_engine == GpuEngine::kPaths),
           path_units_(std::ldexp(
               1.0, core::kPathFixedBits - (options.contributions ? RadianceExponent(packed) : 0))),
@@ -369,6 +370,12 @@ class VulkanContribEngine : public ContribEngine {
     void TracePathsOn(DeviceState &dev, std::vector<uint8_t> &ray_bytes, size_t n, int slices,
                       uint64_t first_index, int replica, double *records, int slices_apart) const;
     uint64_t LogRoom(const DeviceState &dev) const;
+    // The device memory a dispatch may take (EngineOptions::gpu_scratch_bytes), else `cpu`'s
+    // share on a CPU device, else the device's budget.
+    uint64_t Budget(const DeviceState &dev, uint64_t cpu) const {
+        if (scratch_bytes_ > 0) return scratch_bytes_;
+        return dev.device->IsCpu() ? cpu : dev.device->ScratchBudget();
+    }
     static void TakeStats(DeviceState &dev, const std::vector<uint8_t> &stats,
                           const std::vector<uint8_t> &log_bytes);
 
@@ -377,6 +384,7 @@ class VulkanContribEngine : public ContribEngine {
     ContribOptions o_;
     GpuAccum accumulators_;
     int tasks_per_dispatch_;     // EngineOptions::gpu_tasks_per_dispatch
+    uint64_t scratch_bytes_;     // EngineOptions::gpu_scratch_bytes
     bool paths_;                 // EngineOptions::gpu_engine: the paths engine
     double path_units_;          // its fixed point's units to 1 (GpuTasks::path_scale)
     uint64_t ray_log_capacity_;  // EngineOptions::gpu_ray_log
@@ -439,14 +447,14 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
     const uint64_t rows_bytes = 16 * uint64_t(2 * max_rows_ + kGpuDeepLevels * 2 * kGpuDeepN);
     const uint64_t scratch_tasks =
         !dev.target.scratch ? uint64_t(kMaxTasksPerRun)
-                            : std::min({dev.device->ScratchBudget() / (stack_bytes + rows_bytes),
+                            : std::min({Budget(dev, dev.device->ScratchBudget()) /
+                                            (stack_bytes + rows_bytes),
                                         dev.device->MaxBufferBytes() / stack_bytes,
                                         dev.device->MaxBufferBytes() / rows_bytes});
     // The accumulators live in device memory (a whole record a task: 5185 x 3 for C_ds), as
     // much of it as the scratch may take, so that a run holds thousands of tasks.
     const uint64_t accum_budget =
-        std::min(dev.device->IsCpu() ? kAccumBudget : dev.device->ScratchBudget() / 2,
-                 dev.device->MaxBufferBytes());
+        std::min(Budget(dev, 2 * kAccumBudget) / 2, dev.device->MaxBufferBytes());
     size_t per_run = std::clamp<size_t>(
         std::min<uint64_t>(accum_budget / (record * AccumBytes()), scratch_tasks), 1,
         kMaxTasksPerRun);
@@ -572,7 +580,7 @@ PathsPlan VulkanContribEngine::PlanPaths(const DeviceState &dev, int slices,
     // Device memory: an eighth of the budget for the records, a quarter for the cells, half for
     // the invocations' stacks and rows, as many of them as can walk at once (lavapipe's: the
     // machine's memory, so a fixed share).
-    const uint64_t budget = dev.device->IsCpu() ? 4 * kAccumBudget : dev.device->ScratchBudget();
+    const uint64_t budget = Budget(dev, 4 * kAccumBudget);
     const uint64_t buffer = dev.device->MaxBufferBytes();
     const uint64_t record = 3 * static_cast<uint64_t>(columns_);
     const uint64_t records_room = std::min(budget / 8, buffer) / (record * sizeof(uint64_t));
