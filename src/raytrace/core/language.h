@@ -9,6 +9,8 @@
 //   CONST                      a constant at file or class scope
 //   DONT_UNROLL                keeps a loop rolled in GLSL (lavapipe inlines every call, so
 //                              small loops copied many times cost minutes of compiling)
+//   PRECISE                    GLSL's precise: no multiply-add fused, so that the same
+//                              expression written in two places gives the same bits
 //   XYZ(v), XY(v), ZW(v)       swizzles (GLM has them only as proxies that templates reject)
 //   LOCAL(T)                   a local bound to a table's entry: a const reference in C++ (no
 //                              copy), a copy in GLSL (which has no references)
@@ -86,6 +88,7 @@ inline ivec2 ZW(const ivec4 &v) { return ivec2(v.z, v.w); }
 #define INOUT(T) T &
 #define CONST static constexpr
 #define DONT_UNROLL
+#define PRECISE
 
 #else  // GLSL
 
@@ -99,6 +102,7 @@ inline ivec2 ZW(const ivec4 &v) { return ivec2(v.z, v.w); }
 #define INOUT(T) inout T
 #define CONST const
 #define DONT_UNROLL [[dont_unroll]]
+#define PRECISE precise
 #define XYZ(v) (v).xyz
 #define XY(v) (v).xy
 #define ZW(v) (v).zw

@@ -91,6 +91,13 @@ void RunStack() {
     }
 }
 
+// The point an -I input ray's surface lies at: RADIANCE offsets it by 1e-4 along the normal
+// (PRECISE: both steps compute it, and must get the same bits).
+real3 InputPoint(real3 org, real3 dir) {
+    PRECISE real3 point = org + 1e-4 * dir;
+    return point;
+}
+
 // Input ray `index` (org, dir of unit length) of replica `replica` (-se) is traced in two steps,
 // the stack walked (RunStack) after each, its contributions added through AddToRecord: StartInput
 // readies its keys and pushes its share of the light sources (thousands of suns for C_ds), or,
@@ -113,12 +120,12 @@ void StartInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint
         return;
     }
     // -I: a Lambertian surface of reflectance pi at the origin, facing the ray direction, so
-    // that the ambient value is irradiance (RADIANCE offsets it by 1e-4 along the normal).
+    // that the ambient value is irradiance.
     int per_slice = (params.nsources + int(slices) - 1) / int(slices);
     int source_first = int(slice) * per_slice;
     if (source_first >= params.nsources) return;
     rng = Key(cell_key, 0u, 17u, 5u);  // slice 0's: the direct item turns alike in all
-    PushDirect(r, real3(kPi), 1.0, 0.0, 0.0, 0, org + 1e-4 * dir, dir, real3(0), 0.0);
+    PushDirect(r, real3(kPi), 1.0, 0.0, 0.0, 0, InputPoint(org, dir), dir, real3(0), 0.0);
     if (top > 0) {
         STACK(top - 1).next = source_first;
         STACK(top - 1).end = min(params.nsources, source_first + per_slice);
@@ -130,7 +137,7 @@ void StartInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint
 bool InputCells(real3 org, real3 dir, uint slice, uint slices, OUT(Item) cells) {
     if (params.irradiance == 0) return false;
     rng = Key(cell_key, slice, 17u, 5u);
-    PushHemisphere(PrimaryRay(org, dir), real3(kPi), org + 1e-4 * dir, dir);
+    PushHemisphere(PrimaryRay(org, dir), real3(kPi), InputPoint(org, dir), dir);
     if (top == 0) return false;
     // This slice's share of the rows; the rows before it are replayed without tracing.
     Item h = STACK(--top);
@@ -168,11 +175,12 @@ bool TraceAllButCells(real3 org, real3 dir, uint index, uint replica, uint slice
     return InputCells(org, dir, slice, slices, cells);
 }
 
-// For a driver that traces several cells' paths at once (the CPU's, in packets): the next ray
-// of the first hemisphere `cells` (from TraceAllButCells) in r, with the random state its path
-// goes on from in state, and whether it is the hemisphere's last; false once no cell is left. A
-// cell's path draws only from that state and touches no state of the first level, so each may
-// run on a stack of its own (StartCellPath) and give the same numbers as `cells` pushed whole.
+// For a driver that traces several cells' paths at once (the CPU's in packets, the GPU's paths
+// engine): the next ray of the first hemisphere `cells` (from InputCells) in r, with the random
+// state its path goes on from in state, and whether it is the hemisphere's last; false once no
+// cell is left. A cell's path draws only from that state and touches no state of the first
+// level, so each may run on a stack of its own (StartCellPath) and give the same numbers as
+// `cells` pushed whole.
 bool NextCell(INOUT(Item) cells, OUT(Ray) r, OUT(uint) state, OUT(bool) last) {
     top = 0;
     while (cells.next < cells.end) {

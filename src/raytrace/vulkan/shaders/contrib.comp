@@ -420,6 +420,7 @@ void main() {
     dropped = 0u;
     reports = 0u;
     rays_traced = 0u;
+    contribution_pending = false;
 #ifdef DAYFLUX_PATHS
     fixed_range_lost = false;
     Run(gl_GlobalInvocationID.x);
