@@ -32,7 +32,7 @@
 #   FP64 (1: also vulkan-bvh-fp64, the BVH walk with bins and accumulators in double,
 #   -gpu_cal double -gpu_accum double, as the engine was before it went without fp64),
 #   SPIRV_NONE (1: also vulkan-bvh-O0, the BVH walk with unoptimised SPIR-V, -gpu_spirv_opt
-#   none, which lavapipe runs 1.4-2x sooner: does NVIDIA's compiler too?),
+#   none, which lavapipe runs 1.1-1.3x sooner: does NVIDIA's compiler too?),
 #   PATHS (1: also vulkan-bvh-paths, the BVH walk on the paths engine, -gpu_engine paths: an
 #   invocation a first-hemisphere cell's path, records in fixed point; and its replay beside the
 #   tasks engine's),

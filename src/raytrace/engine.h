@@ -33,8 +33,8 @@ enum class GpuScratch { kAuto, kOn, kOff };
 enum class GpuAccum { kPair, kFloat, kDouble };
 // What spirv-opt does to the GPU's shader before the driver compiles it (issue 42's compile
 // time): -O, -Os, nothing, or auto: nothing on CPU devices, whose LLVM compiles and runs
-// unoptimised SPIR-V sooner (lavapipe: 5 s less a pipeline, traces 1.4-2x sooner), -O on GPUs
-// (until NVIDIA's figures say otherwise).
+// unoptimised SPIR-V sooner (lavapipe: about 3 s less a pipeline, traces 1.1-1.3x sooner), -O
+// on GPUs (until NVIDIA's figures say otherwise).
 enum class GpuSpirvOpt { kAuto, kPerformance, kSize, kNone };
 // How the GPU shares out a run (issue 42's step 3): tasks, an invocation each walking a sensor's
 // slice of first-hemisphere rows whole, into a record of its own (float pairs, slices summed
