@@ -80,10 +80,15 @@ void ShadeMet(INOUT(Ray) r, bool met, INOUT(Hit) h) {
     AddContribution();
 }
 
-// The walk: each ray the stack gives traced (the driver's Intersect) and shaded.
+// The walk: each ray the stack gives traced (the driver's Intersect) and shaded. A driver that
+// defines DRIVER_KEEPS_CELLS may take a ray instead (its KeepCell(at) true): the GPU's paths
+// engine keeps the first hemisphere's cells' rays so (at 0: the hemisphere's last).
 void RunStack() {
     int at;
     while (NextRay(at)) {
+#ifdef DRIVER_KEEPS_CELLS
+        if (KeepCell(at)) continue;
+#endif
         Hit h;
         bool met = Intersect(STACK(at).r, h);
         Ray r = STACK(at).r;

@@ -122,7 +122,7 @@ void BlockersAhead(vec3 org, vec3 normal, int from, bool front, bool back, int f
 #include "raytrace/core/rays.inl"
 #ifdef DAYFLUX_PATHS
 // A first-hemisphere cell's path, as the first phase leaves it for the second (the core's
-// NextCell and StartCellPath).
+// StartCellPath).
 struct PathStart {
     Ray r;
     uint state;
@@ -131,6 +131,28 @@ struct PathStart {
 };
 layout(std430, set = 0, binding = kBindingPathStarts) buffer PathStarts { PathStart path_starts[]; };
 layout(std430, set = 0, binding = kBindingPathCount) buffer PathCount { uint path_count; };
+
+// Phase 0, once its task's sources are walked and its cells pushed: the walk's rays are those
+// cells', each kept with the random state its path goes on from (as the core's NextCell gives
+// them to the CPU) in the next free slot, not traced. (The walk takes them, so that the
+// hemisphere's steps are compiled once: walk.inl's RunStack.)
+bool keeping_cells;
+uint keeping_task;
+#define DRIVER_KEEPS_CELLS
+bool KeepCell(int at) {
+    if (!keeping_cells) return false;
+    uint slot = atomicAdd(path_count, 1u);
+    if (slot >= uint(tasks.path_capacity)) {  // (never: the host's capacity is a bound)
+        ++dropped;
+        reports |= kReportStackFull;
+        return true;
+    }
+    path_starts[slot].r = STACK(at).r;
+    path_starts[slot].state = rng;
+    path_starts[slot].last = at == 0 ? 1 : 0;  // the hemisphere's item has left the stack
+    path_starts[slot].task = keeping_task;
+    return true;
+}
 #endif
 // (defined below; -asub's probes in hemisphere.inl ask it first)
 bool Intersect(Ray r, out Hit h);
@@ -338,29 +360,6 @@ uint RecordOf(uint local_task) {
     return local_task / uint(tasks.tasks_per_record) * uint(tasks.ncols * 3);
 }
 
-// Phase 0's task: after its input's sources are walked (walk.inl's StartInput), the cells of its
-// rows of the first hemisphere, each cell's ray and random state kept for phase 1 in the next
-// free slot (the slots' order is the atomics', which the sums do not depend on).
-void KeepCells(uint local_task, vec3 org, vec3 dir, uint slice) {
-    Item cells;
-    if (!InputCells(org, dir, slice, uint(tasks.slices), cells)) return;
-    Ray r;
-    uint state;
-    bool last;
-    while (NextCell(cells, r, state, last)) {
-        uint at = atomicAdd(path_count, 1u);
-        if (at >= uint(tasks.path_capacity)) {  // (never: the host's capacity is a bound)
-            ++dropped;
-            reports |= kReportStackFull;
-            continue;
-        }
-        path_starts[at].r = r;
-        path_starts[at].state = state;
-        path_starts[at].last = last ? 1 : 0;
-        path_starts[at].task = local_task;
-    }
-}
-
 // Phase 1's path g, started on the stack (false once g is past the last).
 bool StartPath(uint g) {
     if (g >= min(path_count, uint(tasks.path_capacity))) return false;
@@ -376,6 +375,8 @@ void Run(uint invocation) {
     UseScratch(invocation);
     vec3 org, dir;
     uint index, slice, g = invocation, walkers = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    keeping_cells = false;
+    keeping_task = invocation;
     if (phase == 0u) {
         if (invocation >= uint(tasks.count) || !InputRay(invocation, org, dir, index, slice))
             return;
@@ -386,9 +387,12 @@ void Run(uint invocation) {
     }
     DONT_UNROLL while (true) {
         RunStack();
-        if (phase == 0u) {
-            KeepCells(invocation, org, dir, slice);
-            return;
+        if (phase == 0u) {  // its sources walked, then its cells kept (KeepCell)
+            Item cells;
+            if (keeping_cells || !InputCells(org, dir, slice, uint(tasks.slices), cells)) return;
+            PushItem(cells);
+            keeping_cells = true;
+            continue;
         }
         g += walkers;
         if (!StartPath(g)) return;
