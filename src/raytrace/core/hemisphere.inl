@@ -17,6 +17,12 @@
 
 uint pushed0;       // first-level hemispheres pushed for this input ray (random-number keys)
 uint hemispheres0;  // first-level hemispheres started, likewise
+// The first level's steps before this one are replayed, not traced (a slice's rows are not
+// the first: InputCells); their rays are dropped as they are pushed (Replayed).
+int steps_replayed = 0;
+
+// Whether hemisphere item it's last step was one replayed (its ray, if pushed, to be dropped).
+bool Replayed(IN(Item) it) { return it.r.adepth == 0 && it.next <= steps_replayed; }
 // The rows: ROW0(i) of the first level's 2 MAXN, ROWD(i) of the deeper levels' 2 DEEP_N each;
 // a driver may keep them elsewhere by defining both (the GPU's does: see STACK in rays.inl).
 #ifndef ROW0

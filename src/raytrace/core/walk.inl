@@ -17,6 +17,10 @@ bool NextRay(OUT(int) at) {
         } else if (kind == kItemAmbient) {
             int item = top - 1;
             bool pushed = AmbientStep(STACK(item));  // (-asub's may skip a cell's other steps)
+            if (pushed && Replayed(STACK(item))) {
+                --top;  // a row before the slice's: its direction replayed, its ray dropped
+                pushed = false;
+            }
             if (STACK(item).next >= STACK(item).end) {
                 // the hemisphere leaves the stack, its last cell's ray takes its place
                 if (pushed) {
@@ -116,6 +120,7 @@ void StartInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint
     top = 0;
     pushed0 = 0u;
     hemispheres0 = 0u;
+    steps_replayed = 0;
     cell_key = Key(params.seed, index, replica, 0x2545f491u);
     turn_key = Key(params.seed, index, TurnReplica(replica), 0x2545f491u);
     Ray r = PrimaryRay(org, dir);
@@ -144,7 +149,9 @@ bool InputCells(real3 org, real3 dir, uint slice, uint slices, OUT(Item) cells) 
     rng = Key(cell_key, slice, 17u, 5u);
     PushHemisphere(PrimaryRay(org, dir), real3(kPi), InputPoint(org, dir), dir);
     if (top == 0) return false;
-    // This slice's share of the rows; the rows before it are replayed without tracing.
+    // This slice's share of the rows; the rows before it are replayed without tracing, their
+    // steps taken as the cells' first (their directions keep RADIANCE's collision rule), their
+    // rays dropped (Replayed).
     Item h = STACK(--top);
     int rows = h.n, per = (rows + int(slices) - 1) / int(slices);
     int row_first = int(slice) * per, row_end = min(rows, row_first + per);
@@ -159,13 +166,8 @@ bool InputCells(real3 org, real3 dir, uint slice, uint slices, OUT(Item) cells) 
         replayed = 0;
     }
 #endif
-    for (int k = 0; k < replayed; ++k) {
-        Item replay = h;
-        replay.next = k;
-        AmbientStep(replay);
-        top = 0;  // the cell's ray is dropped: replayed, not traced
-    }
-    h.next = row_first * row_steps;
+    steps_replayed = row_first * row_steps;
+    h.next = steps_replayed - replayed;
     h.end = row_end * row_steps;
     cells = h;
     return true;
@@ -190,6 +192,10 @@ bool NextCell(INOUT(Item) cells, OUT(Ray) r, OUT(uint) state, OUT(bool) last) {
     top = 0;
     while (cells.next < cells.end) {
         if (!AmbientStep(cells)) continue;
+        if (Replayed(cells)) {  // (as NextRay)
+            top = 0;
+            continue;
+        }
         r = STACK(--top).r;
         state = rng;
         last = cells.next >= cells.end;
