@@ -257,8 +257,7 @@ class EmbreeBackend : public Backend {
 
     // Whether the bare scene's hit is one the triangles' filter would have passed.
     bool MetItself(const TraceRay &ray, unsigned geom, unsigned prim, float t) const {
-        return geom != RTC_INVALID_GEOMETRY_ID && geom == triangles_id_ &&
-               MeetsItself(prim, t, ray.from_object);
+        return geom != RTC_INVALID_GEOMETRY_ID && geom == triangles_id_ && Skips(prim, t, ray);
     }
 
     // Embree's hit (geometry, primitive, float distance and barycentrics; shape_t: the double
@@ -478,14 +477,15 @@ class EmbreeBackend : public Backend {
     }
 
     // A triangle of the object the ray leaves: a polygon's never (it is planar, as RADIANCE's
-    // polygons are), a mesh's not within near_ of the origin.
+    // polygons are), a mesh's not within near_ of the origin; and none the ray runs along
+    // (Skips).
     static void TriangleFilterFunction(const RTCFilterFunctionNArguments *args) {
         const auto *self = static_cast<const EmbreeBackend *>(args->geometryUserPtr);
         for (unsigned k = 0; k < args->N; ++k) {
             if (!args->valid[k]) continue;
-            if (self->MeetsItself(RTCHitN_primID(args->hit, args->N, k),
-                                  RTCRayN_tfar(args->ray, args->N, k),
-                                  self->QueryRay(args->ray, args->N, k).from_object))
+            if (self->Skips(RTCHitN_primID(args->hit, args->N, k),
+                            RTCRayN_tfar(args->ray, args->N, k),
+                            self->QueryRay(args->ray, args->N, k)))
                 args->valid[k] = 0;
         }
     }
@@ -499,6 +499,16 @@ class EmbreeBackend : public Backend {
         if (ctx->self->MeetsItself(ctx->self->blockers_[RTCHitN_primID(args->hit, 1, 0)],
                                    RTCRayN_tfar(args->ray, 1, 0), ctx->from))
             args->valid[0] = 0;
+    }
+
+    // Whether a hit of ray on triangle at distance t is none: one on the object it leaves
+    // (MeetsItself), or one along the triangle's plane, |cos| at most 1e-6 (RADIANCE's o_face()
+    // finds no hit there, FTINY; Embree may report one, whose shading divides by the cosine; a
+    // triangle without area, whose normal is nought, likewise).
+    bool Skips(unsigned triangle, float t, const TraceRay &ray) const {
+        if (MeetsItself(triangle, t, ray.from_object)) return true;
+        const core::real3 &n = normals_[triangle];
+        return std::abs(n[0] * ray.dir[0] + n[1] * ray.dir[1] + n[2] * ray.dir[2]) <= 1e-6;
     }
 
     // Whether a ray leaving object `from` would meet, at distance t, triangle of that object:
