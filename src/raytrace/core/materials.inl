@@ -518,7 +518,9 @@ void Shade(INOUT(Ray) r, INOUT(Hit) h) {
             return;
         }
         h.m = surfaces[h.m.fore];  // rayshade() with the alternate material
-        light = false;
+        // (which -i leaves as it is where it is a light too, as rayshade() does: its params
+        // hold no surface flags)
+        light = h.m.kind == kMatLight || h.m.kind == kMatIllum;
     } else if (k >= 0) {
 #ifdef DAYFLUX_ASUB
         if (r.mis > 0. && (int(h.m.params.w) & kSurfaceSampled) != 0) {
