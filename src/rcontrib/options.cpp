@@ -226,6 +226,10 @@ class Parser : public OptionCursor {
             c.specular_jitter = Number(a);
         } else if (a == "-dj") {
             c.source_jitter = Number(a);
+            // (RADIANCE trims the jitter's square by the root of 1 - frac^2 / 2: NaN directions
+            // beyond the root of 2)
+            if (!(c.source_jitter >= 0 && c.source_jitter <= 1))
+                ErrorExit("-dj " + FormatNumber(c.source_jitter) + ": a fraction from 0 to 1");
         } else if (a == "-ds") {
             c.source_size_ratio = Number(a);
         } else if (a == "-dr") {
