@@ -269,6 +269,10 @@ Material SceneMaterials::Resolve(int mod, std::vector<int> &pattern_of) {
     const Primitive &p = objs[mod];
     const auto &f = p.fargs;
     const std::string &t = p.type;
+    if ((t == "plastic" || t == "metal" || t == "trans") && f[3] > 1)
+        // (RADIANCE takes it: such a surface reflects more than it receives, and light
+        // between two of them grows without end)
+        Warning(&p.loc, t + " '" + p.name + "': a specularity above 1");
     if (t == "plastic" || t == "metal") {
         m.kind = Material::kDiffuse;
         m.color = {f[0], f[1], f[2]};
