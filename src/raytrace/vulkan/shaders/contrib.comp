@@ -356,6 +356,7 @@ bool InputRay(uint local_task, out vec3 org, out vec3 dir, out uint index, out u
 #ifdef DAYFLUX_PATHS
 layout(push_constant) uniform Phase { uint phase; };  // 0: the tasks' cells, 1: their paths
 
+// The record a task adds to: its ray's (or its slice's, with tasks_per_record 1).
 uint RecordOf(uint local_task) {
     return local_task / uint(tasks.tasks_per_record) * uint(tasks.ncols * 3);
 }
@@ -367,57 +368,51 @@ bool StartPath(uint g) {
     StartCellPath(path_starts[g].r, path_starts[g].state, path_starts[g].last != 0);
     return true;
 }
+#else
+uint RecordOf(uint local_task) { return local_task * uint(tasks.ncols * 3); }
+#endif
 
-// Invocation `invocation`'s work, phase 0: a task's sources, then its cells kept; phase 1: the
-// paths, taken in turn by the dispatch's invocations (the host lays its groups all along x, so
-// that their number is the stride). One call of RunStack walks them all (walk.inl's StartInput).
+// Invocation `invocation`'s work: a task's input ray, its sources and then its first
+// hemisphere's cells, traced (the paths engine's phase 0: the cells kept, KeepCell); or, in the
+// paths engine's phase 1, the cells' paths, taken in turn by the dispatch's invocations (the
+// host lays its groups all along x, so that their number is the stride). One call of RunStack
+// walks them all (walk.inl's StartInput).
 void Run(uint invocation) {
     UseScratch(invocation);
     vec3 org, dir;
-    uint index, slice, g = invocation, walkers = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    uint index, slice;
+#ifdef DAYFLUX_PATHS
+    uint g = invocation, walkers = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    bool walking = phase == 1u;
     keeping_cells = false;
     keeping_task = invocation;
-    if (phase == 0u) {
+    if (walking && !StartPath(g)) return;
+#else
+    const bool walking = false;
+#endif
+    if (!walking) {
         if (invocation >= uint(tasks.count) || !InputRay(invocation, org, dir, index, slice))
             return;
         acc_base = RecordOf(invocation);
         StartInput(org, dir, index, uint(tasks.replica), slice, uint(tasks.slices));
-    } else if (!StartPath(g)) {
-        return;
     }
-    DONT_UNROLL while (true) {
-        RunStack();
-        if (phase == 0u) {  // its sources walked, then its cells kept (KeepCell)
-            Item cells;
-            if (keeping_cells || !InputCells(org, dir, slice, uint(tasks.slices), cells)) return;
-            PushItem(cells);
-            keeping_cells = true;
-            continue;
-        }
-        g += walkers;
-        if (!StartPath(g)) return;
-    }
-}
-#else
-// Task `local_task`'s input ray, traced whole: its sources, then its first hemisphere's cells,
-// one call of RunStack walking both (walk.inl's StartInput).
-void Run(uint local_task) {
-    vec3 org, dir;
-    uint index, slice;
-    if (local_task >= uint(tasks.count) || !InputRay(local_task, org, dir, index, slice)) return;
-    acc_base = local_task * uint(tasks.ncols * 3);
-    UseScratch(local_task);
-    StartInput(org, dir, index, uint(tasks.replica), slice, uint(tasks.slices));
     bool cells_pushed = false;
     DONT_UNROLL while (true) {
         RunStack();
+#ifdef DAYFLUX_PATHS
+        if (walking) {
+            g += walkers;
+            if (!StartPath(g)) return;
+            continue;
+        }
+        keeping_cells = true;  // (the sources are walked: what the walk gives next is cells)
+#endif
         Item cells;
         if (cells_pushed || !InputCells(org, dir, slice, uint(tasks.slices), cells)) return;
         PushItem(cells);
         cells_pushed = true;
     }
 }
-#endif
 
 void main() {
     top = 0;
