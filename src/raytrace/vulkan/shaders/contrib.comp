@@ -422,10 +422,10 @@ void main() {
     contribution_pending = false;
 #ifdef DAYFLUX_PATHS
     fixed_range_lost = false;
+#endif
     Run(gl_GlobalInvocationID.x);
+#ifdef DAYFLUX_PATHS
     if (fixed_range_lost) reports |= kReportFixedRange;
-#else
-    Run(gl_GlobalInvocationID.x);
 #endif
     // Items that did not fit the stack are lost: the host says how many.
     if (dropped > 0u) atomicAdd(stats_dropped, dropped);
