@@ -666,6 +666,40 @@ TEST(Engine, PathsEngineScalesContributionsVulkan) {
     EXPECT_EQ(run(bright, GpuEngine::kPaths, &paths).rfind("vulkan paths: ", 0), 0u);
 }
 
+// A sum the paths engine's fixed point cannot hold (2^63 units: 32768 in coefficients) is an
+// error, not a wrapped number: a sensor facing a floor whose pattern multiplies what it reflects,
+// under a sky of coefficient 1, gets pi x .9 x the factor (every cell sees the floor, the floor's
+// every cell the sky): 28,274 with 10^4, within range, the tasks engine's; 56,549 with 2 x 10^4.
+TEST(Engine, PathsEngineRefusesASumBeyondItsFixedPointVulkan) {
+    const ContribOptions options = Irradiance(2, 16, 1e-4, 1);
+    const auto run = [&](const char *factor, GpuEngine gpu_engine, int tasks_per_dispatch = 0) {
+        const FlatScene flat =
+            SceneOf(std::string(kSky) + "void brightfunc loud 2 A1 . 0 1 " + factor +
+                    "\nloud plastic grey 0 0 5 .9 .9 .9 0 0\n"
+                    "grey polygon floor 0 0 12 -1e4 -1e4 0  1e4 -1e4 0  1e4 1e4 0"
+                    "  -1e4 1e4 0\n");
+        EngineOptions engine = OnVulkan(gpu_engine);
+        engine.gpu_tasks_per_dispatch = tasks_per_dispatch;
+        const std::unique_ptr<ContribEngine> e =
+            CreateContribEngine(flat, options, Tracking("skyglow"), RayInit, engine);
+        const double ray[6] = {0, 0, .5, 0, 0, -1};
+        std::vector<double> out(3, 0.0);
+        if (e->Label().rfind("vulkan", 0) != 0) return std::vector<double>();
+        e->Trace(ray, 1, 0, 0, out.data());
+        return out;
+    };
+    const std::vector<double> tasks = run("1e4", GpuEngine::kTasks);
+    if (tasks.empty()) GTEST_SKIP() << "no Vulkan engine";
+    EXPECT_NEAR(tasks[0], M_PI * .9e4, 1e-3 * M_PI * .9e4);
+    const std::vector<double> paths = run("1e4", GpuEngine::kPaths);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(paths[i], tasks[i], 1e-6 * tasks[i]) << i;
+    EXPECT_NEAR(run("2e4", GpuEngine::kTasks)[0], 2 * tasks[0], 1e-6 * tasks[0]);
+    EXPECT_THROW(run("2e4", GpuEngine::kPaths), UserError);
+    // a task a dispatch: the sensor's slices summed on the host, each within range, the sum not
+    EXPECT_EQ(run("1e4", GpuEngine::kPaths, 1), paths);
+    EXPECT_THROW(run("2e4", GpuEngine::kPaths, 1), UserError);
+}
+
 // An engine the options name that does not exist is an error, not a silent choice.
 TEST(Engine, UnknownBackendIsAnError) {
     EngineOptions engine;

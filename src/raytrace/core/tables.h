@@ -206,6 +206,9 @@ CONST uint kReportStackFull = 4u;  // items that did not fit the ray stack (`dro
 // A contribution the GPU's paths engine could not hold in its fixed point (beyond 8192 times its
 // scale, or NaN), left out; set by that driver alone.
 CONST uint kReportFixedRange = 8u;
+// A record's sum in that fixed point passed its range (2^63 units: 32768 times its scale), so that
+// its values are wrong; set by that driver alone.
+CONST uint kReportFixedSum = 16u;
 
 #ifdef __cplusplus
 }  // namespace dayflux::core

@@ -343,6 +343,11 @@ class VulkanContribEngine : public ContribEngine {
             dev.dropped = 0, dev.reports = 0;
         }
         WarnCoreReports(reports, lost);
+        if (reports & core::kReportFixedSum)
+            throw UserError(
+                "a sum passed the GPU paths engine's fixed point (32768 times its sources' "
+                "radiance: a surface that reflects more than it receives?), so its values would "
+                "be wrong; -gpu_engine tasks holds any float");
     }
 
     uint64_t RaysTraced() const override {
@@ -661,9 +666,10 @@ void VulkanContribEngine::TracePathsOn(DeviceState &dev, std::vector<uint8_t> &r
             const size_t task = offset + r * per_record;
             int64_t *dst = sums.data() + (slices_apart > 0 ? task : task / slices) * record;
             for (size_t j = 0; j < record; ++j) {
-                uint64_t bits;  // (two's complement: added as unsigned, which wraps alike)
-                std::memcpy(&bits, accum.data() + (r * record + j) * sizeof bits, sizeof bits);
-                dst[j] = static_cast<int64_t>(static_cast<uint64_t>(dst[j]) + bits);
+                int64_t part;  // (a record cut between dispatches: its parts' sum checked too)
+                std::memcpy(&part, accum.data() + (r * record + j) * sizeof part, sizeof part);
+                if (__builtin_add_overflow(dst[j], part, &dst[j]))
+                    dev.reports |= core::kReportFixedSum;
             }
         }
     }

@@ -50,7 +50,8 @@ CONST int kBindingPathCount = 22;
 CONST int kBindingCount = 23;
 // The paths engine's records in fixed point: an entry counts units of 2^-kPathFixedBits (3.6e-15,
 // so that an add below 1.8e-15 is lost), up to 2^63 of them (32768); a single add at most 2^61
-// (8192), so that sums of a few do not wrap. -V+ runs scale these by their sources' radiance.
+// (8192), so that sums of a few do not wrap (a sum that passes 2^63 is caught: kReportFixedSum).
+// -V+ runs scale these by their sources' radiance.
 CONST int kPathFixedBits = 48;
 
 // One dispatch: tasks [task_offset, task_offset + count) of rays x slices; a slice traces a

@@ -78,7 +78,7 @@ uint acc_base;  // the record adds go to: the task's (the paths engine: its ray'
 // A sensor's record gets the adds of all its cells' paths at once: 64-bit fixed point
 // (kPathFixedBits, tasks.path_scale units to 1), added by two 32-bit atomics, the carry out of the low word into the high
 // one. Integer sums are exact, so a record is the same bytes whatever order its adds came in.
-bool fixed_range_lost;  // (main reports it: kReportFixedRange)
+bool fixed_range_lost, fixed_sum_lost;  // (main reports them: kReportFixedRange, kReportFixedSum)
 void AddToEntry(uint at, float v) {
     float x = abs(v) * tasks.path_scale;
     if (!(x < 2305843009213693952.0)) {  // 2^61 units, or NaN: left out, reported
@@ -94,7 +94,11 @@ void AddToEntry(uint at, float v) {
     }
     uint before = atomicAdd(accum[2u * at], low);
     high += before + low < before ? 1u : 0u;
-    if (high != 0u) atomicAdd(accum[2u * at + 1u], high);
+    if (high == 0u) return;
+    // The sum passes 2^63 units where the high word's signed add overflows (for a record whose
+    // adds all have one sign, exactly then; with both, possibly a partial sum only).
+    int was = int(atomicAdd(accum[2u * at + 1u], high)), now = was + int(high);
+    if (int(high) > 0 ? now < was : now > was) fixed_sum_lost = true;
 }
 #elif defined(DAYFLUX_ACCUM_PAIR)
 // Two floats an entry: the sum, and what its rounding lost (TwoSum, exact in float), summed
@@ -422,10 +426,12 @@ void main() {
     contribution_pending = false;
 #ifdef DAYFLUX_PATHS
     fixed_range_lost = false;
+    fixed_sum_lost = false;
 #endif
     Run(gl_GlobalInvocationID.x);
 #ifdef DAYFLUX_PATHS
     if (fixed_range_lost) reports |= kReportFixedRange;
+    if (fixed_sum_lost) reports |= kReportFixedSum;
 #endif
     // Items that did not fit the stack are lost: the host says how many.
     if (dropped > 0u) atomicAdd(stats_dropped, dropped);
