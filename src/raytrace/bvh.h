@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "raytrace/core/tables.h"
+
 namespace dayflux {
 
 struct FlatBvhNode {
@@ -21,5 +23,10 @@ struct FlatBvh {
 
 // boxes: 6 floats per primitive (min xyz, max xyz); primitive i is box i.
 FlatBvh BuildBvh(const std::vector<float> &boxes);
+
+// bvh's inner nodes as the GPU walks them (core::PackedBvhNode: each holds its children's
+// bounds), in the same depth-first order; a root that is a leaf is both children of one node.
+// Empty for an empty bvh.
+std::vector<core::PackedBvhNode> PackBvh(const FlatBvh &bvh);
 
 }  // namespace dayflux

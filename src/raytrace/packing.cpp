@@ -17,7 +17,7 @@ namespace dayflux {
 // The std430 layouts the shader sees: vec4s and 4-byte scalars.
 static_assert(sizeof(core::PackedTriangle) == 32 && sizeof(core::PackedSurface) == 64);
 static_assert(sizeof(core::PackedSource) == 144 && sizeof(core::PackedShape) == 48);
-static_assert(sizeof(core::PackedBvhNode) == 48 && offsetof(core::PackedSurface, kind) == 32);
+static_assert(sizeof(core::PackedBvhNode) == 64 && offsetof(core::PackedSurface, kind) == 32);
 
 namespace {
 

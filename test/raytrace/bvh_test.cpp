@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <random>
 
 namespace dayflux {
@@ -55,6 +56,60 @@ TEST(Bvh, HoldsEveryBoxOnceInsideItsNodes) {
     for (int i = 0; i < n; ++i) ASSERT_EQ(seen[i], 1) << i;
     EXPECT_EQ(bvh.prims.size(), static_cast<size_t>(n));
     EXPECT_TRUE(BuildBvh({}).nodes.empty());
+}
+
+// The packed form the GPU walks (each node its children's bounds, leaves as references): the
+// same boxes over the same primitives, each reached once, from a tree or from a lone leaf.
+std::vector<float> RandomBoxes(int n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-100, 100), s(0, 3);
+    std::vector<float> boxes;
+    for (int i = 0; i < n; ++i) {
+        const float x = u(rng), y = u(rng), z = u(rng);
+        const float b[6] = {x, y, z, x + s(rng), y + s(rng), z + s(rng)};
+        boxes.insert(boxes.end(), b, b + 6);
+    }
+    return boxes;
+}
+
+TEST(Bvh, PackedForTheGpuReachesEveryBoxOnce) {
+    for (int n : {3000, 1}) {
+        const std::vector<float> boxes = RandomBoxes(n, 7);
+        const FlatBvh bvh = BuildBvh(boxes);
+        const std::vector<core::PackedBvhNode> packed = PackBvh(bvh);
+        ASSERT_FALSE(packed.empty());
+        EXPECT_EQ(packed.size(), n == 1 ? 1u : bvh.nodes.size() / 2);  // the inner nodes
+        std::vector<int> seen(n, 0);
+        std::vector<int32_t> stack = {0};
+        while (!stack.empty()) {
+            const int32_t at = stack.back();
+            stack.pop_back();
+            ASSERT_LT(at, static_cast<int32_t>(packed.size()));
+            const core::PackedBvhNode &node = packed[at];
+            const core::vec4 *children[2][2] = {{&node.lo0, &node.hi0}, {&node.lo1, &node.hi1}};
+            for (int c = 0; c < (n == 1 ? 1 : 2); ++c) {  // (a lone leaf is both children)
+                const core::vec4 &lo = *children[c][0], &hi = *children[c][1];
+                int32_t ref;
+                std::memcpy(&ref, &lo.w, sizeof ref);
+                if (ref >= 0) {
+                    ASSERT_GT(ref, at);  // depth first: no cycles
+                    stack.push_back(ref);
+                    continue;
+                }
+                const int first = ~ref >> core::kBvhLeafCountBits;
+                const int count = ~ref & ((1 << core::kBvhLeafCountBits) - 1);
+                ASSERT_GT(count, 0);
+                const float l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
+                for (int i = first; i < first + count; ++i) {
+                    const int p = bvh.prims[i];
+                    ++seen[p];
+                    EXPECT_TRUE(Contains(l, h, &boxes[6 * p]));
+                }
+            }
+        }
+        for (int i = 0; i < n; ++i) ASSERT_EQ(seen[i], 1) << n << " " << i;
+    }
+    EXPECT_TRUE(PackBvh(BuildBvh({})).empty());
 }
 
 }  // namespace

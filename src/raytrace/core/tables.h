@@ -36,15 +36,15 @@ CONST int kMatIllum = 9;
 // material for its inside (-1: void), pattern the bits of its penetration counters.
 CONST int kMatAntimatter = 10;
 
-// A node of the BVH traversed where there are no ray queries (raytrace/bvh.h), depth first: an
-// inner node's first child follows it, `index` is its second; a leaf's primitives are
-// bvh_prims[index .. index + count - 1].
+// An inner node of the BVH the GPU walks where it has no ray queries (raytrace/bvh.h's
+// PackBvh): its two children's bounds, so that one load tests both and the nearer is walked
+// first. Each child's reference is in its lo's w, as an int's bits: an inner node's index, or a
+// leaf's ~(first << kBvhLeafCountBits | count), its primitives bvh_prims[first .. first + count
+// - 1]. Node 0 is the root.
 struct PackedBvhNode {
-    vec4 lo, hi;  // bounds (xyz)
-    int count;    // 0: inner node
-    int index;
-    int pad0, pad1;
+    vec4 lo0, hi0, lo1, hi1;  // the children's bounds (xyz); lo's w: the child's reference
 };
+CONST int kBvhLeafCountBits = 3;  // a leaf holds at most 7 primitives
 
 struct PackedTriangle {
     vec4 normal;  // unit geometric normal (triangle winding); w unused

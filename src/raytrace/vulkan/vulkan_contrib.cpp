@@ -115,14 +115,7 @@ struct Geometry {
         bounds.insert(bounds.end(), boxes.begin(), boxes.end());
         const FlatBvh bvh = dayflux::BuildBvh(bounds);
         const int32_t ntri = static_cast<int32_t>(indices.size() / 3);
-        std::vector<core::PackedBvhNode> nodes(bvh.nodes.size());
-        for (size_t i = 0; i < nodes.size(); ++i) {
-            const FlatBvhNode &n = bvh.nodes[i];
-            nodes[i].lo = core::vec4(n.lo[0], n.lo[1], n.lo[2], 0.f);
-            nodes[i].hi = core::vec4(n.hi[0], n.hi[1], n.hi[2], 0.f);
-            nodes[i].count = n.count;
-            nodes[i].index = n.index;
-        }
+        const std::vector<core::PackedBvhNode> nodes = PackBvh(bvh);
         std::vector<int32_t> prims(bvh.prims);
         for (int32_t &p : prims)
             if (p >= ntri) p = -(p - ntri + 1);

@@ -202,8 +202,22 @@ float IntersectTriangle(int p, vec3 org, vec3 dir, float tmin, float tmax) {
     return t > tmin && t < tmax ? t : -1;
 }
 
+// Where a ray (its inverse direction inv) enters a box within [tmin, t], or kNoEntry where it
+// misses it (a hair of slack, for boxes as thin as the polygons they hold).
+const float kNoEntry = 3e38;
+float BoxEntry(vec3 lo, vec3 hi, vec3 org, vec3 inv, float tmin, float t) {
+    vec3 t0 = (lo - org) * inv, t1 = (hi - org) * inv;
+    vec3 tn = min(t0, t1), tf = max(t0, t1);
+    float enter = max(max(tn.x, tn.y), max(tn.z, tmin));
+    float leave = min(min(tf.x, tf.y), min(tf.z, t));
+    return enter <= leave * 1.000001 ? enter : kNoEntry;
+}
+
 // The nearest hit: a triangle (shape < 0) or an analytic surface, by walking our BVH (no ray
-// queries on this device). Leaf entries are triangles, or -(shape + 1).
+// queries on this device). Each node tests both its children's boxes; the nearer is walked
+// first and the farther kept with its entry, skipped once a hit nearer than that is found
+// (the same boxes as testing it then: its entry is all that could fail). Leaf entries are
+// triangles, or -(shape + 1).
 bool Closest(vec3 org, vec3 dir, int from, out float t, out int prim, out int shape) {
     t = 1e30;
     prim = -1;
@@ -213,21 +227,30 @@ bool Closest(vec3 org, vec3 dir, int from, out float t, out int prim, out int sh
     vec3 safe = mix(vec3(1e-20), -vec3(1e-20), lessThan(dir, vec3(0)));
     vec3 inv = 1.0 / mix(dir, safe, lessThan(abs(dir), vec3(1e-20)));
     int todo[64];
-    int sp = 0, node = 0;
+    float todo_entry[64];
+    int sp = 0, ref = 0;  // ref: a node's index, or a leaf's ~(first << bits | count)
     while (true) {
-        PackedBvhNode n = bvh_nodes[node];
-        vec3 t0 = (n.lo.xyz - org) * inv, t1 = (n.hi.xyz - org) * inv;
-        vec3 tn = min(t0, t1), tf = max(t0, t1);
-        float enter = max(max(tn.x, tn.y), max(tn.z, tmin));
-        float leave = min(min(tf.x, tf.y), min(tf.z, t));
-        if (enter <= leave * 1.000001) {
-            if (n.count == 0) {
-                if (sp < 64) todo[sp++] = n.index;
-                node = node + 1;
+        if (ref >= 0) {
+            PackedBvhNode n = bvh_nodes[ref];
+            float e0 = BoxEntry(n.lo0.xyz, n.hi0.xyz, org, inv, tmin, t);
+            float e1 = BoxEntry(n.lo1.xyz, n.hi1.xyz, org, inv, tmin, t);
+            int r0 = floatBitsToInt(n.lo0.w), r1 = floatBitsToInt(n.lo1.w);
+            if (e1 < e0) {
+                float e = e0; e0 = e1; e1 = e;
+                int r = r0; r0 = r1; r1 = r;
+            }
+            if (e0 < kNoEntry) {
+                if (e1 < kNoEntry && sp < 64) {
+                    todo[sp] = r1;
+                    todo_entry[sp++] = e1;
+                }
+                ref = r0;
                 continue;
             }
-            for (int i = 0; i < n.count; ++i) {
-                int p = bvh_prims[n.index + i];
+        } else {
+            int first = ~ref >> kBvhLeafCountBits, count = ~ref & ((1 << kBvhLeafCountBits) - 1);
+            for (int i = 0; i < count; ++i) {
+                int p = bvh_prims[first + i];
                 if (p >= 0) {
                     float th = IntersectTriangle(p, org, dir, tmin, t);
                     if (th > 0 && !OwnTriangle(p, from, th)) { t = th; prim = p; shape = -1; }
@@ -237,10 +260,12 @@ bool Closest(vec3 org, vec3 dir, int from, out float t, out int prim, out int sh
                 }
             }
         }
-        if (sp == 0) break;
-        node = todo[--sp];
+        do {
+            if (sp == 0) return prim >= 0;
+        } while (todo_entry[--sp] > t * 1.000001);
+        ref = todo[sp];
     }
-    return prim >= 0;
+    return false;
 }
 #else
 // The nearest hit: a triangle (shape < 0) or an analytic surface.
