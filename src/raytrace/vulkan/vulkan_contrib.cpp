@@ -115,12 +115,30 @@ struct Geometry {
         bounds.insert(bounds.end(), boxes.begin(), boxes.end());
         const FlatBvh bvh = dayflux::BuildBvh(bounds);
         const int32_t ntri = static_cast<int32_t>(indices.size() / 3);
-        const std::vector<core::PackedBvhNode> nodes = PackBvh(bvh);
-        std::vector<int32_t> prims(bvh.prims);
-        for (int32_t &p : prims)
-            if (p >= ntri) p = -(p - ntri + 1);
-        bvh_nodes = Bytes(nodes);
+        bvh_nodes = Bytes(PackBvh(bvh));
+        // The leaves' entries in their order, three vec4s each (common.h): a triangle's corner
+        // a and its edges from a (in float, as the shader would take them: the same bits), or a
+        // shape; each with its index in a's w.
+        std::vector<core::vec4> prims;
+        prims.reserve(3 * bvh.prims.size());
+        for (int32_t p : bvh.prims) {
+            const int32_t entry = p >= ntri ? -(p - ntri + 1) : p;
+            float bits;
+            std::memcpy(&bits, &entry, sizeof bits);
+            core::vec3 a(0.f), e1(0.f), e2(0.f);
+            if (entry >= 0) {
+                a = Corner(3 * size_t(entry));
+                e1 = Corner(3 * size_t(entry) + 1) - a;
+                e2 = Corner(3 * size_t(entry) + 2) - a;
+            }
+            prims.insert(prims.end(),
+                         {core::vec4(a, bits), core::vec4(e1, 0.f), core::vec4(e2, 0.f)});
+        }
         bvh_prims = Bytes(prims);
+    }
+    core::vec3 Corner(size_t k) const {
+        const float *v = &positions[3 * size_t(indices[k])];
+        return core::vec3(v[0], v[1], v[2]);
     }
 };
 
@@ -185,7 +203,7 @@ bool Upload(const PackedScene &packed, const std::vector<core::ivec4> &tracked, 
         device.BuildScene(geometry.positions, geometry.indices, geometry.boxes);
     } else {
         geometry.BuildBvh();
-        if (geometry.bvh_nodes.size() > limit) {
+        if (std::max(geometry.bvh_nodes.size(), geometry.bvh_prims.size()) > limit) {
             *why = "the scene's BVH is too large for " + device.Name() + "'s storage buffers";
             return false;
         }

@@ -27,7 +27,7 @@
 layout(local_size_x = LOCAL_SIZE) in;
 #ifdef DAYFLUX_BVH
 layout(std430, set = 0, binding = kBindingScene) readonly buffer Bvh { PackedBvhNode bvh_nodes[]; };
-layout(std430, set = 0, binding = kBindingBvhPrims) readonly buffer BvhPrims { int bvh_prims[]; };
+layout(std430, set = 0, binding = kBindingBvhPrims) readonly buffer BvhPrims { vec4 bvh_prims[]; };
 #else
 layout(set = 0, binding = kBindingScene) uniform accelerationStructureEXT scene;
 #endif
@@ -186,9 +186,9 @@ float ShapeStart(int s, int from) { return shapes[s].object == from ? tasks.tmin
 #ifdef DAYFLUX_BVH
 // Moller-Trumbore, with a hair of slack at the edges so that rays do not slip between
 // triangles sharing one (the hit is moved into its triangle afterwards).
-float IntersectTriangle(int p, vec3 org, vec3 dir, float tmin, float tmax) {
-    vec3 a = Vertex(indices[3 * p]), b = Vertex(indices[3 * p + 1]), c = Vertex(indices[3 * p + 2]);
-    vec3 e1 = b - a, e2 = c - a, pv = cross(dir, e2);
+// The triangle's corner a and edges e1, e2 from it come in leaf order (kBindingBvhPrims).
+float IntersectTriangle(vec3 a, vec3 e1, vec3 e2, vec3 org, vec3 dir, float tmin, float tmax) {
+    vec3 pv = cross(dir, e2);
     float det = dot(e1, pv);
     if (det == 0) return -1;
     float inv = 1.0 / det;
@@ -249,10 +249,12 @@ bool Closest(vec3 org, vec3 dir, int from, out float t, out int prim, out int sh
             }
         } else {
             int first = ~ref >> kBvhLeafCountBits, count = ~ref & ((1 << kBvhLeafCountBits) - 1);
-            for (int i = 0; i < count; ++i) {
-                int p = bvh_prims[first + i];
+            for (int i = first; i < first + count; ++i) {
+                vec4 a = bvh_prims[3 * i];
+                int p = floatBitsToInt(a.w);
                 if (p >= 0) {
-                    float th = IntersectTriangle(p, org, dir, tmin, t);
+                    float th = IntersectTriangle(a.xyz, bvh_prims[3 * i + 1].xyz,
+                                                 bvh_prims[3 * i + 2].xyz, org, dir, tmin, t);
                     if (th > 0 && !OwnTriangle(p, from, th)) { t = th; prim = p; shape = -1; }
                 } else {
                     float th = ShapeDistance(-p - 1, org, dir, ShapeStart(-p - 1, from), t);
