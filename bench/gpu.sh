@@ -42,7 +42,10 @@
 #   alone; default "V DC Cds"; OUT/replay.csv), REPLAY_EVERY (the replay logs every K-th
 #   sensor's rays: 10), REPLAY_SCRATCH_MIB (MiB, a list: the paths engine's replay again with
 #   that much device memory a dispatch, its walkers half of it, in place of the device's budget
-#   of a quarter of its memory, at most 2 GiB: do more walkers at once pay?), COMPILE (spirv-opt levels whose pipeline creation for the first model's
+#   of a quarter of its memory, at most 2 GiB: do more walkers at once pay?), REPLAY_WAVES
+#   (a list: the paths engine's replay again with -gpu_waves N, its walkers taking N steps as
+#   waves, a dispatch to their next rays and one to those rays' hits, before one walks them
+#   to the end: stage3_s and stage4_s in replay.csv), COMPILE (spirv-opt levels whose pipeline creation for the first model's
 #   DC shader is timed, one sensor at -ad 16 on the BVH traversal: cold, with every cache empty
 #   and the drivers' disabled; driver, with our SPIR-V cached; warm, with the driver's cache
 #   too; default "performance size none"; OUT/compile.csv; up to 35 s a cold one on NVIDIA)
@@ -62,6 +65,7 @@ FP64=${FP64:-0}
 REPLAY=${REPLAY-"V DC Cds"}
 REPLAY_EVERY=${REPLAY_EVERY:-10}
 REPLAY_SCRATCH_MIB=${REPLAY_SCRATCH_MIB-}
+REPLAY_WAVES=${REPLAY_WAVES-}
 REPLAY_BENCH=$BUILD/bench/gpu_replay_bench
 COMPILE=${COMPILE-"performance size none"}
 RCONTRIB=$BUILD/bin/rcontrib-gpu
@@ -214,15 +218,18 @@ for model in $MODELS; do
         done
         # The GPU efficiency: the run's rays a second over its replay's (gpu_replay_bench.cpp).
         if [[ " $REPLAY " == *" $case "* && $program == "$RCONTRIB" && -x $REPLAY_BENCH ]]; then
-            runs=$(for e in $engines; do echo "rayquery,$e,0 bvh,$e,0"; done
-                   for mib in $REPLAY_SCRATCH_MIB; do echo "bvh,paths,$mib"; done)
+            runs=$(for e in $engines; do echo "rayquery,$e,0,0 bvh,$e,0,0"; done
+                   for mib in $REPLAY_SCRATCH_MIB; do echo "bvh,paths,$mib,0"; done
+                   for waves in $REPLAY_WAVES; do echo "bvh,paths,0,$waves"; done)
             for run in $runs; do
-                IFS=, read -r traversal engine mib <<< "$run"
+                IFS=, read -r traversal engine mib waves <<< "$run"
                 label=$traversal+$engine
                 [ "$mib" = 0 ] || label="$label@${mib}MiB"
+                [ "$waves" = 0 ] || label="$label+${waves}waves"
                 (cd "$dir" && "$REPLAY_BENCH" -record_every "$REPLAY_EVERY" -repeat 3 \
                     -scratch_mib "$mib" -backend vulkan -device "$DEVICE" \
-                    -gpu_traversal "$traversal" -gpu_engine "$engine" -seed 1 $args \
+                    -gpu_traversal "$traversal" -gpu_engine "$engine" -gpu_waves "$waves" \
+                    -seed 1 $args \
                     < sensors.pts > "$dir/replay.csv" 2> "$dir/err") || {
                     echo "$model $case $label replay: $(tail -1 "$dir/err")" | tee -a "$summary"
                     continue
@@ -230,7 +237,7 @@ for model in $MODELS; do
                 [ -s "$replay_csv" ] ||
                     echo "model,case,traversal+engine,$(head -1 "$dir/replay.csv")" > "$replay_csv"
                 echo "$model,$case,$label,$(tail -1 "$dir/replay.csv")" >> "$replay_csv"
-                tail -1 "$replay_csv" | awk -F, '{ printf "replay %s %s %s: %s rays, run %s Mrays/s (stages %s s, %s s), replay %s Mrays/s, efficiency %s\n", $1, $2, $3, $6, $11, $9, $10, $16, $17 }' |
+                tail -1 "$replay_csv" | awk -F, '{ printf "replay %s %s %s: %s rays, run %s Mrays/s (stages %s s, %s s, %s s, %s s), replay %s Mrays/s, efficiency %s\n", $1, $2, $3, $6, $11, $9, $10, $18, $19, $16, $17 }' |
                     tee -a "$summary"
             done
         fi

@@ -6,7 +6,9 @@
 //   1. the run, once to compile its pipeline (not timed), then timed (-repeat N times, the
 //      fastest kept): wall seconds, the device's seconds per stage (timestamps; the tasks
 //      engine: trace, slice sums; -gpu_engine paths: the tasks' sources and cells, the cells'
-//      paths) and the nearest-hit queries it traced (the engine counts them);
+//      paths, and with -gpu_waves the waves' walks to their next rays and their hits: stage3_s
+//      and stage4_s, the last columns) and the nearest-hit queries it traced (the engine counts
+//      them);
 //   2. the run again over every K-th sensor (-record_every K), logging its rays (at most
 //      -log_rays M), and those rays replayed N times, the fastest pass kept.
 // GPU efficiency = (rays a second of the run) / (rays a second of the replay), both by the
@@ -109,14 +111,16 @@ int Main(int argc, char **argv) {
     std::replace(device.begin(), device.end(), ',', ';');
     std::printf(
         "device,sensors,rays,run_wall_s,run_device_s,stage1_s,stage2_s,run_mrays_s,"
-        "replayed_rays,replay_hits,replay_wall_s,replay_device_s,replay_mrays_s,efficiency\n");
-    std::printf("%s,%zu,%llu,%.4f,%.4f,%.4f,%.4f,%.2f,%llu,%llu,%.4f,%.4f,%.2f,%.3f\n",
+        "replayed_rays,replay_hits,replay_wall_s,replay_device_s,replay_mrays_s,efficiency,"
+        "stage3_s,stage4_s\n");
+    const auto stage = [&](size_t k) { return k < run.stages.size() ? run.stages[k] : 0.0; };
+    std::printf("%s,%zu,%llu,%.4f,%.4f,%.4f,%.4f,%.2f,%llu,%llu,%.4f,%.4f,%.2f,%.3f,%.4f,%.4f\n",
                 device.c_str(), rays.size() / 6, static_cast<unsigned long long>(run.rays),
-                run.wall, Total(run.stages), run.stages.empty() ? 0.0 : run.stages[0],
-                run.stages.size() > 1 ? run.stages[1] : 0.0, run_rate * 1e-6,
+                run.wall, Total(run.stages), stage(0), stage(1), run_rate * 1e-6,
                 static_cast<unsigned long long>(replay.rays),
                 static_cast<unsigned long long>(replay.hits), replay.wall_seconds,
-                replay.device_seconds, replay_rate * 1e-6, run_rate / replay_rate);
+                replay.device_seconds, replay_rate * 1e-6, run_rate / replay_rate, stage(2),
+                stage(3));
     return 0;
 }
 

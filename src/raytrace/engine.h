@@ -71,6 +71,11 @@ struct EngineOptions {
     // (0: a quarter of the GPU's, at most 2 GiB; fixed shares on CPU devices). The paths
     // engine's walkers get half of it.
     uint64_t gpu_scratch_bytes = 0;
+    // The paths engine's waves (-gpu_waves): its walkers first take this many steps together,
+    // each a dispatch that takes every walker's path to its next ray and one that finds those
+    // rays' nearest hits (the traversal apart from the shading, as a wavefront engine has it),
+    // before one dispatch walks their paths to the end. The same sums for any number.
+    int gpu_waves = 0;
     // For benchmarks (bench/gpu_replay_bench.cpp): the GPU logs up to this many of the rays it
     // traces (nearest-hit queries), for ContribEngine::ReplayLoggedRays.
     uint64_t gpu_ray_log = 0;

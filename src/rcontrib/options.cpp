@@ -264,7 +264,7 @@ class Parser : public OptionCursor {
     }
 
     // Ours: -seed -first_record -asub -backend -device -gpu_traversal -gpu_accum -gpu_cal
-    // -gpu_engine -gpu_spirv_opt -gpu_scratch -se -progress -no_commands.
+    // -gpu_engine -gpu_waves -gpu_spirv_opt -gpu_scratch -se -progress -no_commands.
     bool Ours(const std::string &a) {
         if (a == "-asub") {
             // N x N samples in each cell of the first ambient hemisphere, one of them
@@ -305,6 +305,10 @@ class Parser : public OptionCursor {
                 Choice<GpuSpirvOpt>(a, Value(a), {"auto", "performance", "size", "none"});
         } else if (a == "-gpu_engine") {  // how the GPU shares out the run
             o_.engine.gpu_engine = Choice<GpuEngine>(a, Value(a), {"tasks", "paths"});
+        } else if (a == "-gpu_waves") {  // the paths engine's waves before its walk
+            o_.engine.gpu_waves = Integer(a);
+            if (o_.engine.gpu_waves < 0 || o_.engine.gpu_waves > 100000)
+                ErrorExit("-gpu_waves: a whole number from 0 to 100000");
         } else if (a == "-gpu_cal") {  // the GPU's bins and patterns
             o_.engine.gpu_double_cal = Choice<int>(a, Value(a), {"float", "double"}) == 1;
         } else if (a == "-gpu_scratch") {
@@ -390,9 +394,9 @@ RcontribOptions ParseRcontribOptions(const std::vector<std::string> &args,
 }
 
 bool IsEngineOption(const std::string &option) {
-    static const std::set<std::string> names = {"-backend",    "-device",     "-gpu_traversal",
-                                                "-gpu_accum",  "-gpu_cal",    "-gpu_spirv_opt",
-                                                "-gpu_engine", "-gpu_scratch"};
+    static const std::set<std::string> names = {"-backend",    "-device",      "-gpu_traversal",
+                                                "-gpu_accum",  "-gpu_cal",     "-gpu_spirv_opt",
+                                                "-gpu_engine", "-gpu_scratch", "-gpu_waves"};
     return names.count(option) > 0;
 }
 

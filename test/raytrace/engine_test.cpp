@@ -700,6 +700,39 @@ TEST(Engine, PathsEngineRefusesASumBeyondItsFixedPointVulkan) {
     EXPECT_THROW(run("2e4", GpuEngine::kPaths, 1), UserError);
 }
 
+// The paths engine's waves (-gpu_waves): however many steps its walkers take as waves (a
+// dispatch taking each walker to its next ray, one finding those rays' hits) before the walk to
+// the end, the same sums as the walk alone, here over paths of up to three bounces between a
+// roof and a floor. The walkers' stacks stay in storage buffers between the dispatches (where
+// lavapipe otherwise keeps private arrays: waves put them there, and -gpu_scratch off is
+// refused).
+TEST(Engine, PathsEngineWavesGiveTheWalksSumsVulkan) {
+    const HalfCoveredSky sensors;
+    const FlatScene flat = SceneOf(std::string(kSky) +
+                                   "void plastic grey 0 0 5 .5 .5 .5 0 0\n"
+                                   "grey polygon roof 0 0 12 .3 -9 1  9 -9 1  9 9 1  -2 9 1\n"
+                                   "grey polygon floor 0 0 12 -9 -9 -.1  -9 9 -.1  9 9 -.1"
+                                   "  9 -9 -.1\n");
+    const ContribOptions options = Irradiance(3, 16, 1e-4, 1);
+    const auto records = [&](int waves, GpuScratch scratch) {
+        EngineOptions engine = OnVulkan(GpuEngine::kPaths);
+        engine.gpu_waves = waves;
+        engine.scratch = scratch;
+        const std::unique_ptr<ContribEngine> e =
+            CreateContribEngine(flat, options, Tracking("skyglow"), RayInit, engine);
+        if (e->Label().rfind("vulkan paths", 0) != 0) return std::vector<double>();
+        std::vector<double> out(3 * sensors.Rays(), 0.0);
+        e->Trace(sensors.rays.data(), sensors.Rays(), 0, 0, out.data());
+        return out;
+    };
+    // (the walk alone in storage buffers too: one shader to compile)
+    const std::vector<double> walk = records(0, GpuScratch::kOn);
+    if (walk.empty()) GTEST_SKIP() << "no Vulkan engine";
+    EXPECT_GT(walk[0], 0.1);
+    for (int waves : {1, 4, 40}) EXPECT_EQ(records(waves, GpuScratch::kAuto), walk) << waves;
+    EXPECT_THROW(records(1, GpuScratch::kOff), UserError);
+}
+
 // An engine the options name that does not exist is an error, not a silent choice.
 TEST(Engine, UnknownBackendIsAnError) {
     EngineOptions engine;

@@ -119,7 +119,8 @@ TEST(GpuPrecision, OneWalkAndOneBinEvaluationInTheShader) {
             InlinedCopies(CompileContribShader(EveryFeature(options), target));
         const char *what = engine == GpuEngine::kTasks ? "tasks" : "paths";
         EXPECT_EQ(copies["main"], 1u) << what;  // (the reader found the entry point)
-        EXPECT_EQ(copies["RunStack"], 1u) << what;
+        EXPECT_EQ(copies["NextRay"], 1u) << what;  // (the walk: contrib.comp's Run)
+        EXPECT_EQ(copies["ShadeMet"], 1u) << what;
         EXPECT_EQ(copies["AddContribution"], 1u) << what;
         EXPECT_EQ(copies["EvalBin"], 1u) << what;
         EXPECT_EQ(copies["AmbientStep"], 1u) << what;  // (the rows before a slice's too)

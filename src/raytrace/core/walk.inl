@@ -84,15 +84,11 @@ void ShadeMet(INOUT(Ray) r, bool met, INOUT(Hit) h) {
     AddContribution();
 }
 
-// The walk: each ray the stack gives traced (the driver's Intersect) and shaded. A driver that
-// defines DRIVER_KEEPS_CELLS may take a ray instead (its KeepCell(at) true): the GPU's paths
-// engine keeps the first hemisphere's cells' rays so (at 0: the hemisphere's last).
+// The walk: each ray the stack gives traced (the driver's Intersect) and shaded. (The GPU's
+// driver has a loop of its own, the same three calls: contrib.comp's Run.)
 void RunStack() {
     int at;
     while (NextRay(at)) {
-#ifdef DRIVER_KEEPS_CELLS
-        if (KeepCell(at)) continue;
-#endif
         Hit h;
         bool met = Intersect(STACK(at).r, h);
         Ray r = STACK(at).r;

@@ -154,6 +154,7 @@ struct DeviceState {
     ShaderTarget target;      // what its SPIR-V is compiled for (the stack's place: GpuScratch)
     uint32_t item_bytes = 0;  // the shader's stack item (std430), for its scratch
     uint32_t path_start_bytes = 0;  // the paths engine's PathStart (std430)
+    uint32_t walker_bytes = 0;      // and its Walker
     uint64_t dropped = 0;           // stack items lost in its last Trace
     uint32_t reports = 0;           // the core's kReport* flags, likewise
     // For benchmarks: nearest-hit queries traced, the device's seconds per stage (trace, slice
@@ -272,6 +273,7 @@ class VulkanContribEngine : public ContribEngine {
           tasks_per_dispatch_(engine.gpu_tasks_per_dispatch),
           scratch_bytes_(engine.gpu_scratch_bytes),
           paths_(engine.gpu_engine == GpuEngine::kPaths),
+          waves_(engine.gpu_waves),
           path_units_(std::ldexp(
               1.0, core::kPathFixedBits - (options.contributions ? RadianceExponent(packed) : 0))),
           ray_log_capacity_(engine.gpu_ray_log),
@@ -393,7 +395,8 @@ class VulkanContribEngine : public ContribEngine {
         return dev.device->IsCpu() ? cpu : dev.device->ScratchBudget();
     }
     static void TakeStats(DeviceState &dev, const std::vector<uint8_t> &stats,
-                          const std::vector<uint8_t> &log_bytes);
+                          const std::vector<uint8_t> &log_bytes,
+                          const std::vector<int> *bucket_of_stage = nullptr);
 
     std::vector<DeviceState> devices_;
     std::string names_;
@@ -402,6 +405,7 @@ class VulkanContribEngine : public ContribEngine {
     int tasks_per_dispatch_;     // EngineOptions::gpu_tasks_per_dispatch
     uint64_t scratch_bytes_;     // EngineOptions::gpu_scratch_bytes
     bool paths_;                 // EngineOptions::gpu_engine: the paths engine
+    int waves_;                  // EngineOptions::gpu_waves
     double path_units_;          // its fixed point's units to 1 (GpuTasks::path_scale)
     uint64_t ray_log_capacity_;  // EngineOptions::gpu_ray_log
     bool float64_;               // the run asked for doubles (EngineOptions::NeedsFloat64)
@@ -511,7 +515,8 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         named.Set(core::kBindingSliceSums, sum_slices ? G::Accumulator(&accum) : G::In(&none));
         named.Set(core::kBindingRayLog,
                   log_bytes.empty() ? G::In(&none) : G::Accumulator(&log_bytes));
-        named.SetUnused({core::kBindingPathStarts, core::kBindingPathCount}, &none);
+        named.SetUnused({core::kBindingPathStarts, core::kBindingPathCount, core::kBindingWalkers},
+                        &none);
         const std::vector<G::Binding> buffers = named.InOrder(dev.device->RayQueries());
         std::vector<G::Stage> stages = {{&dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize}};
         if (sum_slices)
@@ -549,17 +554,21 @@ uint64_t VulkanContribEngine::LogRoom(const DeviceState &dev) const {
 }
 
 // A dispatch's counts (shaders/common.h's kBindingStats), stage times and logged rays, added to
-// the device's.
+// the device's: stage k's time to entry k, or to entry (*bucket_of_stage)[k].
 void VulkanContribEngine::TakeStats(DeviceState &dev, const std::vector<uint8_t> &stats,
-                                    const std::vector<uint8_t> &log_bytes) {
+                                    const std::vector<uint8_t> &log_bytes,
+                                    const std::vector<int> *bucket_of_stage) {
     uint32_t stat[5];
     std::memcpy(stat, stats.data(), sizeof stat);
     dev.dropped += stat[0];
     dev.reports |= stat[1];
     dev.rays_traced += stat[2] + (uint64_t{stat[4]} << 32);
     const std::vector<double> &seconds = dev.device->LastStageSeconds();
-    dev.stage_seconds.resize(std::max(dev.stage_seconds.size(), seconds.size()));
-    for (size_t k = 0; k < seconds.size(); ++k) dev.stage_seconds[k] += seconds[k];
+    for (size_t k = 0; k < seconds.size(); ++k) {
+        const size_t at = bucket_of_stage ? size_t((*bucket_of_stage)[k]) : k;
+        if (dev.stage_seconds.size() <= at) dev.stage_seconds.resize(at + 1);
+        dev.stage_seconds[at] += seconds[k];
+    }
     const size_t logged = std::min<size_t>(stat[3], log_bytes.size() / (2 * sizeof(core::uvec4)));
     const auto *log = reinterpret_cast<const core::uvec4 *>(log_bytes.data());
     dev.ray_log.insert(dev.ray_log.end(), log, log + 2 * logged);
@@ -669,10 +678,22 @@ void VulkanContribEngine::TracePathsOn(DeviceState &dev, std::vector<uint8_t> &r
         named.Set(core::kBindingPathStarts,
                   cells > 0 ? G::Scratch(cells * dev.path_start_bytes) : G::In(&none));
         named.Set(core::kBindingPathCount, G::ZeroedScratch(sizeof(uint32_t)));
-        dev.device->RunStages({{&dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize, 0},
-                               {&dev.spirv, static_cast<uint32_t>(walkers), kGpuLocalSize, 1}},
-                              named.InOrder(dev.device->RayQueries()));
-        TakeStats(dev, stats, log_bytes);
+        named.Set(core::kBindingWalkers,
+                  walkers > 0 ? G::ZeroedScratch(walkers * dev.walker_bytes) : G::In(&none));
+        // The cells (phase 0); the waves, each its walkers' next rays (2) and their hits (3);
+        // the walk to the end (1). Their times summed by phase: cells, paths, waves' rays, hits.
+        const uint32_t w = static_cast<uint32_t>(walkers);
+        std::vector<G::Stage> stages = {
+            {&dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize, 0}};
+        for (int k = 0; k < waves_; ++k)
+            stages.insert(stages.end(),
+                          {{&dev.spirv, w, kGpuLocalSize, 2}, {&dev.spirv, w, kGpuLocalSize, 3}});
+        stages.push_back({&dev.spirv, w, kGpuLocalSize, 1});
+        dev.device->RunStages(stages, named.InOrder(dev.device->RayQueries()));
+        std::vector<int> phase_of;  // (of the stages that ran: those with invocations)
+        for (const G::Stage &stage : stages)
+            if (stage.invocations > 0) phase_of.push_back(static_cast<int>(stage.phase));
+        TakeStats(dev, stats, log_bytes, &phase_of);
         for (size_t r = 0; r < count / per_record; ++r) {
             const size_t task = offset + r * per_record;
             int64_t *dst = sums.data() + (slices_apart > 0 ? task : task / slices) * record;
@@ -717,7 +738,8 @@ ContribEngine::ReplayResult VulkanContribEngine::ReplayLoggedRays(int passes) {
             named.Set(core::kBindingRayLog, G::OnDevice(log));
             named.SetUnused(
                 {core::kBindingRays, core::kBindingScratchItems, core::kBindingScratchRows,
-                 core::kBindingSliceSums, core::kBindingPathStarts, core::kBindingPathCount},
+                 core::kBindingSliceSums, core::kBindingPathStarts, core::kBindingPathCount,
+                 core::kBindingWalkers},
                 &none);
             const auto start = std::chrono::steady_clock::now();
             dev.device->Run(dev.replay_spirv, static_cast<uint32_t>(count), kGpuLocalSize,
@@ -762,6 +784,16 @@ std::unique_ptr<ContribEngine> CreateVulkanContribEngine(
         });
         engine.gpu_engine = GpuEngine::kTasks;
     }
+    if (engine.gpu_waves > 0 && engine.gpu_engine != GpuEngine::kPaths) {
+        static std::once_flag said;
+        std::call_once(said, [] { Warning("-gpu_waves: the tasks engine has none (ignored)"); });
+        engine.gpu_waves = 0;
+    }
+    // A wave's walkers stop between dispatches: their stacks and rows must be kept in storage
+    // buffers, which a CPU device has only when asked.
+    if (engine.gpu_waves > 0 && engine.scratch == GpuScratch::kOff)
+        throw UserError("-gpu_waves needs -gpu_scratch on (the walkers' stacks kept in memory)");
+    if (engine.gpu_waves > 0) engine.scratch = GpuScratch::kOn;
     ContribShader shader;
     if (!MakeContribShader(packed, options, tracked, make_context, engine, &shader, why))
         return nullptr;
@@ -795,6 +827,9 @@ std::unique_ptr<ContribEngine> CreateVulkanContribEngine(
             dev.path_start_bytes =
                 vk::GpuDevice::RuntimeArrayStride(dev.spirv, uint32_t(core::kBindingPathStarts));
             CHECK(dev.path_start_bytes > 0);  // contrib.comp's DAYFLUX_PATHS declares them
+            dev.walker_bytes =
+                vk::GpuDevice::RuntimeArrayStride(dev.spirv, uint32_t(core::kBindingWalkers));
+            CHECK(dev.walker_bytes > 0);
         }
         // What we generate holds a double only where the run asked for one: the device was
         // opened without shaderFloat64 otherwise.

@@ -49,7 +49,10 @@ CONST int kBindingRayLog = 20;
 // goes on from, the task that made it), and how many the dispatch's tasks made (a uint, zeroed).
 CONST int kBindingPathStarts = 21;
 CONST int kBindingPathCount = 22;
-CONST int kBindingCount = 23;
+// The paths engine's walkers between the dispatches of its waves (contrib.comp's Walker), zeroed
+// at the start of a run.
+CONST int kBindingWalkers = 23;
+CONST int kBindingCount = 24;
 // The paths engine's records in fixed point: an entry counts units of 2^-kPathFixedBits (3.6e-15,
 // so that an add below 1.8e-15 is lost), up to 2^63 of them (32768); a single add at most 2^61
 // (8192), so that sums of a few do not wrap (a sum that passes 2^63 is caught: kReportFixedSum).

@@ -139,10 +139,9 @@ layout(std430, set = 0, binding = kBindingPathCount) buffer PathCount { uint pat
 // Phase 0, once its task's sources are walked and its cells pushed: the walk's rays are those
 // cells', each kept with the random state its path goes on from (as the core's NextCell gives
 // them to the CPU) in the next free slot, not traced. (The walk takes them, so that the
-// hemisphere's steps are compiled once: walk.inl's RunStack.)
+// hemisphere's steps are compiled once: Run.)
 bool keeping_cells;
 uint keeping_task;
-#define DRIVER_KEEPS_CELLS
 bool KeepCell(int at) {
     if (!keeping_cells) return false;
     uint slot = atomicAdd(path_count, 1u);
@@ -385,7 +384,10 @@ bool InputRay(uint local_task, out vec3 org, out vec3 dir, out uint index, out u
 }
 
 #ifdef DAYFLUX_PATHS
-layout(push_constant) uniform Phase { uint phase; };  // 0: the tasks' cells, 1: their paths
+// 0: the tasks' cells; 1: the walkers' paths, to the last; 2 and 3: a wave of them, each walker
+// taking its path to its next ray (2), then that ray's nearest hit found (3), the walkers' state
+// kept between the dispatches (Walker). Any number of waves before phase 1 gives the same sums.
+layout(push_constant) uniform Phase { uint phase; };
 
 // The record a task adds to: its ray's (or its slice's, with tasks_per_record 1).
 uint RecordOf(uint local_task) {
@@ -399,25 +401,79 @@ bool StartPath(uint g) {
     StartCellPath(path_starts[g].r, path_starts[g].state, path_starts[g].last != 0);
     return true;
 }
+
+// A walker between dispatches: its path's place (the stack and rows stay in its scratch), the
+// ray it stopped at and, once found, that ray's hit (Intersect's fields).
+CONST int kWalkerNew = 0;      // (zeroed) its first path not started
+CONST int kWalkerTracing = 1;  // its ray `at` waits for its hit
+CONST int kWalkerFound = 2;    // and has it
+CONST int kWalkerDone = 3;
+struct Walker {
+    vec3 point;
+    int status;
+    vec3 normal;
+    float t;
+    int top, at, surface, object;
+    uint rng, g, acc_base;
+    int met_planar;  // bit 0: met; bit 1: planar
+};
+layout(std430, set = 0, binding = kBindingWalkers) buffer Walkers { Walker walkers_state[]; };
+
+// Walker w's state taken up (false where it has no path left): its path g and, where it
+// stopped at a ray, `at` and whether its hit was found (met, h).
+bool Resume(uint w, inout uint g, out int at, out bool found, out bool met, out Hit h) {
+    Walker s = walkers_state[w];
+    at = -1;
+    found = false;
+    met = false;
+    if (s.status == kWalkerNew) return StartPath(g);
+    if (s.status == kWalkerDone) return false;
+    top = s.top;
+    rng = s.rng;
+    g = s.g;
+    acc_base = s.acc_base;
+    at = s.at;
+    found = s.status == kWalkerFound;
+    met = (s.met_planar & 1) != 0;
+    h.point = s.point;
+    h.normal = s.normal;
+    h.t = s.t;
+    h.surface = s.surface;
+    h.object = s.object;
+    h.planar = (s.met_planar & 2) != 0;
+    return true;
+}
+
+// Walker w stops at ray `at`, its hit found or not.
+void Suspend(uint w, uint g, int at, bool found, bool met, Hit h) {
+    walkers_state[w] = Walker(h.point, found ? kWalkerFound : kWalkerTracing, h.normal, h.t, top,
+                              at, h.surface, h.object, rng, g, acc_base,
+                              (met ? 1 : 0) | (h.planar ? 2 : 0));
+}
 #else
 uint RecordOf(uint local_task) { return local_task * uint(tasks.ncols * 3); }
 #endif
 
 // Invocation `invocation`'s work: a task's input ray, its sources and then its first
 // hemisphere's cells, traced (the paths engine's phase 0: the cells kept, KeepCell); or, in the
-// paths engine's phase 1, the cells' paths, taken in turn by the dispatch's invocations (the
-// host lays its groups all along x, so that their number is the stride). One call of RunStack
-// walks them all (walk.inl's StartInput).
+// paths engine's other phases, the cells' paths, taken in turn by the dispatch's invocations (the
+// host lays its groups all along x, so that their number is the stride). The stack is walked
+// (the core's NextRay, the driver's Intersect, the core's ShadeMet, as the CPU's RunStack) in one
+// place, so that GPU compilers, which inline every call, compile the shading code once.
 void Run(uint invocation) {
     UseScratch(invocation);
     vec3 org, dir;
     uint index, slice;
+    int at = -1;         // a ray resumed (the paths engine's waves)
+    bool found = false;  // and its hit (met, h)
+    bool met = false;
+    Hit h;
 #ifdef DAYFLUX_PATHS
     uint g = invocation, walkers = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    bool walking = phase == 1u;
+    bool walking = phase != 0u;
     keeping_cells = false;
     keeping_task = invocation;
-    if (walking && !StartPath(g)) return;
+    if (walking && !Resume(invocation, g, at, found, met, h)) return;
 #else
     const bool walking = false;
 #endif
@@ -429,12 +485,40 @@ void Run(uint invocation) {
     }
     bool cells_pushed = false;
     DONT_UNROLL while (true) {
-        RunStack();
+        int next;  // (an out argument is undefined where NextRay leaves it unwritten)
+        if (at < 0 && NextRay(next)) {
+            at = next;
+#ifdef DAYFLUX_PATHS
+            if (KeepCell(at)) {
+                at = -1;
+                continue;
+            }
+            if (phase == 2u) {  // the wave's hits are the next dispatch's
+                Suspend(invocation, g, at, false, false, h);
+                return;
+            }
+#endif
+        }
+        if (at >= 0) {
+            if (!found) met = Intersect(STACK(at).r, h);
+#ifdef DAYFLUX_PATHS
+            if (phase == 3u) {
+                Suspend(invocation, g, at, true, met, h);
+                return;
+            }
+#endif
+            Ray r = STACK(at).r;
+            ShadeMet(r, met, h);
+            at = -1;
+            found = false;
+            continue;
+        }
 #ifdef DAYFLUX_PATHS
         if (walking) {
             g += walkers;
-            if (!StartPath(g)) return;
-            continue;
+            if (StartPath(g)) continue;
+            walkers_state[invocation].status = kWalkerDone;
+            return;
         }
         keeping_cells = true;  // (the sources are walked: what the walk gives next is cells)
 #endif
