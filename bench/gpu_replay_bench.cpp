@@ -77,10 +77,12 @@ double Total(const std::vector<double> &v) {
 int Main(int argc, char **argv) {
     std::vector<std::string> args(argv, argv + argc);
     size_t every = 1, repeat = 3, log_rays = size_t(1) << 24, scratch_mib = 0;
-    bench::TakeCounts(&args, {{"-record_every", &every},
-                              {"-repeat", &repeat},
-                              {"-log_rays", &log_rays},
-                              {"-scratch_mib", &scratch_mib}});
+    bench::TakeCounts(&args,
+                      {{"-record_every", &every},
+                       {"-repeat", &repeat},
+                       {"-log_rays", &log_rays},
+                       {"-scratch_mib", &scratch_mib}},
+                      {"-scratch_mib"});  // (0: the device's budget)
     std::vector<std::string> header;
     const RcontribOptions o = ParseRcontribOptions(args, &header);
     if (o.engine.backend != "vulkan") ErrorExit("the replay measures the Vulkan backend");

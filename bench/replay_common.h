@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <iostream>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -12,12 +13,14 @@
 
 namespace dayflux::bench {
 
-// Takes the leading "-name N" options named in values (each N a whole number, at least 1) off
-// args, leaving rcontrib-gpu's options and scene.
+// Takes the leading "-name N" options named in values (each N a whole number, at least 1, or 0
+// for those in zero_allowed) off args, leaving rcontrib-gpu's options and scene.
 inline void TakeCounts(std::vector<std::string> *args,
-                       const std::map<std::string, size_t *> &values) {
+                       const std::map<std::string, size_t *> &values,
+                       const std::set<std::string> &zero_allowed = {}) {
     while (args->size() > 2 && values.count((*args)[1])) {
-        *values.at((*args)[1]) = std::max<size_t>(1, std::stoul((*args)[2]));
+        const size_t least = zero_allowed.count((*args)[1]) ? 0 : 1;
+        *values.at((*args)[1]) = std::max<size_t>(least, std::stoul((*args)[2]));
         args->erase(args->begin() + 1, args->begin() + 3);
     }
 }
