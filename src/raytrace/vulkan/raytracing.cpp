@@ -837,16 +837,24 @@ void GpuDevice::RunStages(const std::vector<Stage> &stages, const std::vector<Bi
     // With ray queries the acceleration structure is binding 0 and the buffers follow it.
     const uint32_t first = d.ray_queries ? 1 : 0;
     const uint32_t nb = static_cast<uint32_t>(bindings.size());
-    // The stages with invocations. (Two codes of one key would evict each other's pipeline
-    // from the cache while the other is held: refused.)
+    // The stages with invocations, each code's pipeline looked up once (its key hashes the
+    // whole code, and a run of waves has thousands of stages of one code). (Two codes of one key
+    // would evict each other's pipeline from the cache while the other is held: refused.)
     std::vector<std::pair<Stage, const Pipeline *>> runs;
-    for (size_t k = 0; k < stages.size(); ++k) {
-        CHECK(stages[k].local_size_x > 0);
-        for (size_t e = 0; e < k; ++e)
-            CHECK(PipelineKey(*stages[e].spirv, nb) != PipelineKey(*stages[k].spirv, nb) ||
-                  *stages[e].spirv == *stages[k].spirv);
-        if (stages[k].invocations > 0)
-            runs.push_back({stages[k], &PipelineFor(d, *stages[k].spirv, nb)});
+    std::vector<std::pair<const std::vector<uint32_t> *, const Pipeline *>> codes;
+    for (const Stage &stage : stages) {
+        CHECK(stage.local_size_x > 0);
+        if (stage.invocations == 0) continue;
+        auto code = std::find_if(codes.begin(), codes.end(),
+                                 [&](const auto &c) { return c.first == stage.spirv; });
+        if (code == codes.end()) {
+            for (const auto &c : codes)
+                CHECK(PipelineKey(*c.first, nb) != PipelineKey(*stage.spirv, nb) ||
+                      *c.first == *stage.spirv);
+            codes.push_back({stage.spirv, &PipelineFor(d, *stage.spirv, nb)});
+            code = codes.end() - 1;
+        }
+        runs.push_back({stage, code->second});
     }
     d.stage_seconds.clear();
     if (runs.empty()) return;
