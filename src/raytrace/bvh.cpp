@@ -3,7 +3,6 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
-#include <cstring>
 #include <mutex>
 #include <new>
 
@@ -77,21 +76,21 @@ void Flatten(const Node *n, const float lo[3], const float hi[3], FlatBvh *out) 
     Flatten(n->child[1], n->lo[1], n->hi[1], out);
 }
 
-// Child `flat` of a packed node: its bounds, and its reference in lo's w (tables.h).
-void SetChild(const FlatBvh &bvh, const std::vector<int32_t> &packed_index, int32_t flat,
-              core::vec4 *lo, core::vec4 *hi) {
+// Child `flat` of a packed node: its bounds and its reference (tables.h).
+core::PackedBvhChild Child(const FlatBvh &bvh, const std::vector<int32_t> &packed_index,
+                           int32_t flat) {
     const FlatBvhNode &n = bvh.nodes[flat];
-    int32_t ref = packed_index[flat];
+    core::PackedBvhChild c{};
+    c.lo = core::vec3(n.lo[0], n.lo[1], n.lo[2]);
+    c.hi = core::vec3(n.hi[0], n.hi[1], n.hi[2]);
+    c.ref = packed_index[flat];
     if (n.count > 0) {
         CHECK(n.count < (1 << core::kBvhLeafCountBits));  // (the builder's maxLeafSize)
         if (n.index >= (1 << (31 - core::kBvhLeafCountBits)))
             ErrorExit("more than 2^28 surfaces: beyond the GPU's own BVH walk (-backend embree)");
-        ref = ~(n.index << core::kBvhLeafCountBits | n.count);
+        c.ref = ~(n.index << core::kBvhLeafCountBits | n.count);
     }
-    float w;
-    std::memcpy(&w, &ref, sizeof w);
-    *lo = core::vec4(n.lo[0], n.lo[1], n.lo[2], w);
-    *hi = core::vec4(n.hi[0], n.hi[1], n.hi[2], 0.f);
+    return c;
 }
 
 }  // namespace
@@ -104,16 +103,14 @@ std::vector<core::PackedBvhNode> PackBvh(const FlatBvh &bvh) {
         if (bvh.nodes[i].count == 0)
             packed_index[i] = static_cast<int32_t>(out.size()), out.emplace_back();
     if (out.empty()) {  // a root that is a leaf: both children of a root of its own
-        out.emplace_back();
-        SetChild(bvh, packed_index, 0, &out[0].lo0, &out[0].hi0);
-        SetChild(bvh, packed_index, 0, &out[0].lo1, &out[0].hi1);
+        const core::PackedBvhChild leaf = Child(bvh, packed_index, 0);
+        out.push_back(core::PackedBvhNode{{leaf, leaf}});
         return out;
     }
     for (size_t i = 0; i < bvh.nodes.size(); ++i) {
         if (bvh.nodes[i].count != 0) continue;
-        core::PackedBvhNode &p = out[packed_index[i]];
-        SetChild(bvh, packed_index, static_cast<int32_t>(i) + 1, &p.lo0, &p.hi0);
-        SetChild(bvh, packed_index, bvh.nodes[i].index, &p.lo1, &p.hi1);
+        out[packed_index[i]] = core::PackedBvhNode{{Child(bvh, packed_index, int32_t(i) + 1),
+                                                    Child(bvh, packed_index, bvh.nodes[i].index)}};
     }
     return out;
 }

@@ -14,10 +14,14 @@
 
 namespace dayflux {
 
-// The std430 layouts the shader sees: vec4s and 4-byte scalars.
+// The std430 layouts the shader sees: vec4s, vec3s each followed by a 4-byte scalar, and 4-byte
+// scalars.
 static_assert(sizeof(core::PackedTriangle) == 32 && sizeof(core::PackedSurface) == 64);
 static_assert(sizeof(core::PackedSource) == 144 && sizeof(core::PackedShape) == 48);
 static_assert(sizeof(core::PackedBvhNode) == 64 && offsetof(core::PackedSurface, kind) == 32);
+static_assert(offsetof(core::PackedBvhChild, ref) == 12 &&
+              offsetof(core::PackedBvhChild, hi) == 16);
+static_assert(sizeof(core::PackedBvhEntry) == 48 && offsetof(core::PackedBvhEntry, edge2) == 32);
 
 namespace {
 

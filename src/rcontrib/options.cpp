@@ -307,8 +307,10 @@ class Parser : public OptionCursor {
             o_.engine.gpu_engine = Choice<GpuEngine>(a, Value(a), {"tasks", "paths"});
         } else if (a == "-gpu_waves") {  // the paths engine's waves before its walk
             o_.engine.gpu_waves = Integer(a);
-            if (o_.engine.gpu_waves < 0 || o_.engine.gpu_waves > 100000)
-                ErrorExit("-gpu_waves: a whole number from 0 to 100000");
+            // (each wave two dispatches in one submission: a display GPU's watchdog may end a
+            // submission of seconds)
+            if (o_.engine.gpu_waves < 0 || o_.engine.gpu_waves > 10000)
+                ErrorExit("-gpu_waves: a whole number from 0 to 10000");
         } else if (a == "-gpu_cal") {  // the GPU's bins and patterns
             o_.engine.gpu_double_cal = Choice<int>(a, Value(a), {"float", "double"}) == 1;
         } else if (a == "-gpu_scratch") {

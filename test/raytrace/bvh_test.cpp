@@ -4,7 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <random>
 
 namespace dayflux {
@@ -86,24 +85,22 @@ TEST(Bvh, PackedForTheGpuReachesEveryBoxOnce) {
             stack.pop_back();
             ASSERT_LT(at, static_cast<int32_t>(packed.size()));
             const core::PackedBvhNode &node = packed[at];
-            const core::vec4 *children[2][2] = {{&node.lo0, &node.hi0}, {&node.lo1, &node.hi1}};
             for (int c = 0; c < (n == 1 ? 1 : 2); ++c) {  // (a lone leaf is both children)
-                const core::vec4 &lo = *children[c][0], &hi = *children[c][1];
-                int32_t ref;
-                std::memcpy(&ref, &lo.w, sizeof ref);
-                if (ref >= 0) {
-                    ASSERT_GT(ref, at);  // depth first: no cycles
-                    stack.push_back(ref);
+                const core::PackedBvhChild &child = node.child[c];
+                if (child.ref >= 0) {
+                    ASSERT_GT(child.ref, at);  // depth first: no cycles
+                    stack.push_back(child.ref);
                     continue;
                 }
-                const int first = ~ref >> core::kBvhLeafCountBits;
-                const int count = ~ref & ((1 << core::kBvhLeafCountBits) - 1);
+                const int first = ~child.ref >> core::kBvhLeafCountBits;
+                const int count = ~child.ref & ((1 << core::kBvhLeafCountBits) - 1);
                 ASSERT_GT(count, 0);
-                const float l[3] = {lo.x, lo.y, lo.z}, h[3] = {hi.x, hi.y, hi.z};
+                const float lo[3] = {child.lo.x, child.lo.y, child.lo.z};
+                const float hi[3] = {child.hi.x, child.hi.y, child.hi.z};
                 for (int i = first; i < first + count; ++i) {
                     const int p = bvh.prims[i];
                     ++seen[p];
-                    EXPECT_TRUE(Contains(l, h, &boxes[6 * p]));
+                    EXPECT_TRUE(Contains(lo, hi, &boxes[6 * p]));
                 }
             }
         }

@@ -1,8 +1,8 @@
 // The scene as the estimator core reads it: packed tables of surfaces, sources, analytic shapes,
 // triangles and BSDF data, built once on the host (raytrace/packing.h) and read by both drivers:
-// from memory on the CPU, from storage buffers on the GPU. Every struct is made of vec4s and
-// 4-byte scalars in multiples of four, so the std430 layout and the C++ layout agree without
-// padding rules (static_asserts in packing.cpp).
+// from memory on the CPU, from storage buffers on the GPU. Every struct is made of vec4s, vec3s
+// each followed by a 4-byte scalar, and 4-byte scalars in multiples of four, so the std430 layout
+// and the C++ layout agree without padding rules (static_asserts in packing.cpp).
 #ifndef DAYFLUX_CORE_TABLES_H
 #define DAYFLUX_CORE_TABLES_H
 
@@ -38,13 +38,28 @@ CONST int kMatAntimatter = 10;
 
 // An inner node of the BVH the GPU walks where it has no ray queries (raytrace/bvh.h's
 // PackBvh): its two children's bounds, so that one load tests both and the nearer is walked
-// first. Each child's reference is in its lo's w, as an int's bits: an inner node's index, or a
-// leaf's ~(first << kBvhLeafCountBits | count), its primitives bvh_prims[first .. first + count
-// - 1]. Node 0 is the root.
+// first. A child's reference is an inner node's index, or a leaf's ~(first << kBvhLeafCountBits
+// | count), its entries bvh_prims[first .. first + count - 1]. Node 0 is the root.
+struct PackedBvhChild {
+    vec3 lo;
+    int ref;
+    vec3 hi;
+    int pad;
+};
 struct PackedBvhNode {
-    vec4 lo0, hi0, lo1, hi1;  // the children's bounds (xyz); lo's w: the child's reference
+    PackedBvhChild child[2];
 };
 CONST int kBvhLeafCountBits = 3;  // a leaf holds at most 7 primitives
+// A leaf's entry: a triangle's corner and its two edges from it (what the walk's test takes), or
+// an analytic shape; index: the triangle, or -(shape + 1).
+struct PackedBvhEntry {
+    vec3 corner;
+    int index;
+    vec3 edge1;
+    int pad0;
+    vec3 edge2;
+    int pad1;
+};
 
 struct PackedTriangle {
     vec4 normal;  // unit geometric normal (triangle winding); w unused

@@ -116,25 +116,19 @@ struct Geometry {
         const FlatBvh bvh = dayflux::BuildBvh(bounds);
         const int32_t ntri = static_cast<int32_t>(indices.size() / 3);
         bvh_nodes = Bytes(PackBvh(bvh));
-        // The leaves' entries in their order, three vec4s each (common.h): a triangle's corner
-        // a and its edges from a (in float, as the shader would take them: the same bits), or a
-        // shape; each with its index in a's w.
-        std::vector<core::vec4> prims;
-        prims.reserve(3 * bvh.prims.size());
-        for (int32_t p : bvh.prims) {
-            const int32_t entry = p >= ntri ? -(p - ntri + 1) : p;
-            float bits;
-            std::memcpy(&bits, &entry, sizeof bits);
-            core::vec3 a(0.f), e1(0.f), e2(0.f);
-            if (entry >= 0) {
-                a = Corner(3 * size_t(entry));
-                e1 = Corner(3 * size_t(entry) + 1) - a;
-                e2 = Corner(3 * size_t(entry) + 2) - a;
-            }
-            prims.insert(prims.end(),
-                         {core::vec4(a, bits), core::vec4(e1, 0.f), core::vec4(e2, 0.f)});
+        // The leaves' entries in their order: a triangle's corner and its edges from it (in
+        // float, as the shader would take them: the same bits), or a shape.
+        std::vector<core::PackedBvhEntry> entries(bvh.prims.size());
+        for (size_t i = 0; i < entries.size(); ++i) {
+            const int32_t p = bvh.prims[i];
+            core::PackedBvhEntry &e = entries[i];
+            e.index = p >= ntri ? -(p - ntri + 1) : p;
+            if (e.index < 0) continue;
+            e.corner = Corner(3 * size_t(p));
+            e.edge1 = Corner(3 * size_t(p) + 1) - e.corner;
+            e.edge2 = Corner(3 * size_t(p) + 2) - e.corner;
         }
-        bvh_prims = Bytes(prims);
+        bvh_prims = Bytes(entries);
     }
     core::vec3 Corner(size_t k) const {
         const float *v = &positions[3 * size_t(indices[k])];
@@ -836,6 +830,11 @@ std::unique_ptr<ContribEngine> CreateVulkanContribEngine(
         CHECK(engine.NeedsFloat64() ||
               (!vk::GpuDevice::UsesFloat64(dev.spirv) &&
                (dev.sum_spirv.empty() || !vk::GpuDevice::UsesFloat64(dev.sum_spirv))));
+        if (!dev.target.ray_queries)  // (our BVH's tables as the shader lays them out)
+            CHECK(vk::GpuDevice::RuntimeArrayStride(dev.spirv, uint32_t(core::kBindingScene)) ==
+                      sizeof(core::PackedBvhNode) &&
+                  vk::GpuDevice::RuntimeArrayStride(dev.spirv, uint32_t(core::kBindingBvhPrims)) ==
+                      sizeof(core::PackedBvhEntry));
         if (dev.target.scratch) {
             dev.item_bytes =
                 vk::GpuDevice::RuntimeArrayStride(dev.spirv, uint32_t(core::kBindingScratchItems));

@@ -25,9 +25,7 @@ CONST int kBindingTasks = 8;      // GpuTasks: what this dispatch does
 // word), rays logged (DAYFLUX_RAY_LOG), nearest-hit queries (high word)
 CONST int kBindingStats = 9;
 CONST int kBindingShapes = 10;    // PackedShape per analytic surface (procedural boxes)
-// A BVH leaf's entries in leaf order, 3 vec4s each: a triangle's corner, with its index in w (as
-// an int's bits; -(shape + 1) for an analytic shape), and its two edges from that corner.
-CONST int kBindingBvhPrims = 11;
+CONST int kBindingBvhPrims = 11;  // PackedBvhEntry per leaf entry, in leaf order
 CONST int kBindingKlems = 12;     // float: the BSDF materials' Klems data
 CONST int kBindingRelays = 13;    // vec4: the mirrors that relay sources (PackedSource.relay)
 CONST int kBindingTracked = 14;   // ivec4 per tracked modifier (tables.h's kTracked*)

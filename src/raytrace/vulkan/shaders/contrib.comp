@@ -27,7 +27,9 @@
 layout(local_size_x = LOCAL_SIZE) in;
 #ifdef DAYFLUX_BVH
 layout(std430, set = 0, binding = kBindingScene) readonly buffer Bvh { PackedBvhNode bvh_nodes[]; };
-layout(std430, set = 0, binding = kBindingBvhPrims) readonly buffer BvhPrims { vec4 bvh_prims[]; };
+layout(std430, set = 0, binding = kBindingBvhPrims) readonly buffer BvhPrims {
+    PackedBvhEntry bvh_prims[];
+};
 #else
 layout(set = 0, binding = kBindingScene) uniform accelerationStructureEXT scene;
 #endif
@@ -204,8 +206,8 @@ float IntersectTriangle(vec3 a, vec3 e1, vec3 e2, vec3 org, vec3 dir, float tmin
 // Where a ray (its inverse direction inv) enters a box within [tmin, t], or kNoEntry where it
 // misses it (a hair of slack, for boxes as thin as the polygons they hold).
 const float kNoEntry = 3e38;
-float BoxEntry(vec3 lo, vec3 hi, vec3 org_inv, vec3 inv, float tmin, float t) {
-    vec3 t0 = fma(lo, inv, -org_inv), t1 = fma(hi, inv, -org_inv);
+float BoxEntry(vec3 lo, vec3 hi, vec3 org, vec3 inv, float tmin, float t) {
+    vec3 t0 = (lo - org) * inv, t1 = (hi - org) * inv;
     vec3 tn = min(t0, t1), tf = max(t0, t1);
     float enter = max(max(tn.x, tn.y), max(tn.z, tmin));
     float leave = min(min(tf.x, tf.y), min(tf.z, t));
@@ -224,16 +226,16 @@ bool Closest(vec3 org, vec3 dir, int from, out float t, out int prim, out int sh
     if (bvh_nodes.length() == 0) return false;
     float tmin = StartOf(from);
     vec3 safe = mix(vec3(1e-20), -vec3(1e-20), lessThan(dir, vec3(0)));
-    vec3 inv = 1.0 / mix(dir, safe, lessThan(abs(dir), vec3(1e-20))), org_inv = org * inv;
+    vec3 inv = 1.0 / mix(dir, safe, lessThan(abs(dir), vec3(1e-20)));
     int todo[64];
     float todo_entry[64];
     int sp = 0, ref = 0;  // ref: a node's index, or a leaf's ~(first << bits | count)
     while (true) {
         if (ref >= 0) {
             PackedBvhNode n = bvh_nodes[ref];
-            float e0 = BoxEntry(n.lo0.xyz, n.hi0.xyz, org_inv, inv, tmin, t);
-            float e1 = BoxEntry(n.lo1.xyz, n.hi1.xyz, org_inv, inv, tmin, t);
-            int r0 = floatBitsToInt(n.lo0.w), r1 = floatBitsToInt(n.lo1.w);
+            float e0 = BoxEntry(n.child[0].lo, n.child[0].hi, org, inv, tmin, t);
+            float e1 = BoxEntry(n.child[1].lo, n.child[1].hi, org, inv, tmin, t);
+            int r0 = n.child[0].ref, r1 = n.child[1].ref;
             if (e1 < e0) {
                 float e = e0; e0 = e1; e1 = e;
                 int r = r0; r0 = r1; r1 = r;
@@ -249,11 +251,10 @@ bool Closest(vec3 org, vec3 dir, int from, out float t, out int prim, out int sh
         } else {
             int first = ~ref >> kBvhLeafCountBits, count = ~ref & ((1 << kBvhLeafCountBits) - 1);
             for (int i = first; i < first + count; ++i) {
-                vec4 a = bvh_prims[3 * i];
-                int p = floatBitsToInt(a.w);
+                PackedBvhEntry e = bvh_prims[i];
+                int p = e.index;
                 if (p >= 0) {
-                    float th = IntersectTriangle(a.xyz, bvh_prims[3 * i + 1].xyz,
-                                                 bvh_prims[3 * i + 2].xyz, org, dir, tmin, t);
+                    float th = IntersectTriangle(e.corner, e.edge1, e.edge2, org, dir, tmin, t);
                     if (th > 0 && !OwnTriangle(p, from, th)) { t = th; prim = p; shape = -1; }
                 } else {
                     float th = ShapeDistance(-p - 1, org, dir, ShapeStart(-p - 1, from), t);
