@@ -224,6 +224,9 @@ CONST uint kReportFixedRange = 8u;
 // A record's sum in that fixed point passed its range (2^63 units: 32768 times its scale), so that
 // its values are wrong; set by that driver alone.
 CONST uint kReportFixedSum = 16u;
+// A wave's walker that stopped at a ray found it untraced at the next wave (an invariant of that
+// driver's queue, which its host checks).
+CONST uint kReportWaveMissed = 32u;
 
 #ifdef __cplusplus
 }  // namespace dayflux::core

@@ -22,7 +22,7 @@ namespace dayflux {
 namespace {
 
 // std430's layouts of these are their C++ layouts: no padding between their members.
-static_assert(sizeof(core::GpuTasks) == 52 && offsetof(core::GpuTasks, tmin) == 32);
+static_assert(sizeof(core::GpuTasks) == 56 && offsetof(core::GpuTasks, tmin) == 32);
 static_assert(sizeof(core::GpuParameters) == 84 && offsetof(core::GpuParameters, lw) == 24 &&
               offsetof(core::GpuParameters, ab) == 44 && offsetof(core::GpuParameters, seed) == 80);
 
@@ -350,6 +350,7 @@ class VulkanContribEngine : public ContribEngine {
             dev.dropped = 0, dev.reports = 0;
         }
         WarnCoreReports(reports, lost);
+        CHECK((reports & core::kReportWaveMissed) == 0);  // (every stopped walker was queued)
         if (reports & core::kReportFixedSum)
             throw UserError(
                 "a sum passed the GPU paths engine's fixed point (32768 times its sources' "
@@ -509,7 +510,8 @@ void VulkanContribEngine::TraceOn(DeviceState &dev, const double *rays, size_t n
         named.Set(core::kBindingSliceSums, sum_slices ? G::Accumulator(&accum) : G::In(&none));
         named.Set(core::kBindingRayLog,
                   log_bytes.empty() ? G::In(&none) : G::Accumulator(&log_bytes));
-        named.SetUnused({core::kBindingPathStarts, core::kBindingPathCount, core::kBindingWalkers},
+        named.SetUnused({core::kBindingPathStarts, core::kBindingPathCount, core::kBindingWalkers,
+                         core::kBindingWaveQueue},
                         &none);
         const std::vector<G::Binding> buffers = named.InOrder(dev.device->RayQueries());
         std::vector<G::Stage> stages = {{&dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize}};
@@ -652,6 +654,7 @@ void VulkanContribEngine::TracePathsOn(DeviceState &dev, std::vector<uint8_t> &r
         tasks.path_capacity = static_cast<int>(cells);
         tasks.tasks_per_record = static_cast<int>(per_record);
         tasks.path_scale = static_cast<float>(path_units_);
+        tasks.waves = waves_;
         tasks.log_capacity = static_cast<int>(LogRoom(dev));
         std::vector<uint8_t> task_bytes(sizeof tasks), stats(20, 0);
         std::memcpy(task_bytes.data(), &tasks, sizeof tasks);
@@ -674,19 +677,24 @@ void VulkanContribEngine::TracePathsOn(DeviceState &dev, std::vector<uint8_t> &r
         named.Set(core::kBindingPathCount, G::ZeroedScratch(sizeof(uint32_t)));
         named.Set(core::kBindingWalkers,
                   walkers > 0 ? G::ZeroedScratch(walkers * dev.walker_bytes) : G::In(&none));
-        // The cells (phase 0); the waves, each its walkers' next rays (2) and their hits (3);
-        // the walk to the end (1). Their times summed by phase: cells, paths, waves' rays, hits.
+        named.Set(core::kBindingWaveQueue, walkers > 0 && waves_ > 0
+                                               ? G::ZeroedScratch((waves_ + walkers) * 4)
+                                               : G::In(&none));
+        // The cells (phase 0); wave k, its walkers' next rays (2 + 2k) and their hits (3 + 2k);
+        // the walk to the end (1). Their times summed: cells, paths, waves' rays, waves' hits.
         const uint32_t w = static_cast<uint32_t>(walkers);
         std::vector<G::Stage> stages = {
             {&dev.spirv, static_cast<uint32_t>(count), kGpuLocalSize, 0}};
-        for (int k = 0; k < waves_; ++k)
-            stages.insert(stages.end(),
-                          {{&dev.spirv, w, kGpuLocalSize, 2}, {&dev.spirv, w, kGpuLocalSize, 3}});
+        for (uint32_t k = 0; k < uint32_t(waves_); ++k)
+            stages.insert(stages.end(), {{&dev.spirv, w, kGpuLocalSize, 2 + 2 * k},
+                                         {&dev.spirv, w, kGpuLocalSize, 3 + 2 * k}});
         stages.push_back({&dev.spirv, w, kGpuLocalSize, 1});
         dev.device->RunStages(stages, named.InOrder(dev.device->RayQueries()));
         std::vector<int> phase_of;  // (of the stages that ran: those with invocations)
         for (const G::Stage &stage : stages)
-            if (stage.invocations > 0) phase_of.push_back(static_cast<int>(stage.phase));
+            if (stage.invocations > 0)
+                phase_of.push_back(stage.phase < 2 ? int(stage.phase)
+                                                   : 2 + int(stage.phase % 2 == 1));
         TakeStats(dev, stats, log_bytes, &phase_of);
         for (size_t r = 0; r < count / per_record; ++r) {
             const size_t task = offset + r * per_record;
@@ -733,7 +741,7 @@ ContribEngine::ReplayResult VulkanContribEngine::ReplayLoggedRays(int passes) {
             named.SetUnused(
                 {core::kBindingRays, core::kBindingScratchItems, core::kBindingScratchRows,
                  core::kBindingSliceSums, core::kBindingPathStarts, core::kBindingPathCount,
-                 core::kBindingWalkers},
+                 core::kBindingWalkers, core::kBindingWaveQueue},
                 &none);
             const auto start = std::chrono::steady_clock::now();
             dev.device->Run(dev.replay_spirv, static_cast<uint32_t>(count), kGpuLocalSize,

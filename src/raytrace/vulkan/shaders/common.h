@@ -50,7 +50,10 @@ CONST int kBindingPathCount = 22;
 // The paths engine's walkers between the dispatches of its waves (contrib.comp's Walker), zeroed
 // at the start of a run.
 CONST int kBindingWalkers = 23;
-CONST int kBindingCount = 24;
+// uint: each wave's count of walkers stopped at a ray (tasks.waves of them, zeroed), then the
+// latest wave's walkers, in the order they stopped: its hits' dispatch takes them packed.
+CONST int kBindingWaveQueue = 24;
+CONST int kBindingCount = 25;
 // The paths engine's records in fixed point: an entry counts units of 2^-kPathFixedBits (3.6e-15,
 // so that an add below 1.8e-15 is lost), up to 2^63 of them (32768); a single add at most 2^61
 // (8192), so that sums of a few do not wrap (a sum that passes 2^63 is caught: kReportFixedSum).
@@ -81,6 +84,7 @@ struct GpuTasks {
     // and its fixed point's units a unit of the records (2^kPathFixedBits, or less for -V+ runs
     // whose sources' radiance is above 1: a power of 2)
     float path_scale;
+    int waves;  // the paths engine's waves (EngineOptions::gpu_waves; kBindingWaveQueue)
 };
 
 #ifdef __cplusplus

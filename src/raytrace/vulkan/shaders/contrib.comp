@@ -385,10 +385,15 @@ bool InputRay(uint local_task, out vec3 org, out vec3 dir, out uint index, out u
 }
 
 #ifdef DAYFLUX_PATHS
-// 0: the tasks' cells; 1: the walkers' paths, to the last; 2 and 3: a wave of them, each walker
-// taking its path to its next ray (2), then that ray's nearest hit found (3), the walkers' state
-// kept between the dispatches (Walker). Any number of waves before phase 1 gives the same sums.
+// 0: the tasks' cells; 1: the walkers' paths, to the last; 2 + 2k and 3 + 2k: wave k of them,
+// each walker taking its path to its next ray (2 + 2k), then those rays' nearest hits found
+// (3 + 2k), the walkers' state kept between the dispatches (Walker). Any number of waves before
+// phase 1 gives the same sums.
 layout(push_constant) uniform Phase { uint phase; };
+bool WaveRays() { return phase >= 2u && (phase & 1u) == 0u; }
+bool WaveHits() { return phase >= 3u && (phase & 1u) == 1u; }
+uint Wave() { return (phase - 2u) / 2u; }
+layout(std430, set = 0, binding = kBindingWaveQueue) buffer WaveQueue { uint wave_queue[]; };
 
 // The record a task adds to: its ray's (or its slice's, with tasks_per_record 1).
 uint RecordOf(uint local_task) {
@@ -429,6 +434,7 @@ bool Resume(uint w, inout uint g, out int at, out bool found, out bool met, out 
     met = false;
     if (s.status == kWalkerNew) return StartPath(g);
     if (s.status == kWalkerDone) return false;
+    if (WaveRays() && s.status == kWalkerTracing) reports |= kReportWaveMissed;
     top = s.top;
     rng = s.rng;
     g = s.g;
@@ -445,11 +451,13 @@ bool Resume(uint w, inout uint g, out int at, out bool found, out bool met, out 
     return true;
 }
 
-// Walker w stops at ray `at`, its hit found or not.
+// Walker w stops at ray `at`, its hit found or not; one stopped for its hit joins the wave's
+// queue, so that the hits' dispatch takes the walkers with rays in its first invocations.
 void Suspend(uint w, uint g, int at, bool found, bool met, Hit h) {
     walkers_state[w] = Walker(h.point, found ? kWalkerFound : kWalkerTracing, h.normal, h.t, top,
                               at, h.surface, h.object, rng, g, acc_base,
                               (met ? 1 : 0) | (h.planar ? 2 : 0));
+    if (!found) wave_queue[uint(tasks.waves) + atomicAdd(wave_queue[Wave()], 1u)] = w;
 }
 #else
 uint RecordOf(uint local_task) { return local_task * uint(tasks.ncols * 3); }
@@ -494,7 +502,7 @@ void Run(uint invocation) {
                 at = -1;
                 continue;
             }
-            if (phase == 2u) {  // the wave's hits are the next dispatch's
+            if (WaveRays()) {  // the wave's hits are the next dispatch's
                 Suspend(invocation, g, at, false, false, h);
                 return;
             }
@@ -503,7 +511,7 @@ void Run(uint invocation) {
         if (at >= 0) {
             if (!found) met = Intersect(STACK(at).r, h);
 #ifdef DAYFLUX_PATHS
-            if (phase == 3u) {
+            if (WaveHits()) {
                 Suspend(invocation, g, at, true, met, h);
                 return;
             }
@@ -540,7 +548,14 @@ void main() {
     fixed_range_lost = false;
     fixed_sum_lost = false;
 #endif
-    Run(gl_GlobalInvocationID.x);
+    uint invocation = gl_GlobalInvocationID.x;
+#ifdef DAYFLUX_PATHS
+    if (WaveHits()) {  // the walkers stopped at rays, packed
+        if (invocation >= wave_queue[Wave()]) return;
+        invocation = wave_queue[uint(tasks.waves) + invocation];
+    }
+#endif
+    Run(invocation);
 #ifdef DAYFLUX_PATHS
     if (fixed_range_lost) reports |= kReportFixedRange;
     if (fixed_sum_lost) reports |= kReportFixedSum;
