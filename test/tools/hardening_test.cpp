@@ -282,7 +282,8 @@ TEST(Hardening, OptionsBeyondTheirRangeAreRefused) {
           std::pair{"-gpu_cal half -m sky", "-gpu_cal half: float or double"},
           std::pair{"-gpu_spirv_opt fast -m sky",
                     "-gpu_spirv_opt fast: auto, performance, size or none"},
-          std::pair{"-gpu_engine rays -m sky", "-gpu_engine rays: tasks or paths"}}) {
+          std::pair{"-gpu_engine rays -m sky", "-gpu_engine rays: tasks or paths"},
+          std::pair{"-gpu_waves 20000 -m sky", "-gpu_waves: a whole number from 0 to 10000"}}) {
         const CommandResult r = Rcontrib(tmp, "0 0 0 0 0 1\n", options);
         EXPECT_EQ(r.status, 1) << options;
         EXPECT_NE(r.err.find(said), std::string::npos) << options << ": " << r.err;
