@@ -678,7 +678,7 @@ void VulkanContribEngine::TracePathsOn(DeviceState &dev, std::vector<uint8_t> &r
         named.Set(core::kBindingWalkers,
                   walkers > 0 ? G::ZeroedScratch(walkers * dev.walker_bytes) : G::In(&none));
         named.Set(core::kBindingWaveQueue, walkers > 0 && waves_ > 0
-                                               ? G::ZeroedScratch((waves_ + walkers) * 4)
+                                               ? G::ZeroedScratch((waves_ + 2 * walkers) * 4)
                                                : G::In(&none));
         // The cells (phase 0); wave k, its walkers' next rays (2 + 2k) and their hits (3 + 2k);
         // the walk to the end (1). Their times summed: cells, paths, waves' rays, waves' hits.

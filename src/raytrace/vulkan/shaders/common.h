@@ -51,7 +51,8 @@ CONST int kBindingPathCount = 22;
 // at the start of a run.
 CONST int kBindingWalkers = 23;
 // uint: each wave's count of walkers stopped at a ray (tasks.waves of them, zeroed), then the
-// latest wave's walkers, in the order they stopped: its hits' dispatch takes them packed.
+// walkers of the last two waves, in the order they stopped: the wave's hits' dispatch and the
+// next wave's rays' take them packed.
 CONST int kBindingWaveQueue = 24;
 CONST int kBindingCount = 25;
 // The paths engine's records in fixed point: an entry counts units of 2^-kPathFixedBits (3.6e-15,

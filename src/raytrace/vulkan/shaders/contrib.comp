@@ -394,6 +394,11 @@ bool WaveRays() { return phase >= 2u && (phase & 1u) == 0u; }
 bool WaveHits() { return phase >= 3u && (phase & 1u) == 1u; }
 uint Wave() { return (phase - 2u) / 2u; }
 layout(std430, set = 0, binding = kBindingWaveQueue) buffer WaveQueue { uint wave_queue[]; };
+// Where wave k's queue of walkers lies: after the counts, two queues of a dispatch's walkers each,
+// in turn (wave k + 1's next rays read wave k's queue while they fill their own).
+uint QueueOf(uint k) {
+    return uint(tasks.waves) + (k & 1u) * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+}
 
 // The record a task adds to: its ray's (or its slice's, with tasks_per_record 1).
 uint RecordOf(uint local_task) {
@@ -434,7 +439,8 @@ bool Resume(uint w, inout uint g, out int at, out bool found, out bool met, out 
     met = false;
     if (s.status == kWalkerNew) return StartPath(g);
     if (s.status == kWalkerDone) return false;
-    if (WaveRays() && s.status == kWalkerTracing) reports |= kReportWaveMissed;
+    // (a walker stopped at a ray has it traced by the wave's hits, before any later dispatch)
+    if (s.status == kWalkerTracing && !WaveHits()) reports |= kReportWaveMissed;
     top = s.top;
     rng = s.rng;
     g = s.g;
@@ -457,7 +463,7 @@ void Suspend(uint w, uint g, int at, bool found, bool met, Hit h) {
     walkers_state[w] = Walker(h.point, found ? kWalkerFound : kWalkerTracing, h.normal, h.t, top,
                               at, h.surface, h.object, rng, g, acc_base,
                               (met ? 1 : 0) | (h.planar ? 2 : 0));
-    if (!found) wave_queue[uint(tasks.waves) + atomicAdd(wave_queue[Wave()], 1u)] = w;
+    if (!found) wave_queue[QueueOf(Wave()) + atomicAdd(wave_queue[Wave()], 1u)] = w;
 }
 #else
 uint RecordOf(uint local_task) { return local_task * uint(tasks.ncols * 3); }
@@ -550,9 +556,13 @@ void main() {
 #endif
     uint invocation = gl_GlobalInvocationID.x;
 #ifdef DAYFLUX_PATHS
-    if (WaveHits()) {  // the walkers stopped at rays, packed
-        if (invocation >= wave_queue[Wave()]) return;
-        invocation = wave_queue[uint(tasks.waves) + invocation];
+    // A wave's hits are its queue's walkers', packed, and so are the next wave's rays (its
+    // queue's walkers, now with their hits: the others are done); wave 0's rays are every
+    // walker's.
+    if (WaveHits() || (WaveRays() && Wave() > 0u)) {
+        uint k = WaveHits() ? Wave() : Wave() - 1u;
+        if (invocation >= wave_queue[k]) return;
+        invocation = wave_queue[QueueOf(k) + invocation];
     }
 #endif
     Run(invocation);
