@@ -77,22 +77,20 @@ std::map<std::string, uint64_t> InlinedCopies(const std::vector<uint32_t> &spirv
     std::map<uint32_t, std::string> names;
     std::map<uint32_t, std::vector<uint32_t>> calls;  // a function's callees, once a call
     uint32_t entry = 0, function = 0;
-    for (size_t i = 5; i < spirv.size();) {
-        const uint32_t op = spirv[i] & 0xffff, words = spirv[i] >> 16;
-        if (words == 0 || i + words > spirv.size()) break;
+    vk::GpuDevice::ForEachInstruction(spirv, [&](uint32_t op, const uint32_t *w, uint32_t) {
         if (op == kOpName) {
-            names[spirv[i + 1]] = reinterpret_cast<const char *>(&spirv[i + 2]);
+            names[w[1]] = reinterpret_cast<const char *>(&w[2]);
         } else if (op == kOpEntryPoint) {
-            entry = spirv[i + 2];
+            entry = w[2];
         } else if (op == kOpFunction) {
-            function = spirv[i + 2];
+            function = w[2];
         } else if (op == kOpFunctionEnd) {
             function = 0;
         } else if (op == kOpFunctionCall && function != 0) {
-            calls[function].push_back(spirv[i + 3]);
+            calls[function].push_back(w[3]);
         }
-        i += words;
-    }
+        return true;
+    });
     std::map<std::string, uint64_t> copies;
     // (the graph has no cycles: GLSL has no recursion)
     std::vector<uint32_t> todo{entry};
@@ -118,7 +116,7 @@ TEST(GpuPrecision, OneWalkAndOneBinEvaluationInTheShader) {
         std::map<std::string, uint64_t> copies =
             InlinedCopies(CompileContribShader(EveryFeature(options), target));
         const char *what = engine == GpuEngine::kTasks ? "tasks" : "paths";
-        EXPECT_EQ(copies["main"], 1u) << what;  // (the reader found the entry point)
+        EXPECT_EQ(copies["main"], 1u) << what;     // (the reader found the entry point)
         EXPECT_EQ(copies["NextRay"], 1u) << what;  // (the walk: contrib.comp's Run)
         EXPECT_EQ(copies["ShadeMet"], 1u) << what;
         EXPECT_EQ(copies["AddContribution"], 1u) << what;

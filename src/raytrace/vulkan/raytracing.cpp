@@ -314,10 +314,7 @@ uint32_t GpuDevice::RuntimeArrayStride(const std::vector<uint32_t> &spirv, uint3
     std::unordered_map<uint32_t, uint32_t> stride, binding_of, set_of, pointee, first_member,
         variable_type;
     std::unordered_map<uint32_t, bool> runtime_array;
-    for (size_t i = 5; i < spirv.size();) {
-        const uint32_t op = spirv[i] & 0xffffu, words = spirv[i] >> 16;
-        if (words == 0 || i + words > spirv.size()) break;  // malformed: nothing found
-        const uint32_t *w = &spirv[i];
+    ForEachInstruction(spirv, [&](uint32_t op, const uint32_t *w, uint32_t words) {
         if (op == kOpDecorate && words >= 4) {
             if (w[2] == kDecorationArrayStride) stride[w[1]] = w[3];
             if (w[2] == kDecorationBinding) binding_of[w[1]] = w[3];
@@ -331,8 +328,8 @@ uint32_t GpuDevice::RuntimeArrayStride(const std::vector<uint32_t> &spirv, uint3
         } else if (op == kOpVariable && words >= 3) {
             variable_type[w[2]] = w[1];
         }
-        i += words;
-    }
+        return true;  // (malformed: what was read before, which finds nothing it should not)
+    });
     for (const auto &[var, b] : binding_of) {
         if (b != binding || set_of[var] != 0 || !variable_type.count(var)) continue;
         const uint32_t block = pointee[variable_type[var]];
@@ -346,14 +343,23 @@ uint32_t GpuDevice::RuntimeArrayStride(const std::vector<uint32_t> &spirv, uint3
 bool GpuDevice::UsesFloat64(const std::vector<uint32_t> &spirv) {
     // (the SPIR-V specification, 3.31 and 3.32: OpCapability Float64, OpTypeFloat 64)
     constexpr uint32_t kOpCapability = 17, kCapabilityFloat64 = 10, kOpTypeFloat = 22;
+    bool found = false;
+    const bool whole = ForEachInstruction(spirv, [&](uint32_t op, const uint32_t *w, uint32_t n) {
+        found = (op == kOpCapability && n >= 2 && w[1] == kCapabilityFloat64) ||
+                (op == kOpTypeFloat && n >= 3 && w[2] == 64);
+        return !found;
+    });
+    return found || !whole;  // (malformed: assume the worst)
+}
+
+bool GpuDevice::ForEachInstruction(const std::vector<uint32_t> &spirv, const SpirvVisitor &visit) {
     for (size_t i = 5; i < spirv.size();) {
         const uint32_t op = spirv[i] & 0xffffu, words = spirv[i] >> 16;
-        if (words == 0 || i + words > spirv.size()) return true;  // malformed: assume the worst
-        if (op == kOpCapability && words >= 2 && spirv[i + 1] == kCapabilityFloat64) return true;
-        if (op == kOpTypeFloat && words >= 3 && spirv[i + 2] == 64) return true;
+        if (words == 0 || i + words > spirv.size()) return false;
+        if (!visit(op, &spirv[i], words)) return true;
         i += words;
     }
-    return false;
+    return true;
 }
 
 namespace {

@@ -110,6 +110,11 @@ class GpuDevice {
     // 0, `binding` in spirv (the std430 size of its element as the compiler laid it out); 0
     // where there is none.
     static uint32_t RuntimeArrayStride(const std::vector<uint32_t> &spirv, uint32_t binding);
+    // Calls visit(opcode, the instruction's words, their count) for each instruction of spirv
+    // after its header, in order, until visit returns false; false where spirv is malformed (an
+    // instruction of no words, or one running past the end).
+    using SpirvVisitor = std::function<bool(uint32_t op, const uint32_t *words, uint32_t count)>;
+    static bool ForEachInstruction(const std::vector<uint32_t> &spirv, const SpirvVisitor &visit);
     // Whether spirv declares the Float64 capability or a 64-bit float type: what a device
     // without shaderFloat64 (Apple's, Intel's) cannot run.
     static bool UsesFloat64(const std::vector<uint32_t> &spirv);
