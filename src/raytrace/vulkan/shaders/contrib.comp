@@ -457,13 +457,27 @@ bool Resume(uint w, inout uint g, out int at, out bool found, out bool met, out 
     return true;
 }
 
-// Walker w stops at ray `at`, its hit found or not; one stopped for its hit joins the wave's
-// queue, so that the hits' dispatch takes the walkers with rays in its first invocations.
+// Walker w stops at ray `at`, its hit found or not, each step storing only what it changed: the
+// rays' dispatch the walker's place (and it joins the wave's queue, so that the hits' dispatch
+// takes the walkers with rays in its first invocations), the hits' dispatch the hit.
 void Suspend(uint w, uint g, int at, bool found, bool met, Hit h) {
-    walkers_state[w] = Walker(h.point, found ? kWalkerFound : kWalkerTracing, h.normal, h.t, top,
-                              at, h.surface, h.object, rng, g, acc_base,
-                              (met ? 1 : 0) | (h.planar ? 2 : 0));
-    if (!found) wave_queue[QueueOf(Wave()) + atomicAdd(wave_queue[Wave()], 1u)] = w;
+    if (found) {
+        walkers_state[w].status = kWalkerFound;
+        walkers_state[w].point = h.point;
+        walkers_state[w].normal = h.normal;
+        walkers_state[w].t = h.t;
+        walkers_state[w].surface = h.surface;
+        walkers_state[w].object = h.object;
+        walkers_state[w].met_planar = (met ? 1 : 0) | (h.planar ? 2 : 0);
+        return;
+    }
+    walkers_state[w].status = kWalkerTracing;
+    walkers_state[w].top = top;
+    walkers_state[w].at = at;
+    walkers_state[w].rng = rng;
+    walkers_state[w].g = g;
+    walkers_state[w].acc_base = acc_base;
+    wave_queue[QueueOf(Wave()) + atomicAdd(wave_queue[Wave()], 1u)] = w;
 }
 #else
 uint RecordOf(uint local_task) { return local_task * uint(tasks.ncols * 3); }
