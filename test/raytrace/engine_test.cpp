@@ -62,16 +62,24 @@ ContribOptions Irradiance(int ab, int ad, double lw, uint64_t seed) {
     return options;
 }
 
+// The records of n input rays (skyglow tracked, one bin) on the engine `engine` names, or none
+// where another opened (no such device: the run went to Embree).
+std::vector<double> RecordsOn(const FlatScene &flat, const ContribOptions &options,
+                              const EngineOptions &engine, const double *rays, size_t n) {
+    const std::unique_ptr<ContribEngine> e =
+        CreateContribEngine(flat, options, Tracking("skyglow"), RayInit, engine);
+    if (e->Label().rfind(engine.backend, 0) != 0) return {};
+    std::vector<double> records(3 * n, 0.0);
+    e->Trace(rays, n, 0, 0, records.data());
+    return records;
+}
+
 // The records of n input rays on the CPU, walking `paths` cells' paths at once.
 std::vector<double> RecordsWithPaths(const FlatScene &flat, const ContribOptions &options,
                                      int paths, const double *rays, size_t n) {
     EngineOptions engine_options;
     engine_options.cpu_paths_at_once = paths;
-    const std::unique_ptr<ContribEngine> engine =
-        CreateContribEngine(flat, options, Tracking("skyglow"), RayInit, engine_options);
-    std::vector<double> records(3 * n, 0.0);
-    engine->Trace(rays, n, 0, 0, records.data());
-    return records;
+    return RecordsOn(flat, options, engine_options, rays, n);
 }
 
 // A stack of mixfuncs n deep over plastic, on a roof.
@@ -576,17 +584,13 @@ EngineOptions OnVulkan(GpuEngine gpu_engine) {
 // gives Embree's records, to float rounding, on the room whose cells' paths pass a trans
 // partition and meet a sphere, at -ab 3; and the same bytes however its dispatches fall (tasks
 // of 5: sensors cut between dispatches, fewer walkers; or 1 MiB of device memory) and run
-// after run, since its sums are exact. (Against the tasks engine to 1e-6: PathsEngineScalesContributionsVulkan.)
+// after run, since its sums are exact. (Against the tasks engine to 1e-6:
+// PathsEngineScalesContributionsVulkan.)
 TEST(Engine, PathsEngineAsEmbreeVulkan) {
     CellPathsRoom room(false, false);
     const size_t n = room.Rays();
     const auto records = [&](const EngineOptions &engine) {
-        const std::unique_ptr<ContribEngine> e =
-            CreateContribEngine(room.flat, room.options, Tracking("skyglow"), RayInit, engine);
-        if (e->Label().rfind(engine.backend, 0) != 0) return std::vector<double>();
-        std::vector<double> out(3 * n, 0.0);
-        e->Trace(room.rays.data(), n, 0, 0, out.data());
-        return out;
+        return RecordsOn(room.flat, room.options, engine, room.rays.data(), n);
     };
     const std::vector<double> paths = records(OnVulkan(GpuEngine::kPaths));
     if (paths.empty()) GTEST_SKIP() << "no Vulkan engine";
@@ -680,13 +684,8 @@ TEST(Engine, PathsEngineRefusesASumBeyondItsFixedPointVulkan) {
                     "  -1e4 1e4 0\n");
         EngineOptions engine = OnVulkan(gpu_engine);
         engine.gpu_tasks_per_dispatch = tasks_per_dispatch;
-        const std::unique_ptr<ContribEngine> e =
-            CreateContribEngine(flat, options, Tracking("skyglow"), RayInit, engine);
         const double ray[6] = {0, 0, .5, 0, 0, -1};
-        std::vector<double> out(3, 0.0);
-        if (e->Label().rfind("vulkan", 0) != 0) return std::vector<double>();
-        e->Trace(ray, 1, 0, 0, out.data());
-        return out;
+        return RecordsOn(flat, options, engine, ray, 1);
     };
     const std::vector<double> tasks = run("1e4", GpuEngine::kTasks);
     if (tasks.empty()) GTEST_SKIP() << "no Vulkan engine";
@@ -718,17 +717,18 @@ TEST(Engine, PathsEngineWavesGiveTheWalksSumsVulkan) {
         EngineOptions engine = OnVulkan(GpuEngine::kPaths);
         engine.gpu_waves = waves;
         engine.scratch = scratch;
-        const std::unique_ptr<ContribEngine> e =
-            CreateContribEngine(flat, options, Tracking("skyglow"), RayInit, engine);
-        if (e->Label().rfind("vulkan paths", 0) != 0) return std::vector<double>();
-        std::vector<double> out(3 * sensors.Rays(), 0.0);
-        e->Trace(sensors.rays.data(), sensors.Rays(), 0, 0, out.data());
-        return out;
+        return RecordsOn(flat, options, engine, sensors.rays.data(), sensors.Rays());
     };
     // (the walk alone in storage buffers too: one shader to compile)
     const std::vector<double> walk = records(0, GpuScratch::kOn);
     if (walk.empty()) GTEST_SKIP() << "no Vulkan engine";
     EXPECT_GT(walk[0], 0.1);
+    EngineOptions one_wave = OnVulkan(GpuEngine::kPaths);
+    one_wave.gpu_waves = 1;  // (the paths engine's, not the tasks engine's, which has none)
+    EXPECT_EQ(CreateContribEngine(flat, options, Tracking("skyglow"), RayInit, one_wave)
+                  ->Label()
+                  .rfind("vulkan paths", 0),
+              0u);
     for (int waves : {1, 4, 40}) EXPECT_EQ(records(waves, GpuScratch::kAuto), walk) << waves;
     EXPECT_THROW(records(1, GpuScratch::kOff), UserError);
 }
