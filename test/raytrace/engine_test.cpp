@@ -215,7 +215,8 @@ void ExpectKeyedAsInRun(const EngineOptions &engine_options) {
 }
 
 // TraceSlices (-target_error): each ray's slices of rows, kept apart, add up to the record of the
-// whole hemisphere (the same numbers: the rows before a slice are replayed), a slice beyond the
+// whole hemisphere (the same numbers: the GPU's tasks replay the rows before their slice, the
+// CPU traces the hemisphere whole and adds each cell's path to its slice), a slice beyond the
 // rows adds nothing, and the two replicas of a pair draw numbers of their own. Under the open
 // uniform sky, each of the two slices of -ad 16's 4 rows holds half the hemisphere: pi / 2.
 void ExpectSlicesAddUp(const EngineOptions &engine_options, double tolerance) {
@@ -272,6 +273,13 @@ void ExpectSlicesAddUp(const EngineOptions &engine_options, double tolerance) {
 }
 
 TEST(Engine, SlicesAddUpToTheWholeHemisphere) { ExpectSlicesAddUp(EngineOptions{}, 1e-12); }
+
+// The same with the CPU's cells traced one after the other, not in packets of paths.
+TEST(Engine, SlicesAddUpToTheWholeHemisphereOnePathAtATime) {
+    EngineOptions one;
+    one.cpu_paths_at_once = 1;
+    ExpectSlicesAddUp(one, 1e-12);
+}
 
 TEST(Engine, SlicesAddUpToTheWholeHemisphereVulkan) {
     EngineOptions engine;

@@ -138,6 +138,22 @@ void StartInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint
     }
 }
 
+// How InputCells shares a first hemisphere's rows out between slices: a slice's rows, and a
+// row's steps (-asub's sub-samples each a step).
+int RowsPerSlice(int rows, uint slices) { return (rows + int(slices) - 1) / int(slices); }
+int StepsPerRow(IN(Item) h) {
+#ifdef DAYFLUX_ASUB
+    if (params.asub > 1) return h.n * params.asub * params.asub;
+#endif
+    return h.n;
+}
+// The slice of `slices` that step `step` of first hemisphere h is in: for a driver that traces
+// the hemisphere whole and keeps its slices' sums apart (the CPU's TraceSlices), rather than a
+// task a slice, each replaying the rows before its own.
+int SliceOfStep(IN(Item) h, int step, uint slices) {
+    return step / StepsPerRow(h) / RowsPerSlice(h.n, slices);
+}
+
 // The second step (StartInput's stack walked): the first hemisphere's cells of this slice's rows
 // in `cells`, false where there are none left to trace.
 bool InputCells(real3 org, real3 dir, uint slice, uint slices, OUT(Item) cells) {
@@ -149,15 +165,14 @@ bool InputCells(real3 org, real3 dir, uint slice, uint slices, OUT(Item) cells) 
     // steps taken as the cells' first (their directions keep RADIANCE's collision rule), their
     // rays dropped (Replayed).
     Item h = STACK(--top);
-    int rows = h.n, per = (rows + int(slices) - 1) / int(slices);
+    int rows = h.n, per = RowsPerSlice(rows, slices);
     int row_first = int(slice) * per, row_end = min(rows, row_first + per);
     if (row_first >= row_end) return false;
-    int row_steps = h.n, replayed = row_first * h.n;
+    int row_steps = StepsPerRow(h), replayed = row_first * h.n;
 #ifdef DAYFLUX_ASUB
     if (params.asub > 1) {
         // -asub's steps draw from numbers keyed by the step and keep no rows: of the steps
         // before, only step 0's start is replayed
-        row_steps *= params.asub * params.asub;
         if (row_first > 0) StartSubsamples();
         replayed = 0;
     }

@@ -153,10 +153,12 @@ class CpuBins {
 class CpuEstimator {
   public:
     virtual ~CpuEstimator() = default;
-    // Adds the contributions of input ray `index` (replica `replica`) to record: of its first
-    // hemisphere's slice `slice` of `slices` (walk.inl's TraceAllButCells).
+    // Adds the contributions of input ray `index` (replica `replica`) to records, a record for
+    // each of its first hemisphere's `slices` slices (as walk.inl's InputCells shares out the
+    // rows, with shares of the light sources): the hemisphere is traced whole, not replayed a
+    // slice at a time.
     virtual void Trace(const double org[3], const double dir[3], uint64_t index, int replica,
-                       double *record, int slice = 0, int slices = 1) = 0;
+                       double *records, int slices = 1) = 0;
 };
 
 // The estimator compiled three times: for scenes with none of the core's features (daylight,
@@ -227,15 +229,13 @@ class CpuContribEngine : public ContribEngine {
     bool TraceSlices(const double *rays, size_t n, const uint64_t *keys, int replica, int slices,
                      double *slice_records) override {
         const size_t record = 3 * static_cast<size_t>(packed_.columns);
-        const size_t tasks = n * static_cast<size_t>(slices);
-        tbb::parallel_for(size_t(0), tasks, [&](size_t t) {
-            const size_t i = t / static_cast<size_t>(slices);
+        tbb::parallel_for(size_t(0), n, [&](size_t i) {
             const double *r = rays + 6 * i;
             if (r[3] == 0 && r[4] == 0 && r[5] == 0) return;
             std::unique_ptr<core::CpuEstimator> &e = estimators_.local();
             if (!e) e = MakeEstimator();
-            e->Trace(r, r + 3, keys[i], replica, slice_records + t * record,
-                     static_cast<int>(t % static_cast<size_t>(slices)), slices);
+            e->Trace(r, r + 3, keys[i], replica, slice_records + i * record * size_t(slices),
+                     slices);
         });
         WarnCoreReports(reports_.exchange(0), dropped_.exchange(0));
         return true;

@@ -31,14 +31,19 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
     DAYFLUX_ESTIMATOR &operator=(const DAYFLUX_ESTIMATOR &) = delete;
 
     void Trace(const double org[3], const double dir[3], uint64_t index, int replica,
-               double *record, int slice, int slices) override {
-        record_ = record;
+               double *records, int slices) override {
+        const real3 o = real3(org[0], org[1], org[2]) - centre_;
         const real3 d = normalize(real3(dir[0], dir[1], dir[2]));
+        const uint n = static_cast<uint>(slices);
+        // Each slice's share of the light sources, then the hemisphere whole, each cell's path
+        // adding to its slice's record (the same numbers as a task a slice would draw).
+        for (uint s = 0; s < n; ++s) {
+            record_ = SliceRecord(records, static_cast<int>(s));
+            StartInput(o, d, static_cast<uint>(index), static_cast<uint>(replica), s, n);
+            RunStack();
+        }
         Item cells;
-        if (TraceAllButCells(real3(org[0], org[1], org[2]) - centre_, d, static_cast<uint>(index),
-                             static_cast<uint>(replica), static_cast<uint>(slice),
-                             static_cast<uint>(slices), cells))
-            RunCells(cells);
+        if (InputCells(o, d, 0u, 1u, cells)) RunCells(cells, records, n);
         Report();
         for (auto &lane : lanes_) lane->Report();
     }
@@ -98,10 +103,22 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
     // and the lanes' next rays traced together (in Embree's packets, where a ray costs less than
     // alone, even from different points). The same random numbers as one after the other; the
     // record's sums are added in another order.
-    void RunCells(Item cells) {
-        if (lanes_.empty()) {
+    void RunCells(Item cells, double *records, uint slices) {
+        if (lanes_.empty() && slices == 1u) {
+            record_ = records;
             PushItem(cells);
             RunStack();
+            return;
+        }
+        if (lanes_.empty()) {  // a cell at a time, each on to its slice's record
+            Ray r;
+            uint state;
+            bool last;
+            while (NextCell(cells, r, state, last)) {
+                record_ = SliceRecord(records, SliceOfStep(cells, cells.next - 1, slices));
+                StartCellPath(r, state, last);
+                RunStack();
+            }
             return;
         }
         int pending[kMaxPaths];  // each lane's ray to trace: its slot on the lane's stack
@@ -115,7 +132,8 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
             int n = 0;
             for (int l = 0; l < lanes; ++l) {
                 if (!busy[l] && cells_left)
-                    busy[l] = cells_left = StartCell(cells, *lanes_[l], &pending[l]);
+                    busy[l] = cells_left =
+                        StartCell(cells, records, slices, *lanes_[l], &pending[l]);
                 if (!busy[l]) continue;
                 const Ray &r = lanes_[l]->stack[pending[l]].r;
                 rays[n] = scene_.RayFrom(r.org, r.dir, r.from);
@@ -137,16 +155,21 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
 
     // Starts the next cell's path on lane, its first ray to trace in slot *at; false once no cell
     // is left.
-    bool StartCell(Item &cells, DAYFLUX_ESTIMATOR &lane, int *at) {
+    bool StartCell(Item &cells, double *records, uint slices, DAYFLUX_ESTIMATOR &lane, int *at) {
         Ray r;
         uint state;
         bool last;
         while (NextCell(cells, r, state, last)) {
-            lane.record_ = record_;
+            lane.record_ = SliceRecord(records, SliceOfStep(cells, cells.next - 1, slices));
             lane.StartCellPath(r, state, last);
             if (lane.NextRay(*at)) return true;
         }
         return false;
+    }
+
+    // Slice k's record of records (a record a slice, ray by ray).
+    double *SliceRecord(double *records, int k) const {
+        return records + 3 * static_cast<size_t>(scene_.packed.columns) * static_cast<size_t>(k);
     }
 
     // ---- what the core asks of its driver (raytrace/core/README.md)
