@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# -target_error against fixed -ad (issue 45), on one of two cases (CASE):
+# -target_error against fixed -ad (issue 45), on one of these cases (CASE):
 # - room (default): the tutorial room's daylight coefficients for a uniform sky (one bin,
 #   rcontrib-gpu -I+ -ab 2 -lw 1e-5), 1681 sensors on a 0.15 m grid at 0.75 m; converged answer
 #   -ad 131072 -lw 1e-7.
@@ -10,6 +10,10 @@
 #   in bias, not only noise); converged answer -ad 65536 -lw 1e-7.
 # - blinds: the office with its exterior blinds (make_office.py --blinds, in the daylight
 #   coefficients' scene as the example's BLINDS=1 puts them), otherwise as office.
+# - v: the office's view matrix V (the three- and five-phase methods' sensors -> window, 145 Klems
+#   patches, as Makefile.phases makes it by rfluxmtx-gpu: with BLINDS=1 the blinds are in T, so
+#   this is also the five-phase blinds case's V), -ab 6 -lw 1e-6, the sensors' illuminance under a
+#   uniform window (every patch 1); converged answer -ad 65536 -lw 1e-7.
 # For each setting, run with SEEDS seeds: the mean wall time and the sensors' relative errors
 # (of their illuminance under the case's sky) against the converged answer: the 95th percentile
 # of all runs' errors, their rms and worst, the 95th percentile over sensors of a sensor's rms
@@ -28,6 +32,7 @@ bin=$root/${BUILD:-build}/bin
 seeds=${SEEDS:-4}
 threads=${THREADS:-2}
 case=${CASE:-room}
+program=rcontrib-gpu
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 case $case in
@@ -43,6 +48,21 @@ case $case in
         awk 'BEGIN { for (x = 0.075; x < 6.096; x += 0.15) for (y = 0.075; y < 6.096; y += 0.15)
                          print x, y, 0.75, 0, 0, 1 }' > "$tmp/grid.pts"
         echo 1 > "$tmp/weights.txt"
+        sky=""
+        ;;
+    v)
+        csv=$here/results/target_error_v$(tr -d ' ' <<< "${EXTRA:-}" | tr '-' '_').csv
+        cd "$tmp"
+        python3 "$root/examples/reference-office/make_office.py" --out model > /dev/null
+        program=rfluxmtx-gpu
+        scene="- model/window.rad model/materials.rad model/office.rad"
+        options="-ab 6 -lw 1e-6 ${EXTRA:-}"
+        converged="-ab 6 -ad 65536 -lw 1e-7"
+        cap=16384
+        fixed=${FIXED-512 1024 2048 4096 8192}
+        targets=${TARGETS:-0.1 0.05 0.03 0.02}
+        awk 'NR % 4 == 1' model/sensors.pts > "$tmp/grid.pts"
+        for _ in $(seq 145); do echo 1; done > "$tmp/weights.txt"
         sky=""
         ;;
     office | blinds)
@@ -68,7 +88,7 @@ case $case in
         sky="-target_sky $tmp/cumulative.smx"
         ;;
     *)
-        echo "CASE: room, office or blinds" >&2
+        echo "CASE: room, office, blinds or v" >&2
         exit 2
         ;;
 esac
@@ -82,7 +102,7 @@ if [ -n "${ANSWER:-}" ] && [ -s "$ANSWER" ]; then
     cp "$ANSWER" "$tmp/answer.txt"
 else
     # shellcheck disable=SC2086
-    "$bin/rcontrib-gpu" -h -faa -I+ $converged -n "$threads" $scene < "$tmp/grid.pts" \
+    "$bin/$program" -h -faa -I+ $converged -n "$threads" $scene < "$tmp/grid.pts" \
         > "$tmp/answer.raw"
     illuminance "$tmp/answer.raw" > "$tmp/answer.txt"
     [ -n "${ANSWER:-}" ] && cp "$tmp/answer.txt" "$ANSWER"
@@ -92,7 +112,7 @@ timed() {  # options: each seed's run, timed; out/report.$seed.txt; prints the m
     for seed in $(seq 1 "$seeds"); do
         rm -f "$tmp/report.txt"
         # shellcheck disable=SC2086
-        /usr/bin/time -f "%e" -o "$tmp/t" "$bin/rcontrib-gpu" -h -faa -I+ $options \
+        /usr/bin/time -f "%e" -o "$tmp/t" "$bin/$program" -h -faa -I+ $options \
             -n "$threads" -seed "$seed" $1 $scene < "$tmp/grid.pts" > "$tmp/out.raw" 2> /dev/null
         illuminance "$tmp/out.raw" > "$tmp/out.$seed.txt"
         [ -s "$tmp/report.txt" ] && mv "$tmp/report.txt" "$tmp/report.$seed.txt"
