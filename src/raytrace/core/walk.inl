@@ -111,7 +111,8 @@ real3 InputPoint(real3 org, real3 dir) {
 // traces its rows of slice `slice` of `slices`, replaying the directions of the rows before them
 // without tracing them, and its share of the sources, their samples keyed as in one task. The
 // steps are apart because a GPU compiler inlines every call of RunStack, and all the shading
-// code with it: the GPU's driver walks from one place (contrib.comp), TraceAllButCells does both.
+// code with it: the GPU's driver walks from one place (contrib.comp). (The CPU's TraceSlices
+// takes each slice's sources with StartInput, then the hemisphere whole: SliceOfStep.)
 void StartInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint slices) {
     top = 0;
     pushed0 = 0u;
@@ -182,15 +183,6 @@ bool InputCells(real3 org, real3 dir, uint slice, uint slices, OUT(Item) cells) 
     h.end = row_end * row_steps;
     cells = h;
     return true;
-}
-
-// Both steps: all of input ray `index` but its first hemisphere's cells, which it gives back in
-// `cells` (false where there are none left to trace).
-bool TraceAllButCells(real3 org, real3 dir, uint index, uint replica, uint slice, uint slices,
-                      OUT(Item) cells) {
-    StartInput(org, dir, index, replica, slice, slices);
-    RunStack();
-    return InputCells(org, dir, slice, slices, cells);
 }
 
 // For a driver that traces several cells' paths at once (the CPU's in packets, the GPU's paths

@@ -228,6 +228,10 @@ class CpuContribEngine : public ContribEngine {
 
     bool TraceSlices(const double *rays, size_t n, const uint64_t *keys, int replica, int slices,
                      double *slice_records) override {
+        CHECK(slices >= 1);
+        // (a task a ray, its hemisphere whole: -target_error gives a batch's rays a few at a
+        // time, but many batches run at once; a run of fewer sensors than threads leaves
+        // threads idle)
         const size_t record = 3 * static_cast<size_t>(packed_.columns);
         tbb::parallel_for(size_t(0), n, [&](size_t i) {
             const double *r = rays + 6 * i;

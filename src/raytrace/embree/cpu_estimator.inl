@@ -71,8 +71,8 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
         if (dropped != 0u) scene_.dropped.fetch_add(dropped), dropped = 0;
     }
 
-    // ---- the core (its parameters: the member `params`), and its sizes, larger than the GPU's, where memory is cheap (-ss up to 100 at -ab 10, -ad up to 16M,
-// mixfuncs 63 deep).
+    // ---- the core (its parameters: the member `params`), and its sizes, larger than the GPU's,
+    // where memory is cheap (-ss up to 100 at -ab 10, -ad up to 16M, mixfuncs 63 deep).
 #define STACK_SIZE 4096
 #define MAXN 4096
 #define DEEP_N 256
@@ -99,10 +99,10 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
 
     // ---- the driver's walk
     // The first hemisphere's cells: one after the other on this stack, or several paths at once,
-    // each lane (an estimator of its own, adding to this one's record) walking one cell's path,
-    // and the lanes' next rays traced together (in Embree's packets, where a ray costs less than
-    // alone, even from different points). The same random numbers as one after the other; the
-    // record's sums are added in another order.
+    // each lane (an estimator of its own, adding to the record of its cell's slice) walking one
+    // cell's path, and the lanes' next rays traced together (in Embree's packets, where a ray
+    // costs less than alone, even from different points). The same random numbers as one after
+    // the other; the record's sums are added in another order.
     void RunCells(Item cells, double *records, uint slices) {
         if (lanes_.empty() && slices == 1u) {
             record_ = records;
