@@ -5,7 +5,9 @@
 // records and the outputs. A UserError is bad input reported as it should be. Findings, besides
 // crashes and sanitizer reports: a record missing from the output, or a NaN or infinity in one
 // (every input number is finite, and colours are kept below 1e6 so that -V+ cannot overflow; a
-// specularity above 1, which the reader warns of, may grow a path to infinity).
+// specularity above 1, which the reader warns of, may grow a path to infinity); and where the
+// values are finite, -target_error's slices of the same rays (TraceSlices) that do not add up to
+// them.
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -22,7 +24,9 @@
 
 #include "fuzz_util.h"
 #include "rcontrib/options.h"
+#include "rcontrib/records.h"
 #include "rcontrib/run.h"
+#include "scene/flatten.h"
 
 namespace dayflux::fuzz {
 namespace {
@@ -284,6 +288,36 @@ void CheckOutput(const std::string &path, size_t records, size_t columns, bool a
     }
 }
 
+// -target_error's slices (ContribEngine::TraceSlices: each slice's rows of a sensor's first
+// hemisphere and its share of the light sources) add up to the whole trace of the same rays and
+// keys, within the sums' rounding.
+void CheckSlicesAddUp(const RcontribOptions &o, std::vector<double> rays, int slices) {
+    for (size_t r = 0; r < rays.size(); r += 6) CheckInputRay(&rays[r], r / 6 + 1);  // (as read)
+    std::string octree_header;
+    const FlatScene flat = ReadRcontribScene(o.scene, &octree_header);
+    const std::unique_ptr<ContribEngine> engine = CreateRunEngine(o, flat, o.contrib, o.engine);
+    const size_t n = rays.size() / 6, width = 3 * static_cast<size_t>(engine->Columns());
+    std::vector<uint64_t> keys(n);
+    for (size_t i = 0; i < n; ++i) keys[i] = i;
+    std::vector<double> whole(width * n, 0.0), apart(width * n * slices, 0.0);
+    engine->Trace(rays.data(), n, 0, 0, whole.data());
+    if (!engine->TraceSlices(rays.data(), n, keys.data(), 0, slices, apart.data()))
+        Finding("the engine has no slices");
+    for (size_t i = 0; i < n; ++i)
+        for (size_t j = 0; j < width; ++j) {
+            double sum = 0, size = std::fabs(whole[width * i + j]);
+            for (int s = 0; s < slices; ++s) {
+                const double v = apart[width * (i * slices + s) + j];
+                sum += v;
+                size += std::fabs(v);
+            }
+            if (!(std::fabs(sum - whole[width * i + j]) <= 1e-9 * size))
+                Finding("ray " + std::to_string(i) + " entry " + std::to_string(j) + ": its " +
+                        std::to_string(slices) + " slices add up to " + std::to_string(sum) +
+                        ", the whole trace gives " + std::to_string(whole[width * i + j]));
+        }
+}
+
 // The output's values, exactly, for --print (a change meant to keep the numbers compares them).
 void PrintOutput(const std::string &path) {
     std::ifstream f(path, std::ios::binary);
@@ -350,6 +384,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         });
         const size_t records = o.accumulate <= 0 ? 1 : (nrays + o.accumulate - 1) / o.accumulate;
         CheckOutput(scratch->output, records, Columns(o), amplifies);
+        // (its own bytes after the rays', so that the corpus makes the same runs as before)
+        const int slices = 2 + static_cast<int>(in.Below(5));
+        if (!amplifies) CheckSlicesAddUp(o, rays, slices);
         if (verbose)
             std::fprintf(stderr, "traced %zu records\n", records), PrintOutput(scratch->output);
     } catch (const UserError &e) {  // bad input, reported as it should be
