@@ -35,6 +35,14 @@ case=${CASE:-room}
 program=rcontrib-gpu
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+office_settings() {  # the reference office's, for its DC (with or without blinds) and its V
+    options="-ab 6 -lw 1e-6 ${EXTRA:-}"
+    converged="-ab 6 -ad 65536 -lw 1e-7"
+    cap=16384
+    fixed=${FIXED-512 1024 2048 4096 8192}
+    targets=${TARGETS:-0.1 0.05 0.03 0.02}
+    awk 'NR % 4 == 1' model/sensors.pts > "$tmp/grid.pts"
+}
 case $case in
     room)
         csv=$here/results/target_error_speed_error.csv
@@ -56,12 +64,7 @@ case $case in
         python3 "$root/examples/reference-office/make_office.py" --out model > /dev/null
         program=rfluxmtx-gpu
         scene="- model/window.rad model/materials.rad model/office.rad"
-        options="-ab 6 -lw 1e-6 ${EXTRA:-}"
-        converged="-ab 6 -ad 65536 -lw 1e-7"
-        cap=16384
-        fixed=${FIXED-512 1024 2048 4096 8192}
-        targets=${TARGETS:-0.1 0.05 0.03 0.02}
-        awk 'NR % 4 == 1' model/sensors.pts > "$tmp/grid.pts"
+        office_settings
         for _ in $(seq 145); do echo 1; done > "$tmp/weights.txt"
         sky=""
         ;;
@@ -79,12 +82,7 @@ case $case in
         getinfo_body cumulative.txt > "$tmp/weights.txt"
         scene="-e MF:1 -f reinhart.cal -b rbin -bn Nrbins -m skyglow model/materials.rad
                model/office.rad model/glass.rad model/blinds.rad model/sky.rad"
-        options="-ab 6 -lw 1e-6 ${EXTRA:-}"
-        converged="-ab 6 -ad 65536 -lw 1e-7"
-        cap=16384
-        fixed=${FIXED-512 1024 2048 4096 8192}
-        targets=${TARGETS:-0.1 0.05 0.03 0.02}
-        awk 'NR % 4 == 1' model/sensors.pts > "$tmp/grid.pts"
+        office_settings
         sky="-target_sky $tmp/cumulative.smx"
         ;;
     *)
