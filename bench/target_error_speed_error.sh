@@ -23,8 +23,10 @@
 # THREADS (2), ANSWER (a file keeping the converged answer between runs), FIXED (the -ad
 # settings; "" for none), TARGETS (the -target_error settings), EXTRA (options added to every
 # setting but the converged answer, e.g. "-asub 3"; the CSV's name then ends in them)
-# writes bench/results/target_error_speed_error.csv (office: target_error_office.csv); the room
-# also bench/results/target_error_calibration.csv and docs/target_error_calibration.svg
+# writes bench/results/target_error_speed_error.csv (the room; the other cases
+# target_error_<case>.csv); the room also bench/results/target_error_calibration.csv and
+# docs/target_error_calibration.svg. Its -target_report files are deleted: for
+# bench/target_error_ideal.py, run a setting by hand with -target_report.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(dirname "$here")

@@ -378,17 +378,15 @@ TEST_F(VulkanContrib, TargetErrorSlicesWithSubsamplesAndASunAsEmbree) {
     const std::vector<std::vector<double>> gpu = report("vulkan"), cpu = report("embree");
     ASSERT_EQ(gpu.size(), 12u);
     ASSERT_EQ(cpu.size(), 12u);
-    int same = 0, passes_apart = 0;
+    int passes_apart = 0;
     for (size_t i = 0; i < cpu.size(); ++i) {
         if (gpu[i][1] != cpu[i][1]) {
             ++passes_apart;
             continue;
         }
-        ++same;
         EXPECT_NEAR(gpu[i][2], cpu[i][2], 1e-4 * cpu[i][2]) << "sensor " << i;
     }
     EXPECT_LE(passes_apart, 1);
-    EXPECT_GT(same, 0);
 }
 
 // -asub 2: each first-level cell sampled by 2 x 2 rays, one carrying its diffuse paths with 4
