@@ -104,12 +104,6 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
     // costs less than alone, even from different points). The same random numbers as one after
     // the other; the record's sums are added in another order.
     void RunCells(Item cells, double *records, uint slices) {
-        if (lanes_.empty() && slices == 1u) {
-            record_ = records;
-            PushItem(cells);
-            RunStack();
-            return;
-        }
         if (lanes_.empty()) {  // a cell at a time, each on to its slice's record
             Ray r;
             uint state;
