@@ -344,7 +344,7 @@ TEST_F(VulkanContrib, TargetErrorAsEmbree) {
 }
 
 // -target_error with -asub 3 and a sun: the CPU traces each pair's hemisphere whole and adds
-// each cell's path to its slice (SliceOfStep), where the GPU's tasks replay the rows before their
+// each cell's path to its slice (StepsPerSlice), where the GPU's tasks replay the rows before their
 // slice; each slice's sums, and so every pass's estimate and stop, as on the GPU. (A sensor whose
 // estimate float and double round to either side of its target may take another pass: at most
 // one of the twelve.)

@@ -112,7 +112,7 @@ real3 InputPoint(real3 org, real3 dir) {
 // without tracing them, and its share of the sources, their samples keyed as in one task. The
 // steps are apart because a GPU compiler inlines every call of RunStack, and all the shading
 // code with it: the GPU's driver walks from one place (contrib.comp). (The CPU's TraceSlices
-// takes each slice's sources with StartInput, then the hemisphere whole: SliceOfStep.)
+// takes each slice's sources with StartInput, then the hemisphere whole: StepsPerSlice.)
 void StartInput(real3 org, real3 dir, uint index, uint replica, uint slice, uint slices) {
     top = 0;
     pushed0 = 0u;
@@ -148,12 +148,10 @@ int StepsPerRow(IN(Item) h) {
 #endif
     return h.n;
 }
-// The slice of `slices` that step `step` of first hemisphere h is in: for a driver that traces
-// the hemisphere whole and keeps its slices' sums apart (the CPU's TraceSlices), rather than a
-// task a slice, each replaying the rows before its own.
-int SliceOfStep(IN(Item) h, int step, uint slices) {
-    return step / StepsPerRow(h) / RowsPerSlice(h.n, slices);
-}
+// The steps of each of first hemisphere h's `slices` slices: step k is in slice k / that. For a
+// driver that traces the hemisphere whole and keeps its slices' sums apart (the CPU's
+// TraceSlices), rather than a task a slice, each replaying the rows before its own.
+int StepsPerSlice(IN(Item) h, uint slices) { return StepsPerRow(h) * RowsPerSlice(h.n, slices); }
 
 // The second step (StartInput's stack walked): the first hemisphere's cells of this slice's rows
 // in `cells`, false where there are none left to trace.

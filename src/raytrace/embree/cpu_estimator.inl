@@ -104,12 +104,13 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
     // costs less than alone, even from different points). The same random numbers as one after
     // the other; the record's sums are added in another order.
     void RunCells(Item cells, double *records, uint slices) {
+        const int per_slice = StepsPerSlice(cells, slices);
         if (lanes_.empty()) {  // a cell at a time, each on to its slice's record
             Ray r;
             uint state;
             bool last;
             while (NextCell(cells, r, state, last)) {
-                record_ = SliceRecord(records, SliceOfStep(cells, cells.next - 1, slices));
+                record_ = SliceRecord(records, (cells.next - 1) / per_slice);
                 StartCellPath(r, state, last);
                 RunStack();
             }
@@ -127,7 +128,7 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
             for (int l = 0; l < lanes; ++l) {
                 if (!busy[l] && cells_left)
                     busy[l] = cells_left =
-                        StartCell(cells, records, slices, *lanes_[l], &pending[l]);
+                        StartCell(cells, records, per_slice, *lanes_[l], &pending[l]);
                 if (!busy[l]) continue;
                 const Ray &r = lanes_[l]->stack[pending[l]].r;
                 rays[n] = scene_.RayFrom(r.org, r.dir, r.from);
@@ -149,12 +150,13 @@ class DAYFLUX_ESTIMATOR final : public CpuEstimator {
 
     // Starts the next cell's path on lane, its first ray to trace in slot *at; false once no cell
     // is left.
-    bool StartCell(Item &cells, double *records, uint slices, DAYFLUX_ESTIMATOR &lane, int *at) {
+    // (per_slice: the hemisphere's StepsPerSlice, each cell's record its slice's)
+    bool StartCell(Item &cells, double *records, int per_slice, DAYFLUX_ESTIMATOR &lane, int *at) {
         Ray r;
         uint state;
         bool last;
         while (NextCell(cells, r, state, last)) {
-            lane.record_ = SliceRecord(records, SliceOfStep(cells, cells.next - 1, slices));
+            lane.record_ = SliceRecord(records, (cells.next - 1) / per_slice);
             lane.StartCellPath(r, state, last);
             if (lane.NextRay(*at)) return true;
         }
