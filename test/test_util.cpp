@@ -29,6 +29,19 @@ std::string ReadFile(const std::filesystem::path &p) {
     return ss.str();
 }
 
+std::vector<TargetReportSensor> ReadTargetReport(const std::filesystem::path &p) {
+    std::vector<TargetReportSensor> sensors;
+    std::istringstream in(ReadFile(p));
+    std::string line;
+    std::getline(in, line);  // its comment
+    for (long index; in >> index;) {
+        TargetReportSensor x;
+        in >> x.samples >> x.error;
+        sensors.push_back(x);
+    }
+    return sensors;
+}
+
 void WriteFile(const std::filesystem::path &p, const std::string &data) {
     std::ofstream f(p, std::ios::binary);
     f << data;

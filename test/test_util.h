@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace dayflux::test {
 
@@ -63,6 +64,12 @@ inline CommandResult RunWithDayfluxAlone(const std::string &command,
 }
 
 std::string ReadFile(const std::filesystem::path &p);
+// A -target_report file's sensors, in order: the samples each took and its estimated error.
+struct TargetReportSensor {
+    int samples;
+    double error;
+};
+std::vector<TargetReportSensor> ReadTargetReport(const std::filesystem::path &p);
 void WriteFile(const std::filesystem::path &p, const std::string &data);
 // Header and data of a RADIANCE file without the lines that change from run to run
 // (CAPDATE=, GMT=) or that dayflux adds deliberately (BigEndian=, see docs/compat.md).

@@ -364,27 +364,18 @@ TEST_F(VulkanContrib, TargetErrorSlicesWithSubsamplesAndASunAsEmbree) {
                           "skyDomes/skyglow.rad '" +
                           (tmp_.path() / "sun.rad").string() + "'",
                       room, &err);
-        std::vector<std::vector<double>> rows;
-        std::istringstream in(ReadFile(file));
-        for (std::string line; std::getline(in, line);) {
-            if (line.empty() || line[0] == '#') continue;
-            std::istringstream fields(line);
-            std::vector<double> v(3);
-            fields >> v[0] >> v[1] >> v[2];
-            rows.push_back(v);
-        }
-        return rows;
+        return ReadTargetReport(file);
     };
-    const std::vector<std::vector<double>> gpu = report("vulkan"), cpu = report("embree");
+    const std::vector<TargetReportSensor> gpu = report("vulkan"), cpu = report("embree");
     ASSERT_EQ(gpu.size(), 12u);
     ASSERT_EQ(cpu.size(), 12u);
     int passes_apart = 0;
     for (size_t i = 0; i < cpu.size(); ++i) {
-        if (gpu[i][1] != cpu[i][1]) {
+        if (gpu[i].samples != cpu[i].samples) {
             ++passes_apart;
             continue;
         }
-        EXPECT_NEAR(gpu[i][2], cpu[i][2], 1e-4 * cpu[i][2]) << "sensor " << i;
+        EXPECT_NEAR(gpu[i].error, cpu[i].error, 1e-4 * cpu[i].error) << "sensor " << i;
     }
     EXPECT_LE(passes_apart, 1);
 }

@@ -29,23 +29,6 @@ std::vector<double> Luminances(const std::string &text) {
     return v;
 }
 
-struct Sensor {
-    int samples;
-    double error;
-};
-std::vector<Sensor> Report(const fs::path &file) {
-    std::vector<Sensor> s;
-    std::istringstream in(ReadFile(file));
-    std::string line;
-    std::getline(in, line);  // its comment
-    for (long index; in >> index;) {
-        Sensor x;
-        in >> x.samples >> x.error;
-        s.push_back(x);
-    }
-    return s;
-}
-
 // Every sensor stops at the target or at the cap, and its estimated error is honest: measured
 // against the converged answer, 92 % of sensors are within twice their estimate (issue 45 asks
 // 90 %; bench/target_error_speed_error.sh measures it on 6724 sensor runs); of these 100, at
@@ -67,7 +50,7 @@ TEST(TargetError, SensorsStopAtTheTargetWithHonestErrors) {
     const std::vector<double> ours = Luminances(r.out),
                               answer = Luminances(
                                   ReadFile(DataDir() / "target_error" / "room_converged.txt"));
-    const std::vector<Sensor> sensors = Report(report);
+    const std::vector<TargetReportSensor> sensors = ReadTargetReport(report);
     const std::vector<double> errors = Luminances(ReadFile(se));
     ASSERT_EQ(errors.size(), 100u);
     ASSERT_EQ(ours.size(), 100u);
@@ -75,7 +58,7 @@ TEST(TargetError, SensorsStopAtTheTargetWithHonestErrors) {
     ASSERT_EQ(sensors.size(), 100u);
     int honest = 0, early = 0, below = 0;
     for (size_t i = 0; i < ours.size(); ++i) {
-        const Sensor &s = sensors[i];
+        const TargetReportSensor &s = sensors[i];
         EXPECT_TRUE(s.error <= 0.03 || s.samples == 4096) << i;
         EXPECT_LE(s.samples, 4096);
         early += s.samples < 4096;
@@ -125,7 +108,7 @@ TEST(TargetError, RtraceRtraceDcAndRfluxmtxTakeIt) {
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.err.find("rtrace-gpu: -target_error 0.05: "), std::string::npos) << r.err;
     EXPECT_EQ(Luminances(r.out).size(), 100u);
-    EXPECT_EQ(Report(report).size(), 100u);
+    EXPECT_EQ(ReadTargetReport(report).size(), 100u);
     r = RunCommand("rtrace-gpu -h -I -ab 2 -aa 0.1 -target_error 0.05 " + scene + " < " + points,
                    Room());
     EXPECT_EQ(r.status, 1);
